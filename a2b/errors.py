@@ -1,0 +1,29 @@
+"""The exceptions a2b raises.
+
+Every error that a user can cause with input (a malformed pose, a parameter that has no
+solution, a motion that passes through a singularity) is an :class:`A2bError`. The command line
+turns exactly these into a one-line message and exit status 1; anything else is a bug and keeps
+its traceback.
+"""
+
+from __future__ import annotations
+
+
+class A2bError(ValueError):
+    """Base class of every error a2b raises on purpose."""
+
+
+class PoseError(A2bError):
+    """A pose (matrix, quaternion, Study vector) fails validation."""
+
+
+class ParameterError(A2bError):
+    """A motion parameter is invalid, or a parameter solver has no solution."""
+
+
+class SingularMotionError(A2bError):
+    """The requested motion passes through a singularity (infinity, ``p(t) = 0``)."""
+
+
+class InputFileError(A2bError):
+    """An input file cannot be read or does not have the expected structure."""

@@ -1,0 +1,302 @@
+"""Poses: 4x4 matrices ⇄ unit quaternion plus translation ⇄ Study parameters.
+
+Array conventions (trailing dimensions, any number of leading ones):
+
+* ``(..., 4, 4)`` homogeneous matrices in the **robotics layout** ``[[R, t], [0, 0, 0, 1]]``.
+  The paper writes ``[[1, 0ᵀ], [t, R]]`` (eq. 1); that layout is read or written only when
+  asked for with ``layout="paper"``. A rotation about z is valid in both layouts and means a
+  different pose in each, so a2b never guesses.
+* ``(..., 4)`` quaternions ``quat_wxyz = (w, x, y, z)``, scalar first.
+* ``(..., 3)`` translations.
+* ``(..., 8)`` Study parameters ``(p0, p1, p2, p3, q0, q1, q2, q3)``.
+
+Validators (``check_*``) raise :class:`a2b.A2bError` with the measured residual and the
+tolerance; they never repair their input.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import PoseError
+from .study import STUDY_TOL, check_study, kappa, rotation_numerators
+
+#: Tolerance of ``max |R Rᵀ − I|`` and ``|det R − 1|`` for rotation blocks of input matrices.
+ORTHO_TOL = 1e-9
+
+LAYOUTS = ("robotics", "paper")
+
+
+def _finite(a: np.ndarray, what: str) -> None:
+    if not np.all(np.isfinite(a)):
+        raise PoseError(f"{what} contains NaN or infinity")
+
+
+def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndarray:
+    """Validate rotation matrices ``(..., 3, 3)``: finite, orthogonal and ``det R = +1``.
+
+    Raises
+    ------
+    PoseError
+        If ``max |R Rᵀ − I| > tol`` or ``|det R − 1| > tol``, stating the residual.
+    """
+    r = np.asarray(rotations, dtype=float)
+    if r.shape[-2:] != (3, 3):
+        raise PoseError(f"a rotation block must be 3x3, got shape {r.shape}")
+    _finite(r, "the rotation block")
+    residual = float(np.max(np.abs(r @ np.swapaxes(r, -1, -2) - np.eye(3)), initial=0.0))
+    if residual > tol:
+        raise PoseError(
+            f"the rotation block is not orthogonal: max |R Rᵀ − I| = {residual:.3g} "
+            f"exceeds tolerance {tol:g}"
+        )
+    det = np.linalg.det(r) if r.size else np.ones(r.shape[:-2])
+    if np.any(det < 0):
+        raise PoseError(
+            f"the rotation block has determinant {float(np.min(det)):.6g}: a reflection, not a rotation"
+        )
+    det_residual = float(np.max(np.abs(det - 1.0), initial=0.0))
+    if det_residual > tol:
+        raise PoseError(
+            f"the rotation block has |det R − 1| = {det_residual:.3g}, exceeding tolerance {tol:g}"
+        )
+    return r
+
+
+def check_matrices(
+    matrices: np.ndarray, *, layout: str = "robotics", tol: float = ORTHO_TOL
+) -> np.ndarray:
+    """Validate homogeneous matrices ``(..., 4, 4)`` and return them in the robotics layout.
+
+    Parameters
+    ----------
+    matrices : array_like, shape (..., 4, 4)
+    layout : {"robotics", "paper"}
+        ``"robotics"``: ``[[R, t], [0, 0, 0, 1]]``. ``"paper"``: ``[[1, 0ᵀ], [t, R]]`` (eq. 1).
+    tol : float
+        Tolerance for orthogonality and the determinant of ``R``.
+
+    Returns
+    -------
+    ndarray, shape (..., 4, 4)
+        The same poses, robotics layout.
+
+    Raises
+    ------
+    PoseError
+        For a wrong shape, NaN or infinity, a bad constant row or column, a non-orthogonal
+        rotation block or ``det R = −1``.
+    """
+    m = np.asarray(matrices, dtype=float)
+    if m.shape[-2:] != (4, 4):
+        raise PoseError(f"a pose matrix must be 4x4, got shape {m.shape}")
+    _finite(m, "the pose matrix")
+    if layout == "robotics":
+        fixed = m[..., 3, :]
+        expected = np.array([0.0, 0.0, 0.0, 1.0])
+        where = "bottom row"
+    elif layout == "paper":
+        fixed = m[..., 0, :]
+        expected = np.array([1.0, 0.0, 0.0, 0.0])
+        where = "top row"
+    else:
+        raise PoseError(f"unknown matrix layout {layout!r}; expected one of {LAYOUTS}")
+    residual = float(np.max(np.abs(fixed - expected), initial=0.0))
+    if residual > 0.0:
+        raise PoseError(
+            f"the {where} of a {layout}-layout pose matrix must be exactly "
+            f"{expected.tolist()}; it differs by {residual:.3g}"
+            + (" (is this the paper's layout? say so with layout: paper)" if layout == "robotics" else "")
+        )
+    if layout == "paper":
+        m = robotics_from_paper(m)
+    check_rotations(m[..., :3, :3], tol=tol)
+    return m
+
+
+def robotics_from_paper(matrices: np.ndarray) -> np.ndarray:
+    """Convert ``[[1, 0ᵀ], [t, R]]`` (eq. 1) to ``[[R, t], [0, 0, 0, 1]]``, shape ``(..., 4, 4)``."""
+    m = np.asarray(matrices, dtype=float)
+    out = np.zeros_like(m)
+    out[..., :3, :3] = m[..., 1:, 1:]
+    out[..., :3, 3] = m[..., 1:, 0]
+    out[..., 3, 3] = 1.0
+    return out
+
+
+def paper_from_robotics(matrices: np.ndarray) -> np.ndarray:
+    """Convert ``[[R, t], [0, 0, 0, 1]]`` to the paper's ``[[1, 0ᵀ], [t, R]]``, ``(..., 4, 4)``."""
+    m = np.asarray(matrices, dtype=float)
+    out = np.zeros_like(m)
+    out[..., 1:, 1:] = m[..., :3, :3]
+    out[..., 1:, 0] = m[..., :3, 3]
+    out[..., 0, 0] = 1.0
+    return out
+
+
+def check_quaternions(quat_wxyz: np.ndarray) -> np.ndarray:
+    """Validate quaternions ``(..., 4)`` (w, x, y, z) and return them normalised.
+
+    Quaternions are homogeneous, as in the paper: any non-zero multiple of ``p`` is the same
+    rotation. So a non-unit quaternion is accepted and divided by its norm; a zero or
+    non-finite one is an error.
+
+    Raises
+    ------
+    PoseError
+        For a wrong shape, NaN or infinity, or a zero quaternion.
+    """
+    q = np.asarray(quat_wxyz, dtype=float)
+    if q.shape[-1:] != (4,):
+        raise PoseError(f"a quaternion needs 4 numbers (w, x, y, z), got shape {q.shape}")
+    _finite(q, "the quaternion")
+    norm = np.linalg.norm(q, axis=-1)
+    if np.any(norm == 0.0) or np.any(~np.isfinite(norm)):
+        raise PoseError(
+            f"the quaternion has norm {float(np.min(norm)):.3g}; a rotation needs a non-zero, finite quaternion"
+        )
+    return q / norm[..., None]
+
+
+def quaternions_from_rotations(rotations: np.ndarray) -> np.ndarray:
+    """Unit quaternions ``(..., 4)`` (w, x, y, z) of rotation matrices ``(..., 3, 3)``.
+
+    Uses the ratio row of eq. 9 whose diagonal term (eq. 7) is largest, as in Shepperd's
+    method, so it never divides by a small number and is exact for half-turns. The sign is
+    fixed so that ``w > 0``, or for a half-turn (``w = 0``) so that the first non-zero
+    component is positive.
+
+    References
+    ----------
+    Schröcker, *From A to B*, eq. 7–9.
+    """
+    r = np.asarray(rotations, dtype=float)
+    a11, a12, a13 = r[..., 0, 0], r[..., 0, 1], r[..., 0, 2]
+    a21, a22, a23 = r[..., 1, 0], r[..., 1, 1], r[..., 1, 2]
+    a31, a32, a33 = r[..., 2, 0], r[..., 2, 1], r[..., 2, 2]
+    rows = np.stack(
+        [
+            np.stack([1 + a11 + a22 + a33, a32 - a23, a13 - a31, a21 - a12], axis=-1),
+            np.stack([a32 - a23, 1 + a11 - a22 - a33, a21 + a12, a31 + a13], axis=-1),
+            np.stack([a13 - a31, a21 + a12, 1 - a11 + a22 - a33, a32 + a23], axis=-1),
+            np.stack([a21 - a12, a31 + a13, a32 + a23, 1 - a11 - a22 + a33], axis=-1),
+        ],
+        axis=-2,
+    )
+    diag = np.stack([a11 + a22 + a33, a11 - a22 - a33, -a11 + a22 - a33, -a11 - a22 + a33], axis=-1)
+    pick = np.argmax(diag, axis=-1)
+    p = np.take_along_axis(rows, pick[..., None, None], axis=-2)[..., 0, :]
+    p = p / np.linalg.norm(p, axis=-1, keepdims=True)
+    return canonical_sign(p)
+
+
+def canonical_sign(p: np.ndarray) -> np.ndarray:
+    """Flip quaternions ``(..., 4)`` so that the first non-zero component is positive."""
+    p = np.asarray(p, dtype=float)
+    nonzero = p != 0.0
+    first = np.argmax(nonzero, axis=-1)
+    lead = np.take_along_axis(p, first[..., None], axis=-1)
+    return np.where(lead < 0.0, -p, p)
+
+
+def rotations_from_quaternions(quat_wxyz: np.ndarray) -> np.ndarray:
+    """Rotation matrices ``(..., 3, 3)`` of quaternions ``(..., 4)`` (eq. 4 divided by ``Δ``)."""
+    p = np.asarray(quat_wxyz, dtype=float)
+    delta = np.sum(p * p, axis=-1)
+    return (rotation_numerators(p) / delta[..., None]).reshape(p.shape[:-1] + (3, 3))
+
+
+def matrices_from_quat_trans(quat_wxyz: np.ndarray, translations: np.ndarray) -> np.ndarray:
+    """Robotics-layout matrices ``(..., 4, 4)`` from quaternions ``(..., 4)`` and translations ``(..., 3)``.
+
+    The quaternion is validated by :func:`check_quaternions` (non-zero, finite; any scale).
+    """
+    q = check_quaternions(quat_wxyz)
+    t = np.asarray(translations, dtype=float)
+    if t.shape[-1:] != (3,):
+        raise PoseError(f"a translation needs 3 numbers, got shape {t.shape}")
+    _finite(t, "the translation")
+    shape = np.broadcast_shapes(q.shape[:-1], t.shape[:-1])
+    out = np.zeros(shape + (4, 4))
+    out[..., :3, :3] = rotations_from_quaternions(q)
+    out[..., :3, 3] = t
+    out[..., 3, 3] = 1.0
+    return out
+
+
+def quat_trans_from_matrices(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit quaternions ``(..., 4)`` (w, x, y, z) and translations ``(..., 3)`` of robotics matrices.
+
+    The quaternion sign follows :func:`quaternions_from_rotations` (``w ≥ 0``).
+    """
+    m = np.asarray(matrices, dtype=float)
+    return quaternions_from_rotations(m[..., :3, :3]), m[..., :3, 3].copy()
+
+
+def study_from_quat_trans(quat_wxyz: np.ndarray, translations: np.ndarray) -> np.ndarray:
+    """Study parameters ``(..., 8)`` from unit quaternions and translations: ``q = −½ t p`` (eq. 6)."""
+    p = np.asarray(quat_wxyz, dtype=float)
+    t = np.asarray(translations, dtype=float)
+    t1, t2, t3 = np.moveaxis(t, -1, 0)
+    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
+    # q = -1/2 (0, t) p
+    q = -0.5 * np.stack(
+        [
+            -t1 * p1 - t2 * p2 - t3 * p3,
+            t1 * p0 + t2 * p3 - t3 * p2,
+            -t1 * p3 + t2 * p0 + t3 * p1,
+            t1 * p2 - t2 * p1 + t3 * p0,
+        ],
+        axis=-1,
+    )
+    return np.concatenate([np.broadcast_to(p, q.shape), q], axis=-1)
+
+
+def study_from_matrices(matrices: np.ndarray) -> np.ndarray:
+    """Study parameters ``(..., 8)`` of robotics-layout matrices ``(..., 4, 4)``.
+
+    ``p`` is the unit quaternion of :func:`quaternions_from_rotations` (eq. 7–9), ``q`` follows
+    from eq. 6 as ``q = −½ t p``; the result satisfies the Study condition and ``|p| = 1``.
+    The input is assumed valid (see :func:`check_matrices`).
+    """
+    p, t = quat_trans_from_matrices(matrices)
+    return study_from_quat_trans(p, t)
+
+
+def matrices_from_study(
+    study: np.ndarray, *, through_kappa: bool = False, tol: float = STUDY_TOL
+) -> np.ndarray:
+    """Robotics-layout matrices ``(..., 4, 4)`` of Study parameters ``(..., 8)``.
+
+    Parameters
+    ----------
+    study : array_like, shape (..., 8)
+        ``(p0, p1, p2, p3, q0, q1, q2, q3)``, homogeneous (any non-zero scale).
+    through_kappa : bool
+        If false (default), the Study condition must hold within ``tol``. If true, any ``h``
+        with ``p ≠ 0`` is accepted and read through the extended map κ (section 3).
+
+    Raises
+    ------
+    PoseError
+        For ``p = 0``, non-finite entries, or (unless ``through_kappa``) a violated Study
+        condition, stating the residual and the tolerance.
+    """
+    h = check_study(study, tol=tol, on_quadric=not through_kappa)
+    rot, trans = kappa(h)
+    out = np.zeros(h.shape[:-1] + (4, 4))
+    out[..., :3, :3] = rot
+    out[..., :3, 3] = trans
+    out[..., 3, 3] = 1.0
+    return out
+
+
+def inverse_matrices(matrices: np.ndarray) -> np.ndarray:
+    """Inverse of rigid robotics-layout matrices ``(..., 4, 4)``: ``[[Rᵀ, −Rᵀ t], [0, 1]]``."""
+    m = np.asarray(matrices, dtype=float)
+    out = np.zeros_like(m)
+    rt = np.swapaxes(m[..., :3, :3], -1, -2)
+    out[..., :3, :3] = rt
+    out[..., :3, 3] = -np.einsum("...ij,...j->...i", rt, m[..., :3, 3])
+    out[..., 3, 3] = 1.0
+    return out

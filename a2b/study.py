@@ -1,0 +1,211 @@
+"""Quaternions, dual quaternions (Study parameters) and the extended kinematic map κ.
+
+Conventions (see ``MATH.md``):
+
+* a quaternion ``p = p0 + p1 i + p2 j + p3 k`` is stored scalar first, arrays ``(..., 4)``;
+* Study parameters ``h = p + ε q`` are stored ``(p0, p1, p2, p3, q0, q1, q2, q3)``,
+  arrays ``(..., 8)``;
+* the action of ``h`` on a point is ``x ↦ (p x p̄ + p q̄ − q p̄) / (p p̄)`` (eq. 3), so the
+  rotation matrix is eq. 4 divided by ``Δ = p p̄`` and the translation is
+  ``(p q̄ − q p̄) / Δ``, which is eq. 5 divided by ``Δ``. This is valid for *every* ``h`` with
+  ``p ≠ 0``, on the Study quadric or not: it is the extended map κ of section 3.
+
+All functions are vectorised over leading dimensions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import PoseError
+
+#: Relative tolerance of the Study condition ``p·q = 0`` (see :func:`check_study`).
+STUDY_TOL = 1e-9
+
+
+def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton product ``a b`` of quaternions ``(..., 4)``, scalar first."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    a0, a1, a2, a3 = np.moveaxis(a, -1, 0)
+    b0, b1, b2, b3 = np.moveaxis(b, -1, 0)
+    return np.stack(
+        [
+            a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
+            a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+            a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
+            a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0,
+        ],
+        axis=-1,
+    )
+
+
+def quat_conj(p: np.ndarray) -> np.ndarray:
+    """Conjugate ``p̄ = p0 − p1 i − p2 j − p3 k`` of quaternions ``(..., 4)``."""
+    p = np.asarray(p, dtype=float)
+    return p * np.array([1.0, -1.0, -1.0, -1.0])
+
+
+def dq_mul(g: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """Dual-quaternion product ``g h`` of Study vectors ``(..., 8)``.
+
+    ``(p + ε q)(r + ε s) = p r + ε (p s + q r)``. Composition of displacements: the pose
+    ``κ(g h)`` is ``κ(g) ∘ κ(h)``.
+    """
+    g = np.asarray(g, dtype=float)
+    h = np.asarray(h, dtype=float)
+    p, q = g[..., :4], g[..., 4:]
+    r, s = h[..., :4], h[..., 4:]
+    return np.concatenate([quat_mul(p, r), quat_mul(p, s) + quat_mul(q, r)], axis=-1)
+
+
+def rotation_numerators(p: np.ndarray, r: np.ndarray | None = None) -> np.ndarray:
+    """The nine entries ``a11 … a33`` of eq. 4 (not divided by ``Δ``), row by row.
+
+    With one argument this is the quadratic form of eq. 4 (with erratum 2 of ``MATH.md``:
+    ``a32 = 2(p0 p1 + p2 p3)``). With two arguments it is the symmetric bilinear form whose
+    diagonal is eq. 4, so that for ``p(t) = (1−t) p + t r`` the Bernstein coefficients of the
+    numerators are ``B(p, p), B(p, r), B(r, r)``.
+
+    Parameters
+    ----------
+    p, r : array_like, shape (..., 4)
+
+    Returns
+    -------
+    ndarray, shape (..., 9)
+    """
+    p = np.asarray(p, dtype=float)
+    r = p if r is None else np.asarray(r, dtype=float)
+    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
+    r0, r1, r2, r3 = np.moveaxis(r, -1, 0)
+    return np.stack(
+        [
+            p0 * r0 + p1 * r1 - p2 * r2 - p3 * r3,
+            p1 * r2 + p2 * r1 - p0 * r3 - p3 * r0,
+            p0 * r2 + p2 * r0 + p1 * r3 + p3 * r1,
+            p0 * r3 + p3 * r0 + p1 * r2 + p2 * r1,
+            p0 * r0 - p1 * r1 + p2 * r2 - p3 * r3,
+            p2 * r3 + p3 * r2 - p0 * r1 - p1 * r0,
+            p1 * r3 + p3 * r1 - p0 * r2 - p2 * r0,
+            p0 * r1 + p1 * r0 + p2 * r3 + p3 * r2,
+            p0 * r0 - p1 * r1 - p2 * r2 + p3 * r3,
+        ],
+        axis=-1,
+    )
+
+
+def translation_numerators(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """``p q̄ − q p̄ = 2 vec(p q̄)``, the translation of κ(p + εq) times ``Δ``.
+
+    Bilinear in ``(p, q)``; these are the ``a_1, a_2, a_3`` of eq. 5. The translation of
+    ``κ(p + εq)`` is this divided by ``Δ = p p̄``.
+
+    Parameters
+    ----------
+    p, q : array_like, shape (..., 4)
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+    """
+    p = np.asarray(p, dtype=float)
+    q = np.asarray(q, dtype=float)
+    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
+    q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
+    # vec(p q̄) with q̄ = (q0, -q1, -q2, -q3)
+    return 2.0 * np.stack(
+        [
+            -p0 * q1 + p1 * q0 - p2 * q3 + p3 * q2,
+            -p0 * q2 + p1 * q3 + p2 * q0 - p3 * q1,
+            -p0 * q3 - p1 * q2 + p2 * q1 + p3 * q0,
+        ],
+        axis=-1,
+    )
+
+
+def check_study(h: np.ndarray, *, tol: float = STUDY_TOL, on_quadric: bool = True) -> np.ndarray:
+    """Validate Study parameters ``(..., 8)`` and return them as a float array.
+
+    Checks that every entry is finite, that the primal part ``p`` is not zero (``h`` is not on
+    the exceptional generator E) and, when ``on_quadric`` is true, the Study condition
+    ``p q̄ + q p̄ = 2 p·q = 0`` (eq. 2) with the residual ``|p·q| / (|p| (|p| + |q|))``.
+
+    Raises
+    ------
+    PoseError
+        With the measured residual and the tolerance.
+    """
+    h = np.asarray(h, dtype=float)
+    if h.shape[-1:] != (8,):
+        raise PoseError(f"Study parameters need 8 numbers, got shape {h.shape}")
+    if not np.all(np.isfinite(h)):
+        raise PoseError("Study parameters contain NaN or infinity")
+    p, q = h[..., :4], h[..., 4:]
+    norm_p = np.linalg.norm(p, axis=-1)
+    norm_q = np.linalg.norm(q, axis=-1)
+    scale = np.maximum(norm_p, norm_q)
+    if np.any(norm_p <= 1e-300) or np.any(norm_p <= 1e-14 * scale):
+        raise PoseError(
+            "Study parameters with primal part p = 0 lie on the exceptional generator E "
+            f"and are no pose (|p| = {np.min(norm_p):.3g})"
+        )
+    if on_quadric:
+        residual = np.abs(np.sum(p * q, axis=-1)) / (norm_p * (norm_p + norm_q))
+        worst = float(np.max(residual))
+        if worst > tol:
+            raise PoseError(
+                f"Study parameters violate the Study condition p·q = 0: residual {worst:.3g} "
+                f"exceeds tolerance {tol:g} (pass kappa=True / --kappa to read them through κ)"
+            )
+    return h
+
+
+def kappa(h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The extended kinematic map κ: P^7 minus E → SE(3) (section 3, eq. 3–5).
+
+    Parameters
+    ----------
+    h : array_like, shape (..., 8)
+        Study parameters ``(p0, p1, p2, p3, q0, q1, q2, q3)`` with ``p ≠ 0``. They need not
+        satisfy the Study condition.
+
+    Returns
+    -------
+    rotations : ndarray, shape (..., 3, 3)
+    translations : ndarray, shape (..., 3)
+    """
+    h = np.asarray(h, dtype=float)
+    p, q = h[..., :4], h[..., 4:]
+    delta = np.sum(p * p, axis=-1)
+    rot = rotation_numerators(p) / delta[..., None]
+    trans = translation_numerators(p, q) / delta[..., None]
+    return rot.reshape(h.shape[:-1] + (3, 3)), trans
+
+
+def kappa_fiber_points(h: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """Points ``h + s ε p`` of the κ-fiber of ``h`` (erratum 1 of ``MATH.md``).
+
+    Projectively, the fiber is the line ``h ∨ εp`` without the point ``εp`` on E. Every point
+    maps back to ``κ(h)`` because ``p q̄ − q p̄`` does not change under ``q → q + s p``.
+
+    Parameters
+    ----------
+    h : array_like, shape (8,)
+    s : array_like, shape (k,)
+
+    Returns
+    -------
+    ndarray, shape (k, 8)
+    """
+    h = np.asarray(h, dtype=float)
+    s = np.atleast_1d(np.asarray(s, dtype=float))
+    out = np.broadcast_to(h, s.shape + (8,)).copy()
+    out[..., 4:] += s[..., None] * h[..., :4]
+    return out
+
+
+def kappa_fiber_direction(h: np.ndarray) -> np.ndarray:
+    """The direction ``εp = (0, 0, 0, 0, p0, p1, p2, p3)`` of the κ-fiber of ``h``."""
+    h = np.asarray(h, dtype=float)
+    return np.concatenate([np.zeros_like(h[..., :4]), h[..., :4]], axis=-1)
