@@ -1,0 +1,111 @@
+"""The public Python API: :func:`motion`, :func:`interpolate` and :func:`describe`."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import ParameterError
+from .frames import screw_frame
+from .motions.base import Motion
+from .poses import check_matrices
+
+MODES = ("darboux", "cubic", "screw")
+
+PARAMETERS = {
+    "darboux": ("delta", "kappa", "lam", "branch", "pitch_start", "pitch_end", "through", "long_way"),
+    "cubic": ("m", "alpha", "beta", "a", "b", "frame"),
+    "screw": (),
+}
+
+
+def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
+    """The motion of the given mode from pose ``start`` to pose ``end``.
+
+    Parameters
+    ----------
+    start, end : array_like, shape (4, 4)
+        Robotics-layout homogeneous matrices ``[[R, t], [0, 0, 0, 1]]``, validated with
+        :func:`a2b.poses.check_matrices`.
+    mode : {"darboux", "cubic", "screw"}
+    **parameters
+        darboux: ``delta, kappa, lam, branch, pitch_start, pitch_end, through, long_way``;
+        cubic: ``m, alpha, beta, a, b, frame``; screw: none. ``None`` means "not given".
+        See :class:`a2b.motions.darboux.DarbouxMotion` and :class:`a2b.motions.cubic.CubicMotion`.
+
+    Returns
+    -------
+    Motion
+        With ``matrices(ts)``, ``quat_trans(ts)``, ``study(ts)`` and ``describe()``.
+
+    Raises
+    ------
+    A2bError
+        Invalid poses, unknown or conflicting parameters, parameters without a solution, or a
+        motion that is singular for some ``t ∈ [0, 1]``.
+    """
+    if mode not in MODES:
+        raise ParameterError(f"unknown mode {mode!r}; expected one of {', '.join(MODES)}")
+    unknown = sorted(set(parameters) - set(PARAMETERS[mode]))
+    if unknown:
+        allowed = ", ".join(PARAMETERS[mode]) or "none"
+        raise ParameterError(
+            f"mode {mode} does not take {', '.join(unknown)} (its parameters: {allowed})"
+        )
+    params = {key: value for key, value in parameters.items() if value is not None}
+    a = check_matrices(start)
+    b = check_matrices(end)
+    if a.shape != (4, 4) or b.shape != (4, 4):
+        raise ParameterError("start and end must each be one 4x4 matrix")
+    frame = screw_frame(a, b)
+    if mode == "darboux":
+        from .motions.darboux import DarbouxMotion
+
+        return DarbouxMotion(a, b, frame, **params)
+    if mode == "cubic":
+        from .motions.cubic import CubicMotion
+
+        frame_name = params.pop("frame", "canonical")
+        return CubicMotion(a, b, frame, frame_name=frame_name, **params)
+    from .motions.screw import ScrewMotion
+
+    return ScrewMotion(a, b, frame)
+
+
+def interpolate(start, end, ts, mode: str = "darboux", **parameters) -> np.ndarray:
+    """Sample the motion from ``start`` to ``end`` at the parameters ``ts``.
+
+    Parameters
+    ----------
+    start, end : array_like, shape (4, 4)
+        Robotics-layout poses.
+    ts : array_like, shape (N,)
+        Sample parameters. ``t = 0`` gives ``start`` and ``t = 1`` gives ``end``; values
+        outside ``[0, 1]`` extrapolate along the same motion (and are checked for
+        singularities on the extended range).
+    mode, **parameters
+        As for :func:`motion`.
+
+    Returns
+    -------
+    ndarray, shape (N, 4, 4)
+
+    Examples
+    --------
+    >>> import numpy as np, a2b
+    >>> b = np.eye(4); b[:3, :3] = [[0, -1, 0], [1, 0, 0], [0, 0, 1]]; b[2, 3] = 1.0
+    >>> a2b.interpolate(np.eye(4), b, [0.0, 0.5, 1.0], mode="darboux").shape
+    (3, 4, 4)
+    """
+    return motion(start, end, mode, **parameters).matrices(ts)
+
+
+def describe(start, end, mode: str = "darboux", **parameters) -> dict:
+    """The canonical frame and the essential parameters of a motion, as plain data.
+
+    Always: ``mode, phi, phi_degrees, d, axis_point, axis_direction, singular_t, choices``.
+    darboux: ``delta, z0, lam, kappa, pitch_start, pitch_end, fiber_offsets, long_way,
+    rotation_angle`` (``None`` where undefined, e.g. for a pure translation).
+    cubic: ``frame, m, m0, m3, a, b, psi_start, psi_end, weights, in_cylinder_group``.
+    screw: ``pitch``.
+    """
+    return motion(start, end, mode, **parameters).describe()

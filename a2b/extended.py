@@ -1,0 +1,275 @@
+"""The extended matrix model R^13 and the family of extended kinematic maps μ_[m] (sections 2, 4).
+
+A point of the extended matrix space is ``x = (x0, x1 … x9, x10, x11, x12)``: the homogenising
+coordinate ``x0``, the nine entries ``a11, a12, a13, a21, …, a33`` row by row, then the
+translation block ``t1, t2, t3``. A pose ``(R, t)`` is the point ``(1, R, t)``. The first ten
+coordinates are written ``x'``.
+
+``μ'_m(x') = M_m x'`` (eq. 10, 11) gives the primal part ``p``; μ_m (eq. 12) completes it to
+Study parameters with the translation ``x_t / x0`` (``MATH.md``, "Facts that follow").
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import ParameterError, PoseError
+from .study import kappa
+
+#: Relative size of ``m·p`` below which a pose counts as orthogonal to ``m`` (not in the image).
+ORTHOGONAL_TOL = 1e-12
+#: ``|n0| / |m|^4`` below which the paper's kernel basis counts as degenerate.
+DEGENERATE_TOL = 1e-12
+
+BASES = ("paper", "rref", "auto")
+
+# The four linear maps μ'_0 … μ'_3 of eq. 10 as 4x10 matrices acting on (x0, x1, …, x9).
+_MU_PRIME = np.zeros((4, 4, 10))
+for _row, _terms in enumerate(
+    [
+        # μ'_0
+        [{0: 1, 1: 1, 5: 1, 9: 1}, {8: 1, 6: -1}, {3: 1, 7: -1}, {4: 1, 2: -1}],
+        # μ'_1
+        [{8: 1, 6: -1}, {0: 1, 1: 1, 5: -1, 9: -1}, {4: 1, 2: 1}, {7: 1, 3: 1}],
+        # μ'_2
+        [{3: 1, 7: -1}, {4: 1, 2: 1}, {0: 1, 1: -1, 5: 1, 9: -1}, {8: 1, 6: 1}],
+        # μ'_3
+        [{4: 1, 2: -1}, {7: 1, 3: 1}, {8: 1, 6: 1}, {0: 1, 1: -1, 5: -1, 9: 1}],
+    ]
+):
+    for _i, _entry in enumerate(_terms):
+        for _col, _val in _entry.items():
+            _MU_PRIME[_row, _i, _col] = _val
+
+
+def check_m(m) -> np.ndarray:
+    """Validate the parameter ``m ∈ R^4 \\ {0}`` of μ_[m] and return it as an array ``(4,)``."""
+    arr = np.asarray(m, dtype=float)
+    if arr.shape != (4,):
+        raise ParameterError(f"m needs 4 numbers (m0, m1, m2, m3), got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ParameterError("m contains NaN or infinity")
+    if not np.any(arr):
+        raise ParameterError("m = 0: the map μ_[m] is undefined (M_m is the zero matrix)")
+    return arr
+
+
+def mu_prime_matrix(m) -> np.ndarray:
+    """The 4x10 matrix ``M_m`` of ``μ'_m = Σ m_l μ'_l`` (eq. 10, 11; printed in section 4)."""
+    return np.tensordot(check_m(m), _MU_PRIME, axes=1)
+
+
+def _n_values(m: np.ndarray) -> tuple[float, ...]:
+    m0, m1, m2, m3 = m
+    return (
+        4 * m0 * m1 * m2 * m3,
+        m0 * m1 - m2 * m3,
+        m0 * m2 - m1 * m3,
+        m0 * m3 - m1 * m2,
+        m0 * m1 + m2 * m3,
+        m0 * m2 + m1 * m3,
+        m0 * m3 + m1 * m2,
+    )
+
+
+def paper_kernel_basis(m) -> np.ndarray:
+    """The paper's kernel basis ``f0 … f5`` of ``M_m`` (eq. 13, 14), shape ``(6, 10)``.
+
+    Entries are quartic in ``m``. The basis degenerates when ``n0 = 4 m0 m1 m2 m3 = 0``
+    (erratum 5): for ``m = (1, 0, 0, 0)`` every vector is zero although the kernel is still
+    six-dimensional. See :func:`paper_basis_degenerate` and :func:`kernel_basis`.
+    """
+    n0, n1, n2, n3, n4, n5, n6 = _n_values(check_m(m))
+    return np.array(
+        [
+            [n1 * n2, -n2 * n4, n0, 0, 0, -n1 * n5, 0, 0, 0, n4 * n5],
+            [-n4 * n6, n1 * n6, 0, n0, 0, -n1 * n3, 0, 0, 0, n3 * n4],
+            [-n4 * n5, n1 * n5, 0, 0, n0, n2 * n4, 0, 0, 0, -n1 * n2],
+            [n2 * n3, n5 * n6, 0, 0, 0, -n3 * n5, n0, 0, 0, -n2 * n6],
+            [n1 * n3, -n3 * n4, 0, 0, 0, n4 * n6, 0, n0, 0, -n1 * n6],
+            [-n5 * n6, -n2 * n3, 0, 0, 0, n2 * n6, 0, 0, n0, n3 * n5],
+        ],
+        dtype=float,
+    )
+
+
+def paper_basis_degenerate(m) -> bool:
+    """True when the paper's basis (eq. 13) is not a basis: ``|n0| ≤ 1e-12 |m|^4``."""
+    arr = check_m(m)
+    n0 = _n_values(arr)[0]
+    return abs(n0) <= DEGENERATE_TOL * float(np.dot(arr, arr)) ** 2
+
+
+def rref_kernel_basis(m) -> np.ndarray:
+    """A kernel basis of ``M_m`` that works for every ``m ≠ 0``, shape ``(6, 10)``.
+
+    The null space from the SVD of ``M_m``, brought to reduced row echelon form, which makes
+    the basis unique (it depends on the subspace only, not on the SVD's choices): each vector
+    has a 1 in its pivot column and zeros in the other vectors' pivot columns.
+    """
+    mat = mu_prime_matrix(m)
+    _, sing, vt = np.linalg.svd(mat)
+    rank = int(np.sum(sing > 1e-12 * sing[0]))
+    null = vt[rank:].copy()
+    rows, cols = null.shape
+    pivot_row = 0
+    for col in range(cols):
+        if pivot_row == rows:
+            break
+        best = pivot_row + int(np.argmax(np.abs(null[pivot_row:, col])))
+        if abs(null[best, col]) <= 1e-10:
+            continue
+        null[[pivot_row, best]] = null[[best, pivot_row]]
+        null[pivot_row] /= null[pivot_row, col]
+        for other in range(rows):
+            if other != pivot_row:
+                null[other] -= null[other, col] * null[pivot_row]
+        null[pivot_row, col] = 1.0
+        pivot_row += 1
+    null[np.abs(null) < 1e-15] = 0.0
+    return null
+
+
+def kernel_basis(m, basis: str = "auto") -> tuple[np.ndarray, str]:
+    """A basis ``(6, 10)`` of the kernel of ``M_m`` and the name of the basis used.
+
+    Parameters
+    ----------
+    m : array_like, shape (4,)
+    basis : {"paper", "rref", "auto"}
+        ``"paper"``: eq. 13 (raises if it degenerates); ``"rref"``: :func:`rref_kernel_basis`;
+        ``"auto"``: the paper's unless it degenerates, else the RREF basis.
+
+    Raises
+    ------
+    ParameterError
+        ``basis="paper"`` while ``n0 = 0``.
+    """
+    if basis not in BASES:
+        raise ParameterError(f"unknown kernel basis {basis!r}; expected one of {BASES}")
+    degenerate = paper_basis_degenerate(m)
+    if basis == "paper" and degenerate:
+        raise ParameterError(
+            f"the paper's kernel basis (eq. 13) degenerates for m = {np.asarray(m, float).tolist()}: "
+            f"n0 = 4 m0 m1 m2 m3 = {_n_values(check_m(m))[0]:.3g}; use the rref basis, or give a and b directly"
+        )
+    if basis == "rref" or (basis == "auto" and degenerate):
+        return rref_kernel_basis(m), "rref"
+    return paper_kernel_basis(m), "paper"
+
+
+def model_points_from_matrices(matrices) -> np.ndarray:
+    """The points ``(1, R row by row, t)`` of R^13 of robotics matrices ``(..., 4, 4)`` → ``(..., 13)``."""
+    mat = np.asarray(matrices, dtype=float)
+    out = np.empty(mat.shape[:-2] + (13,))
+    out[..., 0] = 1.0
+    out[..., 1:10] = mat[..., :3, :3].reshape(mat.shape[:-2] + (9,))
+    out[..., 10:] = mat[..., :3, 3]
+    return out
+
+
+def mu(x, m) -> np.ndarray:
+    """The extended kinematic map μ_m: R^13 → Study parameters (eq. 12), ``(..., 13) → (..., 8)``.
+
+    ``p = M_m x'`` and ``q = −½ (x_t / x0) p``, so that ``κ(μ_m(x))`` has the rotation of ``p``
+    and the translation ``x_t / x0`` (``MATH.md``). The paper's ``c`` of eq. 16 is
+    ``x0 · μ_m(x)``.
+    """
+    x = np.asarray(x, dtype=float)
+    if x.shape[-1:] != (13,):
+        raise ParameterError(f"a point of the extended matrix model needs 13 numbers, got shape {x.shape}")
+    p = x[..., :10] @ mu_prime_matrix(m).T
+    t = x[..., 10:] / x[..., :1]
+    t1, t2, t3 = np.moveaxis(t, -1, 0)
+    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
+    q = -0.5 * np.stack(
+        [
+            -t1 * p1 - t2 * p2 - t3 * p3,
+            t1 * p0 + t2 * p3 - t3 * p2,
+            -t1 * p3 + t2 * p0 + t3 * p1,
+            t1 * p2 - t2 * p1 + t3 * p0,
+        ],
+        axis=-1,
+    )
+    return np.concatenate([p, q], axis=-1)
+
+
+def matrices_from_model_points(x, m) -> np.ndarray:
+    """Robotics matrices ``(..., 4, 4)`` of points ``(..., 13)`` under μ_m.
+
+    Raises
+    ------
+    PoseError
+        Where ``x0 = 0`` (a point at infinity) or ``M_m x' = 0`` (in the base locus).
+    """
+    x = np.asarray(x, dtype=float)
+    if np.any(x[..., 0] == 0.0):
+        raise PoseError("a point with x0 = 0 lies at infinity and maps to no pose")
+    h = mu(x, m)
+    norm_p = np.linalg.norm(h[..., :4], axis=-1)
+    if np.any(norm_p == 0.0):
+        raise PoseError("M_m x' = 0: the point lies in the base locus of μ_[m] and maps to no pose")
+    rot, trans = kappa(h)
+    out = np.zeros(x.shape[:-1] + (4, 4))
+    out[..., :3, :3] = rot
+    out[..., :3, 3] = trans
+    out[..., 3, 3] = 1.0
+    return out
+
+
+def check_not_orthogonal(m, quat_wxyz, what: str) -> float:
+    """``m·p`` for a unit quaternion ``p``; raise if ``μ_[m]`` is undefined at that pose."""
+    arr = check_m(m)
+    dot = float(np.dot(arr, quat_wxyz))
+    if abs(dot) <= ORTHOGONAL_TOL * float(np.linalg.norm(arr)):
+        raise ParameterError(
+            f"m = {arr.tolist()} is orthogonal to the quaternion of the {what} "
+            f"(m·p = {dot:.3g}, tolerance {ORTHOGONAL_TOL:g}·|m|): μ_[m] is undefined at that pose"
+        )
+    return dot
+
+
+def mu_fiber_points(matrix, m, alphas, basis: str = "paper") -> np.ndarray:
+    """Points of the μ_[m]-fiber of a pose (eq. 15), shape ``(k, 13)``.
+
+    ``x' = (1, R) + Σ α_l f_l``, ``ψ = x'[0]`` and ``x_t = ψ t``. These are affine 3x4
+    matrices that are not rigid; μ_m maps every one of them back to the pose.
+
+    Parameters
+    ----------
+    matrix : array_like, shape (4, 4)
+        The pose, robotics layout.
+    m : array_like, shape (4,)
+    alphas : array_like, shape (k, 6)
+        Coefficients in the chosen kernel basis.
+    basis : {"paper", "rref", "auto"}
+    """
+    mat = np.asarray(matrix, dtype=float)
+    from .poses import quaternions_from_rotations
+
+    check_not_orthogonal(m, quaternions_from_rotations(mat[:3, :3]), "pose")
+    alphas = np.atleast_2d(np.asarray(alphas, dtype=float))
+    if alphas.shape[-1] != 6:
+        raise ParameterError(f"each alpha needs 6 numbers, got shape {alphas.shape}")
+    if not np.all(np.isfinite(alphas)):
+        raise ParameterError("alpha contains NaN or infinity")
+    base, _ = kernel_basis(m, basis)
+    point = model_points_from_matrices(mat)
+    out = np.broadcast_to(point, alphas.shape[:-1] + (13,)).copy()
+    out[..., :10] += alphas @ base
+    out[..., 10:] = out[..., :1] * mat[:3, 3]
+    return out
+
+
+def psi_from_alpha(m, alpha, basis: str = "paper") -> float:
+    """The homogenising coordinate ``ψ = 1 + Σ α_l f_l[0]`` of a fiber point (``MATH.md``).
+
+    ``Σ α_l f_l[0]`` is the paper's ``a`` (for α) or ``b`` (for β), section 5.
+    """
+    alpha = np.asarray(alpha, dtype=float)
+    if alpha.shape != (6,):
+        raise ParameterError(f"alpha and beta need 6 numbers, got shape {alpha.shape}")
+    if not np.all(np.isfinite(alpha)):
+        raise ParameterError("alpha or beta contains NaN or infinity")
+    base, _ = kernel_basis(m, basis)
+    return 1.0 + float(alpha @ base[:, 0])
