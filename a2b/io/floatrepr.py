@@ -79,6 +79,9 @@ def _digits17(ax: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         step = np.floor(frac + 0.5)
         d = base.astype(np.int64) + step.astype(np.int64)
         resid = frac - step
+        tie = (resid == -0.5) & (d % 2 == 1)  # round half to even, as repr does
+        d = d - tie
+        resid = resid + tie
         high = d >= 10**17
         low = d < 10**16
         if not (high.any() or low.any()):
@@ -87,105 +90,90 @@ def _digits17(ax: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     raise AssertionError("decimal exponent did not settle")  # pragma: no cover
 
 
-def _shortest(d: np.ndarray, resid: np.ndarray, half_ulp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Replace ``d`` by its nearest multiple of 100, else of 10, when that surely reads back.
+def _shortest(
+    d: np.ndarray, e: np.ndarray, resid: np.ndarray, half_ulp: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Replace ``d`` by its nearest multiple of 100, else of 10, where that surely reads back.
 
-    Returns the chosen integers and a mask of the entries the margin could not decide between
-    a shorter candidate and the 17-digit one (those are left to ``repr``).
+    A candidate ``c`` reads back as ``x`` when ``|c − X| < U`` (``U = half_ulp``). Returns the
+    chosen integers, their exponents, and a mask of the entries whose choice the margin cannot
+    decide (they are left to ``repr``).
     """
     out = d.copy()
+    done = np.zeros(d.shape, dtype=bool)
     undecided = np.zeros(d.shape, dtype=bool)
-    decided = np.zeros(d.shape, dtype=bool)
     for unit in (100, 10):
         below = d - d % unit
-        for cand in (below, below + unit):
-            dist = np.abs((cand - d).astype(float) - resid)
-            sure = (dist < half_ulp - _MARGIN) & ~decided
-            unsure = (np.abs(dist - half_ulp) <= _MARGIN) & ~decided
-            undecided |= unsure
-            # Prefer the nearer candidate of the two when both read back.
-            other = below + unit if cand is below else below
-            other_dist = np.abs((other - d).astype(float) - resid)
-            take = sure & ((dist <= other_dist) | ~(other_dist < half_ulp - _MARGIN))
-            out = np.where(take, cand, out)
-            decided |= take
-    return out, undecided & ~decided
+        above = below + unit
+        dist_below = np.abs((below - d).astype(float) - resid)
+        dist_above = np.abs((above - d).astype(float) - resid)
+        ok_below = dist_below < half_ulp - _MARGIN
+        ok_above = dist_above < half_ulp - _MARGIN
+        unsure = (np.abs(dist_below - half_ulp) <= _MARGIN) | (np.abs(dist_above - half_ulp) <= _MARGIN)
+        nearer_above = (dist_above < dist_below) | (
+            (dist_above == dist_below) & ((above // unit) % 2 == 0)  # a tie goes to even, as repr
+        )
+        pick_above = ok_above & (~ok_below | nearer_above)
+        take = (ok_below | ok_above) & ~done & ~undecided
+        out = np.where(take, np.where(pick_above, above, below), out)
+        undecided |= unsure & ~done & ~take
+        done |= take
+    carry = out >= 10**17
+    out = np.where(carry, out // 10, out)
+    return out, e + carry, undecided
 
 
-def _to_text(neg: np.ndarray, d: np.ndarray, e: np.ndarray) -> np.ndarray:
-    """Render ``±d · 10^(e − 16)`` in ``repr`` style into a fixed-width byte matrix.
+_WIDTH = 25  # longest repr: "-1.2345678901234567e-250" has 24 characters
+_ZERO = ord("0")
+_PAIRS = np.frombuffer("".join(f"{i:02d}" for i in range(100)).encode(), dtype=np.uint16)
 
-    Unused cells hold 0 and are dropped later.
+
+def _render(cells: np.ndarray, rows: np.ndarray, neg: np.ndarray, d: np.ndarray, e: np.ndarray) -> None:
+    """Write ``±d · 10^(e − 16)`` in ``repr`` style into ``cells[rows]``.
+
+    ``d`` has 17 digits. Cells that stay 0 are dropped when the text is joined, so digits
+    are blanked rather than moved. Entries are grouped by exponent, which fixes the layout.
     """
-    n = d.shape[0]
-    width = 25
-    powers = 10 ** np.arange(16, -1, -1, dtype=np.int64)
-    digits = (d[:, None] // powers) % 10  # (n, 17), most significant first
-    nz = digits != 0
-    ndig = 17 - np.argmax(nz[:, ::-1], axis=1)  # significant digits after stripping zeros
-    chars = digits.astype(np.uint8) + ord("0")
-    buf = np.zeros((n, width), dtype=np.uint8)
-    rows = np.arange(n)
-    col = np.zeros(n, dtype=np.int64)
-
-    def put(mask, values):
-        buf[rows[mask], col[mask]] = values
-        col[mask] += 1
-
-    put(neg, ord("-"))
-    sci = (e < -4) | (e >= 16)
-    fixed_pos = ~sci & (e >= 0)
-    fixed_neg = ~sci & (e < 0)
-    # fixed, e >= 0: integer part = digits[0..e], then ".", then the rest (at least one digit)
-    # fixed, e < 0: "0." then -e-1 zeros then the digits
-    # scientific: d0 [. d1..] e±XX
-    j = np.arange(17)[None, :]
-    # Column of digit j in each layout, relative to the start column.
-    start = col[:, None]
-    pos_fixed = start + j + (j > e[:, None])  # skip the "." after digit e
-    pos_fneg = start + 2 + (-e[:, None] - 1) + j
-    pos_sci = start + j + (j > 0)
-    pos = np.where(sci[:, None], pos_sci, np.where(fixed_pos[:, None], pos_fixed, pos_fneg))
-    # Which digits are printed: significant ones, plus integer-part zeros in fixed notation.
-    show = j < ndig[:, None]
-    show |= fixed_pos[:, None] & (j <= e[:, None])
-    r_idx, c_idx = np.nonzero(show)
-    buf[r_idx, pos[r_idx, c_idx]] = chars[r_idx, c_idx]
-    # Decimal points and leading "0." / zeros
-    c0 = col
-    fp = np.nonzero(fixed_pos)[0]
-    buf[fp, c0[fp] + e[fp] + 1] = ord(".")
-    # a trailing ".0" when no fractional digit is significant
-    needs_zero = fixed_pos & (ndig <= e + 1)
-    nzr = np.nonzero(needs_zero)[0]
-    buf[nzr, c0[nzr] + e[nzr] + 2] = ord("0")
-    fn = np.nonzero(fixed_neg)[0]
-    if fn.size:
-        buf[fn, c0[fn]] = ord("0")
-        buf[fn, c0[fn] + 1] = ord(".")
-        lead = -e[fn] - 1
-        for z in range(int(lead.max(initial=0))):
-            m = z < lead
-            buf[fn[m], c0[fn[m]] + 2 + z] = ord("0")
-    sc = np.nonzero(sci)[0]
-    if sc.size:
-        multi = ndig[sc] > 1
-        buf[sc[multi], c0[sc[multi]] + 1] = ord(".")
-        ecol = c0[sc] + ndig[sc] + multi
-        buf[sc, ecol] = ord("e")
-        buf[sc, ecol + 1] = np.where(e[sc] < 0, ord("-"), ord("+"))
-        ae = np.abs(e[sc])
-        three = ae >= 100
-        buf[sc[three], ecol[three] + 2] = (ae[three] // 100) + ord("0")
-        off = ecol + 2 + three
-        buf[sc, off] = (ae // 10) % 10 + ord("0")
-        buf[sc, off + 1] = ae % 10 + ord("0")
-    return buf
-
-
-def format_column(x: np.ndarray) -> list[bytes] | np.ndarray:
-    """Text of a 1-d float64 array, one ``repr`` per entry, as a fixed-width byte matrix."""
-    raise NotImplementedError
+    pairs = np.empty((d.shape[0], 9), dtype=np.uint16)  # base-100 digits as two characters
+    rest = d
+    for i in range(8, -1, -1):
+        rest, low = np.divmod(rest, 100)
+        pairs[:, i] = _PAIRS[low]
+    chars = pairs.view(np.uint8)[:, 1:]  # (n, 17): drop the leading pad digit
+    nonzero = chars != _ZERO
+    ndig = 17 - np.argmax(nonzero[:, ::-1], axis=1)  # significant digits
+    chars *= np.arange(17)[None, :] < ndig[:, None]  # blank trailing zeros
+    order = np.argsort(e, kind="stable")
+    e, chars, ndig = e[order], chars[order], ndig[order]
+    sign = np.where(neg[order], np.uint8(ord("-")), np.uint8(0))[:, None]
+    out = np.zeros((len(order), _WIDTH), dtype=np.uint8)
+    bounds = np.concatenate([[0], np.flatnonzero(np.diff(e)) + 1, [len(e)]])
+    for lo, hi in zip(bounds[:-1], bounds[1:]):
+        ex = int(e[lo])
+        g = chars[lo:hi]
+        n = hi - lo
+        if 0 <= ex < 16:
+            integer = g[:, : ex + 1]
+            integer[integer == 0] = _ZERO  # integer-part zeros are printed
+            frac = g[:, ex + 1 :]
+            frac[:, 0] |= np.uint8(_ZERO)  # at least "x.0" (a blank 0 becomes "0")
+            block = np.hstack([sign[lo:hi], integer, np.full((n, 1), ord("."), np.uint8), frac])
+        elif -4 <= ex < 0:
+            lead = np.frombuffer(b"0." + b"0" * (-ex - 1), dtype=np.uint8)
+            block = np.hstack([sign[lo:hi], np.broadcast_to(lead, (n, len(lead))), g])
+        else:
+            tail = np.frombuffer(("e%+03d" % ex).encode(), dtype=np.uint8)
+            block = np.hstack(
+                [
+                    sign[lo:hi],
+                    g[:, :1],
+                    np.full((n, 1), ord("."), np.uint8) * (ndig[lo:hi] > 1)[:, None],
+                    g[:, 1:],
+                    np.broadcast_to(tail, (n, len(tail))),
+                ]
+            )
+        out[lo:hi, : block.shape[1]] = block
+    cells[rows[order], :_WIDTH] = out
 
 
 def format_rows(values: np.ndarray, sep: str = ",", prefix: list[str] | None = None) -> bytes:
@@ -212,32 +200,32 @@ def format_rows(values: np.ndarray, sep: str = ",", prefix: list[str] | None = N
     flat = a.ravel()
     ax = np.abs(flat)
     fast = (ax > 10.0**_LO_EXP) & (ax < 10.0**_HI_EXP)  # excludes 0, NaN, inf, subnormals
-    idx = np.nonzero(fast)[0]
-    width = 25
-    cells = np.zeros((flat.size, width + 1), dtype=np.uint8)
+    idx = np.flatnonzero(fast)
+    cells = np.zeros((flat.size, _WIDTH + 1), dtype=np.uint8)
     if idx.size:
         axf = ax[idx]
         d, e, resid = _digits17(axf)
         exp2 = np.frexp(axf)[1].astype(np.int64)  # axf in [2^(exp2-1), 2^exp2)
         # half an ulp of x, in units of the 17th digit: 2^(exp2 - 54) · 10^(16 − e)
         half_ulp = np.ldexp(_P10_HI[16 - e - _K_MIN], exp2 - 54)
-        d, undecided = _shortest(d, resid, half_ulp)
+        d, e, undecided = _shortest(d, e, resid, half_ulp)
         keep = ~undecided
-        sub = idx[keep]
-        cells[sub, :width] = _to_text(np.signbit(flat[sub]), d[keep], e[keep])
+        _render(cells, idx[keep], np.signbit(flat[idx[keep]]), d[keep], e[keep])
         fast[idx[undecided]] = False
-    for i in np.nonzero(~fast)[0]:
+    for i in np.flatnonzero(~fast):
         text = repr(float(flat[i])).encode()
         cells[i, : len(text)] = np.frombuffer(text, dtype=np.uint8)
-    # Separators: after each cell, `sep` or a newline at the end of a row.
-    ends = np.argmax(cells[:, :width] == 0, axis=1)
-    full = cells[:, :width].all(axis=1)
-    ends[full] = width
-    seps = np.full(flat.size, ord(sep), dtype=np.uint8)
-    seps[k - 1 :: k] = ord("\n")
-    cells[np.arange(flat.size), ends] = seps
-    out = cells[cells != 0].tobytes()
-    if prefix is None:
-        return out
-    lines = out.split(b"\n")
-    return b"".join(p.encode() + sep.encode() + line + b"\n" for p, line in zip(prefix, lines))
+    sep_b = sep.encode()
+    if len(sep_b) != 1:
+        raise ValueError(f"the separator must be one character, got {sep!r}")
+    last = cells[:, _WIDTH].reshape(n, k)
+    last[:, :-1] = sep_b[0]
+    last[:, -1] = ord("\n")
+    if prefix is not None:
+        head = np.zeros((n, max(len(p) for p in prefix) + 1), dtype=np.uint8)
+        for i, p in enumerate(prefix):
+            b = p.encode() + sep_b
+            head[i, : len(b)] = np.frombuffer(b, dtype=np.uint8)
+        table = np.hstack([head, cells.reshape(n, k * (_WIDTH + 1))])
+        return table[table != 0].tobytes()
+    return cells[cells != 0].tobytes()
