@@ -207,8 +207,13 @@ def matrices_from_model_points(x, m) -> np.ndarray:
         raise PoseError("a point with x0 = 0 lies at infinity and maps to no pose")
     h = mu(x, m)
     norm_p = np.linalg.norm(h[..., :4], axis=-1)
-    if np.any(norm_p == 0.0):
-        raise PoseError("M_m x' = 0: the point lies in the base locus of μ_[m] and maps to no pose")
+    scale = np.linalg.norm(mu_prime_matrix(m)) * np.linalg.norm(x[..., :10], axis=-1)
+    relative = norm_p / scale
+    if np.any(relative <= 1e-12):
+        raise PoseError(
+            f"M_m x' = 0: the point lies in the base locus of μ_[m] and maps to no pose "
+            f"(|M_m x'| / (|M_m| |x'|) = {float(np.min(relative)):.3g}, tolerance 1e-12)"
+        )
     rot, trans = kappa(h)
     out = np.zeros(x.shape[:-1] + (4, 4))
     out[..., :3, :3] = rot

@@ -26,6 +26,9 @@ import numpy as np
 from .poses import canonical_sign, quat_trans_from_matrices, study_from_quat_trans
 from .study import quat_conj, quat_mul
 
+#: ``|sin(φ/2)|`` at or below which the relative rotation of two poses is rounding noise.
+ROTATION_NOISE = 4 * np.finfo(float).eps
+
 
 @dataclass(frozen=True)
 class ScrewFrame:
@@ -147,7 +150,12 @@ def screw_frame(start: np.ndarray, end: np.ndarray) -> ScrewFrame:
     rot_d = rotations_from_quaternions(r)
     t_disp = t_b - rot_d @ t_a
     s = float(np.linalg.norm(r[1:]))
-    if s > 0.0:
+    if 0.0 < s <= ROTATION_NOISE:
+        choices.append(
+            f"the rotations of A and B differ by |sin(φ/2)| = {s:.3g}, within rounding "
+            f"({ROTATION_NOISE:.3g}): treated as a pure translation"
+        )
+    if s > ROTATION_NOISE:
         u = r[1:] / s
         d = float(u @ t_disp)
         if r[0] == 0.0:

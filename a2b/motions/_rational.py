@@ -110,7 +110,7 @@ def linear_root(v0: float, v1: float) -> float | None:
     """The root of ``(1−t) v0 + t v1`` or None if it is constant non-zero."""
     if v0 == v1:
         return None if v0 != 0.0 else 0.0
-    return v0 / (v0 - v1)
+    return v0 / (v0 - v1) + 0.0  # + 0.0 turns −0 into 0
 
 
 def check_quaternion_path(pa: np.ndarray, pb: np.ndarray, lo: float, hi: float, what: str) -> None:

@@ -1,0 +1,45 @@
+"""Shared fixtures and helpers: seeded random poses and the checks the paper's theorems need."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from a2b.poses import inverse_matrices, matrices_from_quat_trans
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20261121)
+
+
+def random_pose(rng, scale=1.0):
+    """A random robotics matrix with translation of size ``scale``."""
+    quat = rng.normal(size=4)
+    return matrices_from_quat_trans(quat, rng.normal(size=3) * scale)
+
+
+def pose_about_axis(angle, axis, point, slide):
+    """The screw displacement: rotation by ``angle`` about the line (axis, point), slide along it."""
+    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    rot = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+    out = np.eye(4)
+    out[:3, :3] = rot
+    out[:3, 3] = (np.eye(3) - rot) @ np.asarray(point, float) + slide * axis
+    return out
+
+
+def rigidity(matrices):
+    """``max |R Rᵀ − I|`` and ``max |det R − 1|`` over samples, and the bottom-row error."""
+    rot = matrices[..., :3, :3]
+    ortho = np.abs(rot @ np.swapaxes(rot, -1, -2) - np.eye(3)).max()
+    det = np.abs(np.linalg.det(rot) - 1).max()
+    bottom = np.abs(matrices[..., 3, :] - [0, 0, 0, 1]).max()
+    return max(ortho, det, bottom)
+
+
+def commutator(matrices):
+    """Largest ``|D_i D_j − D_j D_i|`` of the relative displacements ``C(t) C(0)⁻¹``."""
+    rel = matrices @ inverse_matrices(matrices[0])
+    return np.abs(rel[:, None] @ rel[None, :] - rel[None, :] @ rel[:, None]).max()
