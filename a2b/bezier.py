@@ -1,0 +1,657 @@
+"""Bézier motions through control poses, and C¹ splines through key poses (section 6, figure 4).
+
+The paper's outlook: the extended matrix model is an affine space, so the affine constructions
+of CAD apply to motions directly. Map the control poses to points of the extended space, build
+the curve there, and map every point of it to a pose.
+
+``space="matrix"``
+    A control pose ``(R_i, t_i)`` becomes the point ``X_i = (x'_i, ψ_i t_i) ∈ R^13`` with
+    ``x'_i = (1, R_i) + Σ_l α_il f_l`` (a point of its μ_[m]-fiber, eq. 15; ``α_i = 0`` gives
+    the pose itself) and ``ψ_i = x'_i[0]``. With weights ``w_i`` the curve is
+
+    .. math:: x(t) = \\sum_i B_i^n(t)\\, w_i X_i,
+
+    de Casteljau's curve of the points ``w_i X_i``, and the pose at ``t`` is
+    ``κ(μ_m(x(t)))`` in the given coordinates (eq. 12): the rotation of ``p(t) = M_m x'(t)``
+    and the translation ``x_t(t) / x0(t)``. Because ``M_m f_l = 0`` and
+    ``M_m (1, R) = 4 (m·p) p`` (``MATH.md``), the rotation and the translation decouple:
+
+    .. math::
+
+        p(t) = \\sum_i B_i^n(t)\\, 4 w_i (m·p_i)\\, p_i, \\qquad
+        t(t) = \\frac{\\sum_i B_i^n(t)\\, w_i ψ_i\\, t_i}{\\sum_i B_i^n(t)\\, w_i ψ_i}.
+
+    The rotation is a polynomial Bézier curve of quaternions whose control quaternions are
+    taken in the half-space ``m·p > 0`` (so the sign of a control's quaternion never matters;
+    ``m`` decides which way round), and the translation is a rational Bézier curve of the
+    translations with weights ``w_i ψ_i``. The fiber coefficients ``α_i`` act only through
+    ``ψ_i``. With two controls this is the cubic mode with ``frame="given"``.
+
+``space="study"``
+    A control pose becomes its unit Study vector ``h_i`` (``|p_i| = 1``), with signs made
+    consistent from one control to the next (``p_i·p_{i+1} ≥ 0``), moved within its κ-fiber to
+    ``h_i + s_i ε p_i`` (erratum 1 of ``MATH.md``), and weighted:
+    ``h(t) = Σ_i B_i^n(t) w_i (h_i + s_i ε p_i)``. The pose at ``t`` is ``κ(h(t))``, without
+    normalising ``h(t)`` or projecting it onto the Study quadric (section 3). With two controls
+    and ``s = (−δ/2, δ/2)`` this is the Darboux mode with parameter ``δ``.
+
+Both curves pass through the first and the last control pose (``t = 0`` and ``t = 1``).
+
+Splines join key poses ``P_0 … P_N`` with cubic Bézier segments in either space. The inner
+control points follow the uniform Catmull–Rom rule in the chosen space: with the points
+``X_j`` of the poses (rigid points ``(1, R_j, t_j)`` of R^13, or consistent unit Study vectors)
+and the tangents ``T_j = (X_{j+1} − X_{j−1}) / 2`` (at the ends ``T_0 = X_1 − X_0`` and
+``T_N = X_N − X_{N−1}``), segment ``j`` has the controls
+``X_j, X_j + T_j / 3, X_{j+1} − T_{j+1} / 3, X_{j+1}``. The segments meet with equal first
+derivatives in R^13 (or R^8), and one map (μ_m with one ``m``, or κ) turns that into a C¹ motion.
+The inner control points need not be rigid; μ_m and κ map them all the same. Segment ``j``
+covers ``t ∈ [j/N, (j+1)/N]``, so ``t = j/N`` is the key pose ``P_j``. For two poses the spline
+is the straight line: the cubic mode (``frame="given"``) or the Darboux mode with ``δ = 0``.
+
+Singularities. A curve breaks where ``x0(t) = 0`` (it passes through infinity) or where
+``p(t) = 0`` (no rotation). Both ``x0(t)`` and ``|p(t)|²`` are polynomials in ``t`` (Bernstein
+form, degree ``n`` and ``2n``). a2b finds their real zeros and minima on the sampled range
+exactly: the critical points come from the derivative, recursively, and between two
+consecutive critical points a polynomial is monotone, so bisection to machine precision finds
+its one zero there. A curve also counts as broken where ``|x0(t)|`` falls to
+``SINGULAR_TOL = 1e-12`` times the largest Bernstein coefficient of ``x0``, or ``|p(t)|²`` to
+``1e-12`` times the largest coefficient of ``|p|²`` (on ``[0, 1]`` these coefficients bound the
+polynomial): closer than that, the pose is not computed reliably.
+
+References
+----------
+H.-P. Schröcker, *From A to B: New Methods to Interpolate Two Poses*, eq. 12, 15, section 3
+and section 6 (figure 4).
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+from .errors import ParameterError, PoseError, SingularMotionError
+from .extended import (
+    BASES,
+    check_m,
+    check_not_orthogonal,
+    model_points_from_matrices,
+    mu_fiber_points,
+    mu_prime_matrix,
+)
+from .motions._rational import bern_mul, bernstein_basis
+from .poses import check_matrices, quat_trans_from_matrices, study_from_matrices
+from .study import kappa_fiber_points, rotation_numerators, translation_numerators
+
+__all__ = [
+    "SPACES",
+    "SINGULAR_TOL",
+    "BezierMotion",
+    "bezier",
+    "bezier_motion",
+    "spline",
+    "spline_motion",
+    "default_m",
+]
+
+SPACES = ("matrix", "study")
+
+#: Relative tolerance of the singularity checks: ``|x0(t)| ≤ SINGULAR_TOL · max |x0 coefficient|``
+#: or ``|p(t)|² ≤ SINGULAR_TOL · max |coefficient of |p|²|`` counts as a singular point.
+SINGULAR_TOL = 1e-12
+
+_BISECTIONS = 80
+
+
+# -- polynomials in Bernstein form ---------------------------------------------------------------
+
+
+def _bern_eval(coeffs: np.ndarray, ts: np.ndarray) -> np.ndarray:
+    """Values at ``ts`` (1-D) of a scalar polynomial with Bernstein coefficients ``(n+1,)``."""
+    n = coeffs.shape[0] - 1
+    if n == 0:
+        return np.full(np.shape(ts), float(coeffs[0]))
+    return bernstein_basis(ts, n) @ coeffs
+
+
+def _bern_derivative(coeffs: np.ndarray) -> np.ndarray:
+    """Bernstein coefficients ``n (c_{i+1} − c_i)`` of the derivative, degree ``n − 1``."""
+    n = coeffs.shape[0] - 1
+    return n * np.diff(coeffs, axis=0)
+
+
+def _bisect(coeffs: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Zeros in brackets ``[lo, hi]`` where the polynomial changes sign, to machine precision."""
+    f_lo = np.sign(_bern_eval(coeffs, lo))
+    for _ in range(_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        f_mid = np.sign(_bern_eval(coeffs, mid))
+        right = f_mid == f_lo  # the zero lies in [mid, hi]
+        lo = np.where(right, mid, lo)
+        hi = np.where(right, hi, mid)
+        if np.all(hi - lo <= 2.0 * np.spacing(np.maximum(np.abs(lo), np.abs(hi)))):
+            break
+    return 0.5 * (lo + hi)
+
+
+def _zeros_and_extrema(coeffs: np.ndarray, lo: float, hi: float) -> tuple[np.ndarray, np.ndarray]:
+    """The real zeros and the critical points in ``[lo, hi]`` of a polynomial (Bernstein form).
+
+    Derivative recursion: the critical points are the zeros of the derivative (found the same
+    way); between two consecutive ones, and the interval's ends, the polynomial is monotone, so
+    a sign change there brackets exactly one zero, which bisection finds. Zeros of even
+    multiplicity are critical points; callers test the values there against a tolerance.
+    """
+    n = coeffs.shape[0] - 1
+    if n <= 0:
+        return np.empty(0), np.empty(0)
+    if n == 1:
+        crit = np.empty(0)
+    else:
+        crit, _ = _zeros_and_extrema(_bern_derivative(coeffs), lo, hi)
+    pts = np.unique(np.concatenate([[lo], crit, [hi]]))
+    vals = _bern_eval(coeffs, pts)
+    exact = pts[vals == 0.0]
+    change = vals[:-1] * vals[1:] < 0.0
+    bracketed = _bisect(coeffs, pts[:-1][change], pts[1:][change]) if np.any(change) else np.empty(0)
+    return np.unique(np.concatenate([exact, bracketed])), crit
+
+
+def first_small_value(coeffs, lo: float, hi: float, tol: float = SINGULAR_TOL):
+    """The smallest ``t ∈ [lo, hi]`` where a polynomial vanishes or nearly does.
+
+    Parameters
+    ----------
+    coeffs : array_like, shape (n+1,)
+        Bernstein coefficients on ``[0, 1]`` (the interval ``[lo, hi]`` may extend beyond).
+    lo, hi : float
+    tol : float
+        Relative tolerance: ``|f(t)| ≤ tol · max |coeffs|`` counts as zero.
+
+    Returns
+    -------
+    (t, ratio) or None
+        The first such ``t`` and ``|f(t)| / max |coeffs|`` there.
+    """
+    c = np.asarray(coeffs, dtype=float)
+    scale = float(np.max(np.abs(c)))
+    if scale == 0.0:
+        return lo, 0.0
+    zeros, crit = _zeros_and_extrema(c, lo, hi)
+    pts = np.concatenate([[lo], crit, [hi]])
+    small = pts[np.abs(_bern_eval(c, pts)) <= tol * scale]
+    found = np.concatenate([zeros, small])
+    if found.size == 0:
+        return None
+    t = float(np.min(found))
+    return t, float(abs(_bern_eval(c, np.array([t]))[0])) / scale
+
+
+# -- validation ---------------------------------------------------------------------------------
+
+
+def _check_ts(ts) -> np.ndarray:
+    if isinstance(ts, numbers.Integral) and not isinstance(ts, bool):
+        if ts < 2:
+            raise ParameterError(f"the number of samples must be at least 2, got {ts}")
+        return np.linspace(0.0, 1.0, int(ts))
+    arr = np.asarray(ts, dtype=float)
+    if not np.all(np.isfinite(arr)):
+        raise ParameterError("ts contains NaN or infinity")
+    return arr
+
+
+def _check_poses(poses, what: str, minimum: int = 2) -> np.ndarray:
+    arr = check_matrices(poses)
+    if arr.ndim != 3:
+        raise PoseError(f"the {what} must be a list of 4x4 matrices, shape (k, 4, 4); got shape {arr.shape}")
+    if arr.shape[0] < minimum:
+        raise ParameterError(f"a curve needs at least {minimum} {what}, got {arr.shape[0]}")
+    return arr
+
+
+def _per_control(values, k: int, name: str, width: int | None = None) -> np.ndarray:
+    arr = np.asarray(values, dtype=float)
+    shape = (k,) if width is None else (k, width)
+    if arr.shape != shape:
+        each = "one number" if width is None else f"{width} numbers"
+        raise ParameterError(f"{name} needs {each} per control pose, shape {shape}; got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ParameterError(f"{name} contains NaN or infinity")
+    return arr
+
+
+def _check_weights(weights, k: int) -> np.ndarray:
+    if weights is None:
+        return np.ones(k)
+    w = _per_control(weights, k, "weights")
+    if np.any(w <= 0.0):
+        i = int(np.argmax(w <= 0.0))
+        raise ParameterError(
+            f"weights must be positive; control pose {i + 1} of {k} has weight {w[i]:.6g}"
+        )
+    return w
+
+
+def _greville(i: int, k: int) -> str:
+    return f"control pose {i + 1} of {k} (t = {i / (k - 1):.6g})" if i in (0, k - 1) else (
+        f"control pose {i + 1} of {k} (Greville abscissa t = {i / (k - 1):.6g})"
+    )
+
+
+def consistent_signs(vectors: np.ndarray) -> tuple[np.ndarray, list[int]]:
+    """Flip quaternions or Study vectors ``(k, 4|8)`` so that ``p_i·p_{i+1} ≥ 0``, in order.
+
+    Returns the flipped copy and the indices (0-based) that were flipped.
+    """
+    out = np.array(vectors, dtype=float)
+    flipped = []
+    for i in range(1, out.shape[0]):
+        if out[i - 1, :4] @ out[i, :4] < 0.0:
+            out[i] = -out[i]
+            flipped.append(i)
+    return out, flipped
+
+
+def default_m(quat_wxyz) -> np.ndarray:
+    """The default ``m``: the sum of the poses' unit quaternions, with consistent signs.
+
+    ``m = Σ_i p_i`` where ``p_0`` has ``w ≥ 0`` and each ``p_{i+1}`` takes the sign with
+    ``p_i·p_{i+1} ≥ 0``. For two poses this is ``pA + pB``, the default of the cubic mode with
+    ``frame="given"``, so both controls get the same rotation weight ``4 m·p``. It is not
+    normalised, for the same reason: the paper's kernel basis (eq. 13) is quartic in ``m``, so
+    fiber coefficients mean the same as in the cubic mode only for the same ``m``.
+
+    Raises
+    ------
+    ParameterError
+        If the sum vanishes (the poses' rotations cancel out); then give ``m``.
+    """
+    quats, _ = consistent_signs(np.asarray(quat_wxyz, dtype=float))
+    m = quats.sum(axis=0)
+    if float(np.linalg.norm(m)) <= 1e-12 * quats.shape[0]:
+        raise ParameterError(
+            "the default m, the sum of the poses' quaternions with consistent signs, vanishes "
+            f"(|m| = {float(np.linalg.norm(m)):.3g}); give m explicitly"
+        )
+    return m
+
+
+# -- the motion ---------------------------------------------------------------------------------
+
+
+class BezierMotion:
+    """A motion made of rational Bézier segments in R^13 (mapped by μ_m) or R^8 (mapped by κ).
+
+    Build it with :func:`bezier_motion` or :func:`spline_motion`. ``t ∈ [0, 1]`` runs over all
+    segments; segment ``j`` of ``S`` covers ``[j/S, (j+1)/S]``. Values of ``t`` outside
+    ``[0, 1]`` extrapolate the first or the last segment (and are checked for singularities).
+
+    Attributes
+    ----------
+    space : {"matrix", "study"}
+    controls : ndarray, shape (S, n+1, 13) or (S, n+1, 8)
+        The weighted control points of each segment: homogeneous points of R^13
+        ``(x0, x1 … x9, x10, x11, x12)``, or Study vectors ``(p0 … p3, q0 … q3)``.
+    m : ndarray (4,) or None
+        The parameter of μ_[m] (matrix space).
+    choices : list of str
+        Every choice made for the user, in words.
+    """
+
+    def __init__(self, space: str, controls: np.ndarray, m, kind: str, info: dict, choices: list):
+        self.space = space
+        self.controls = controls
+        self.m = m
+        self.kind = kind
+        self.info = info
+        self.choices = choices
+        self.degree = controls.shape[1] - 1
+        self._mu_t = None if m is None else mu_prime_matrix(m).T
+        quats = self._quaternion_controls()
+        self._quat_sign = 1.0 if quats[0, 0] @ self.info["first_quaternion"] >= 0 else -1.0
+        self._check_segments(0.0, 1.0)
+
+    # -- polynomial pieces ----------------------------------------------------------------------
+    def _quaternion_controls(self) -> np.ndarray:
+        """Bernstein coefficients ``(S, n+1, 4)`` of the (unnormalised) quaternion ``p(t)``."""
+        if self.space == "matrix":
+            return self.controls[..., :10] @ self._mu_t
+        return self.controls[..., :4]
+
+    def _name(self) -> str:
+        return f"{self.kind} ({self.space} space)"
+
+    def _check_segment(self, j: int, lo: float, hi: float) -> None:
+        segments = self.controls.shape[0]
+        if self.space == "matrix":
+            x0 = self.controls[j, :, 0]
+            found = first_small_value(x0, lo, hi)
+            if found is not None:
+                t, ratio = found
+                raise SingularMotionError(
+                    f"the {self._name()} passes through infinity at t = {(j + t) / segments:.6g}: "
+                    f"x0(t) = 0 (|x0(t)| / max|x0_i| = {ratio:.3g}, tolerance {SINGULAR_TOL:g}); "
+                    f"the control points of this segment have x0_i = w_i ψ_i = "
+                    f"{[float(f'{v:.6g}') for v in x0]}, which need one sign"
+                )
+        quats = self._quaternion_controls()[j]
+        norm2 = bern_mul(quats, quats).sum(axis=-1)
+        found = first_small_value(norm2, lo, hi)
+        if found is not None:
+            t, ratio = found
+            raise SingularMotionError(
+                f"the {self._name()} passes through p(t) = 0 (no rotation defined) at "
+                f"t = {(j + t) / segments:.6g}: |p(t)|² / max|coefficient| = {ratio:.3g}, "
+                f"tolerance {SINGULAR_TOL:g}"
+            )
+
+    def _check_segments(self, lo: float, hi: float) -> None:
+        segments = self.controls.shape[0]
+        if lo == 0.0 and hi == 1.0:
+            for j in range(segments):
+                self._check_segment(j, 0.0, 1.0)
+            return
+        if lo < 0.0:
+            self._check_segment(0, lo * segments, 0.0)
+        if hi > 1.0:
+            self._check_segment(segments - 1, 1.0, hi * segments - (segments - 1))
+
+    # -- sampling -------------------------------------------------------------------------------
+    def _prepare(self, ts) -> tuple[np.ndarray, tuple]:
+        arr = _check_ts(ts)
+        flat = arr.reshape(-1)
+        if flat.size and (flat.min() < 0.0 or flat.max() > 1.0):
+            self._check_segments(min(0.0, float(flat.min())), max(1.0, float(flat.max())))
+        return flat, arr.shape
+
+    def _evaluate(self, flat: np.ndarray) -> np.ndarray:
+        segments = self.controls.shape[0]
+        scaled = flat * segments
+        j = np.clip(np.floor(scaled), 0, segments - 1).astype(int)
+        u = scaled - j
+        basis = bernstein_basis(u, self.degree)
+        if segments == 1:
+            return basis @ self.controls[0]
+        return np.einsum("si,sid->sd", basis, self.controls[j])
+
+    def points(self, ts) -> np.ndarray:
+        """The curve itself: points ``(..., 13)`` of R^13 or Study vectors ``(..., 8)``.
+
+        In matrix space these are affine 3x4 matrices (with homogenising coordinate ``x0``) that
+        are in general not rigid; μ_m maps them to the poses of :meth:`matrices`.
+        """
+        flat, shape = self._prepare(ts)
+        return self._evaluate(flat).reshape(shape + (self.controls.shape[-1],))
+
+    def _quat_trans_unnormalised(self, flat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        x = self._evaluate(flat)
+        if self.space == "matrix":
+            p = x[:, :10] @ self._mu_t
+            trans = x[:, 10:] / x[:, :1]
+        else:
+            p = x[:, :4]
+            trans = translation_numerators(p, x[:, 4:]) / np.sum(p * p, axis=-1)[:, None]
+        return p, trans
+
+    def matrices(self, ts) -> np.ndarray:
+        """Robotics matrices ``(..., 4, 4)`` of the motion at ``ts`` (any shape; or a sample count).
+
+        The rotation is eq. 4 of ``p(t)`` divided by ``|p(t)|²``; the translation is
+        ``x_t / x0`` (matrix space, μ_m) or ``(p q̄ − q p̄) / |p|²`` (study space, κ).
+        """
+        flat, shape = self._prepare(ts)
+        p, trans = self._quat_trans_unnormalised(flat)
+        out = np.zeros((flat.size, 4, 4))
+        out[:, :3, :3] = (rotation_numerators(p) / np.sum(p * p, axis=-1)[:, None]).reshape(-1, 3, 3)
+        out[:, :3, 3] = trans
+        out[:, 3, 3] = 1.0
+        return out.reshape(shape + (4, 4))
+
+    def quat_trans(self, ts) -> tuple[np.ndarray, np.ndarray]:
+        """Unit quaternions ``(..., 4)`` (w, x, y, z) and translations ``(..., 3)``.
+
+        The quaternions come from the curve's own ``p(t)``, so they are continuous in ``t``
+        (no sign jumps); at ``t = 0`` the first control pose's quaternion has ``w ≥ 0``.
+        """
+        flat, shape = self._prepare(ts)
+        p, trans = self._quat_trans_unnormalised(flat)
+        quat = self._quat_sign * p / np.linalg.norm(p, axis=-1, keepdims=True)
+        return quat.reshape(shape + (4,)), trans.reshape(shape + (3,))
+
+    def study(self, ts) -> np.ndarray:
+        """Unit Study parameters ``(..., 8)`` (``|p| = 1``, ``q = −½ t p``) of the samples."""
+        from .poses import study_from_quat_trans
+
+        quat, trans = self.quat_trans(ts)
+        return study_from_quat_trans(quat, trans)
+
+    def joints(self) -> list[float]:
+        """The parameters ``t`` where segments meet (empty for a single Bézier curve)."""
+        segments = self.controls.shape[0]
+        return [j / segments for j in range(1, segments)]
+
+    def describe(self) -> dict:
+        """The construction as plain data: space, degree, segments, m, weights, choices."""
+        out = {
+            "kind": self.kind,
+            "space": self.space,
+            "degree": self.degree,
+            "segments": int(self.controls.shape[0]),
+            "joints": self.joints(),
+        }
+        if self.m is not None:
+            out["m"] = [float(v) for v in self.m]
+        out.update(self.info.get("describe", {}))
+        out["choices"] = list(self.choices)
+        return out
+
+
+# -- constructions ------------------------------------------------------------------------------
+
+
+def _matrix_rotation_weights(m: np.ndarray, quats: np.ndarray, label, choices: list) -> np.ndarray:
+    dots = np.array([check_not_orthogonal(m, quats[i], label(i)) for i in range(quats.shape[0])])
+    if np.any(dots < 0.0):
+        which = ", ".join(str(i + 1) for i in np.nonzero(dots < 0.0)[0])
+        choices.append(
+            f"m·p < 0 for pose(s) {which}: μ_m takes their quaternions with the opposite sign, "
+            "so the rotation between neighbours may go the long way round"
+        )
+    return 4.0 * dots
+
+
+def bezier_motion(control_poses, space: str = "matrix", *, m=None, weights=None, alphas=None,
+                  basis: str = "paper", offsets=None) -> BezierMotion:
+    """The Bézier motion of control poses, as an object to sample (see :func:`bezier`)."""
+    if space not in SPACES:
+        raise ParameterError(f"unknown space {space!r}; expected one of {', '.join(SPACES)}")
+    poses = _check_poses(control_poses, "control poses")
+    k = poses.shape[0]
+    w = _check_weights(weights, k)
+    quats, trans = quat_trans_from_matrices(poses)
+    choices: list[str] = []
+    label = lambda i: _greville(i, k)  # noqa: E731
+    if space == "matrix":
+        if offsets is not None:
+            raise ParameterError("space matrix does not take offsets (κ-fiber offsets belong to space study)")
+        if basis not in BASES:
+            raise ParameterError(f"unknown kernel basis {basis!r}; expected one of {BASES}")
+        if m is None:
+            m_arr = default_m(quats)
+            choices.append("m defaults to the sum of the control quaternions with consistent signs")
+        else:
+            m_arr = check_m(m)
+        rot_w = _matrix_rotation_weights(m_arr, quats, label, choices)
+        if alphas is None:
+            points = model_points_from_matrices(poses)
+        else:
+            a = _per_control(alphas, k, "alphas", 6)
+            points = np.concatenate([mu_fiber_points(poses[i], m_arr, a[i:i + 1], basis) for i in range(k)])
+        points = points * w[:, None]
+        describe = {
+            "weights": [float(v) for v in w],
+            "x0": [float(v) for v in points[:, 0]],
+            "rotation_weights": [float(v) for v in w * rot_w],
+        }
+        first = quats[0]
+    else:
+        if m is not None or alphas is not None or basis != "paper":
+            given = [n for n, v in (("m", m), ("alphas", alphas)) if v is not None]
+            given += ["basis"] if basis != "paper" else []
+            raise ParameterError(
+                f"space study does not take {', '.join(given)} (they belong to space matrix)"
+            )
+        m_arr = None
+        h, flipped = consistent_signs(study_from_matrices(poses))
+        if flipped:
+            choices.append(
+                "flipped the sign of the Study vector of control pose(s) "
+                + ", ".join(str(i + 1) for i in flipped)
+                + " so that consecutive quaternions have p_i·p_{i+1} ≥ 0"
+            )
+        s = np.zeros(k) if offsets is None else _per_control(offsets, k, "offsets")
+        if offsets is not None:
+            h = np.concatenate([kappa_fiber_points(h[i], s[i:i + 1]) for i in range(k)])
+        points = h * w[:, None]
+        describe = {"weights": [float(v) for v in w], "offsets": [float(v) for v in s]}
+        first = h[0, :4]
+    return BezierMotion(space, points[None], m_arr, "Bézier motion",
+                        {"first_quaternion": first, "describe": describe}, choices)
+
+
+def bezier(control_poses, ts, space: str = "matrix", **parameters) -> np.ndarray:
+    """Sample the Bézier motion of control poses (section 6, figure 4).
+
+    Parameters
+    ----------
+    control_poses : array_like, shape (k, 4, 4)
+        ``k ≥ 2`` robotics-layout poses; the curve has degree ``k − 1``.
+    ts : array_like or int
+        Sample parameters of any shape (``t = 0`` is the first control pose, ``t = 1`` the
+        last; values outside extrapolate), or a number of samples equally spaced on ``[0, 1]``.
+    space : {"matrix", "study"}
+        ``"matrix"``: de Casteljau in R^13, then μ_m in the given frame (eq. 12).
+        ``"study"``: de Casteljau over unit Study vectors with consistent signs, then κ.
+    **parameters
+        ``weights`` (both spaces): ``(k,)`` positive numbers that multiply the homogeneous
+        control points (a rational Bézier curve); default all 1.
+
+        matrix space: ``m`` (4 numbers, default :func:`default_m`: the sum of the control
+        quaternions with consistent signs); ``alphas``: ``(k, 6)`` fiber coefficients, one
+        row per control pose, in the kernel basis ``basis`` (``"paper"``, eq. 13, as in the
+        cubic mode; or ``"rref"``, ``"auto"``, see :func:`a2b.extended.kernel_basis`).
+
+        study space: ``offsets``: ``(k,)`` κ-fiber offsets ``s_i`` (control ``h_i + s_i ε p_i``).
+
+    Returns
+    -------
+    ndarray, shape ts.shape + (4, 4)
+        Robotics-layout matrices; with two controls, ``space="matrix"`` is the cubic mode with
+        ``frame="given"`` (``alphas = [alpha, beta]``) and ``space="study"`` is the Darboux mode
+        with ``δ = s_1 − s_0``.
+
+    Raises
+    ------
+    PoseError
+        A control pose is not a valid pose.
+    ParameterError
+        A control pose's quaternion is orthogonal to ``m`` (stating which control and its
+        parameter ``t``), or a parameter has the wrong shape or value.
+    SingularMotionError
+        The curve passes through infinity (``x0(t) = 0``) or through ``p(t) = 0`` for some
+        ``t`` in ``[0, 1]`` (or the sampled range), stating ``t``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from a2b.bezier import bezier
+    >>> turn = np.eye(4); turn[:2, :2] = [[0, -1], [1, 0]]; turn[0, 3] = 2.0
+    >>> bezier([np.eye(4), turn], [0.0, 0.5, 1.0]).shape
+    (3, 4, 4)
+    """
+    return bezier_motion(control_poses, space, **parameters).matrices(ts)
+
+
+def spline_motion(poses, space: str = "matrix", *, m=None) -> BezierMotion:
+    """The C¹ Catmull–Rom spline through key poses, as an object to sample (see :func:`spline`)."""
+    if space not in SPACES:
+        raise ParameterError(f"unknown space {space!r}; expected one of {', '.join(SPACES)}")
+    keys = _check_poses(poses, "poses")
+    count = keys.shape[0]
+    quats, _ = quat_trans_from_matrices(keys)
+    choices = [
+        "inner control points by the uniform Catmull–Rom rule T_j = (X_{j+1} − X_{j−1}) / 2, "
+        "end tangents X_1 − X_0 and X_N − X_{N−1}"
+    ]
+    segments = count - 1
+    label = lambda i: f"pose {i + 1} of {count} (t = {i / segments:.6g})"  # noqa: E731
+    if space == "matrix":
+        if m is None:
+            m_arr = default_m(quats)
+            choices.append("m defaults to the sum of the poses' quaternions with consistent signs")
+        else:
+            m_arr = check_m(m)
+        _matrix_rotation_weights(m_arr, quats, label, choices)
+        points = model_points_from_matrices(keys)
+        first = quats[0]
+    else:
+        if m is not None:
+            raise ParameterError("space study does not take m (it belongs to space matrix)")
+        m_arr = None
+        points, flipped = consistent_signs(study_from_matrices(keys))
+        if flipped:
+            choices.append(
+                "flipped the sign of the Study vector of pose(s) "
+                + ", ".join(str(i + 1) for i in flipped)
+                + " so that consecutive quaternions have p_i·p_{i+1} ≥ 0"
+            )
+        first = points[0, :4]
+    tangents = np.empty_like(points)
+    tangents[0] = points[1] - points[0]
+    tangents[-1] = points[-1] - points[-2]
+    tangents[1:-1] = 0.5 * (points[2:] - points[:-2])
+    controls = np.stack(
+        [points[:-1], points[:-1] + tangents[:-1] / 3.0, points[1:] - tangents[1:] / 3.0, points[1:]],
+        axis=1,
+    )
+    describe = {"poses": count}
+    return BezierMotion(space, controls, m_arr, "spline", {"first_quaternion": first, "describe": describe}, choices)
+
+
+def spline(poses, ts_or_samples, space: str = "matrix", *, m=None) -> np.ndarray:
+    """Sample the C¹ spline through key poses: cubic Bézier segments with Catmull–Rom tangents.
+
+    Parameters
+    ----------
+    poses : array_like, shape (N+1, 4, 4)
+        ``N + 1 ≥ 2`` robotics-layout key poses.
+    ts_or_samples : array_like or int
+        Sample parameters of any shape, or a number of samples equally spaced on ``[0, 1]``.
+        Key pose ``j`` is at ``t = j / N``; ``s N + 1`` samples hit every key pose.
+    space : {"matrix", "study"}
+        Where the tangents and the segments are built: R^13 (mapped by μ_m in the given
+        frame), or unit Study vectors with consistent signs (mapped by κ).
+    m : array_like, shape (4,), optional
+        matrix space only: the parameter of μ_[m], one for all segments (that keeps the motion
+        C¹). Default :func:`default_m` of the key poses.
+
+    Returns
+    -------
+    ndarray, shape ts.shape + (4, 4)
+
+    Notes
+    -----
+    With the points ``X_j`` of the key poses and the tangents ``T_j = (X_{j+1} − X_{j−1}) / 2``
+    (``T_0 = X_1 − X_0``, ``T_N = X_N − X_{N−1}``), segment ``j`` is the cubic Bézier curve
+    with the controls ``X_j, X_j + T_j/3, X_{j+1} − T_{j+1}/3, X_{j+1}`` on
+    ``t ∈ [j/N, (j+1)/N]``. In matrix space every control point has ``x0 = 1``, so the curve
+    never passes through infinity and the translation is the Catmull–Rom spline of the
+    translations.
+
+    Raises
+    ------
+    PoseError, ParameterError, SingularMotionError
+        As for :func:`bezier`; a key pose orthogonal to ``m`` is reported with its ``t``.
+    """
+    return spline_motion(poses, space, m=m).matrices(ts_or_samples)
