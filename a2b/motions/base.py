@@ -80,7 +80,7 @@ class Motion:
         """
         arr = self._prepare(ts)
         quat = self._quats(arr)
-        quat = quat / np.linalg.norm(quat, axis=-1, keepdims=True)
+        quat /= np.sqrt(np.einsum("ij,ij->i", quat, quat))[:, None]
         return quat, evaluate_translations(self._basis(arr), self.table)
 
     def study(self, ts) -> np.ndarray:
