@@ -14,7 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ParameterError, PoseError
-from .study import kappa
+from .poses import matrices_from_rot_trans, quaternions_from_rotations
+from .study import kappa, study_from_quat_trans
 
 #: Relative size of ``m·p`` below which a pose counts as orthogonal to ``m`` (not in the image).
 ORTHOGONAL_TOL = 1e-12
@@ -179,19 +180,7 @@ def mu(x, m) -> np.ndarray:
     if x.shape[-1:] != (13,):
         raise ParameterError(f"a point of the extended matrix model needs 13 numbers, got shape {x.shape}")
     p = x[..., :10] @ mu_prime_matrix(m).T
-    t = x[..., 10:] / x[..., :1]
-    t1, t2, t3 = np.moveaxis(t, -1, 0)
-    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
-    q = -0.5 * np.stack(
-        [
-            -t1 * p1 - t2 * p2 - t3 * p3,
-            t1 * p0 + t2 * p3 - t3 * p2,
-            -t1 * p3 + t2 * p0 + t3 * p1,
-            t1 * p2 - t2 * p1 + t3 * p0,
-        ],
-        axis=-1,
-    )
-    return np.concatenate([p, q], axis=-1)
+    return study_from_quat_trans(p, x[..., 10:] / x[..., :1])
 
 
 def matrices_from_model_points(x, m) -> np.ndarray:
@@ -214,12 +203,7 @@ def matrices_from_model_points(x, m) -> np.ndarray:
             f"M_m x' = 0: the point lies in the base locus of μ_[m] and maps to no pose "
             f"(|M_m x'| / (|M_m| |x'|) = {float(np.min(relative)):.3g}, tolerance 1e-12)"
         )
-    rot, trans = kappa(h)
-    out = np.zeros(x.shape[:-1] + (4, 4))
-    out[..., :3, :3] = rot
-    out[..., :3, 3] = trans
-    out[..., 3, 3] = 1.0
-    return out
+    return matrices_from_rot_trans(*kappa(h))
 
 
 def check_not_orthogonal(m, quat_wxyz, what: str) -> float:
@@ -250,8 +234,6 @@ def mu_fiber_points(matrix, m, alphas, basis: str = "paper") -> np.ndarray:
     basis : {"paper", "rref", "auto"}
     """
     mat = np.asarray(matrix, dtype=float)
-    from .poses import quaternions_from_rotations
-
     check_not_orthogonal(m, quaternions_from_rotations(mat[:3, :3]), "pose")
     alphas = np.atleast_2d(np.asarray(alphas, dtype=float))
     if alphas.shape[-1] != 6:

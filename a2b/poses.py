@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import PoseError
-from .study import STUDY_TOL, check_study, kappa, rotation_numerators
+from .study import STUDY_TOL, check_study, kappa, rotation_numerators, study_from_quat_trans
 
 #: Tolerance of ``max |R Rᵀ − I|`` and ``|det R − 1|`` for rotation blocks of input matrices.
 ORTHO_TOL = 1e-9
@@ -233,25 +233,6 @@ def quat_trans_from_matrices(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarr
     return quaternions_from_rotations(m[..., :3, :3]), m[..., :3, 3].copy()
 
 
-def study_from_quat_trans(quat_wxyz: np.ndarray, translations: np.ndarray) -> np.ndarray:
-    """Study parameters ``(..., 8)`` from unit quaternions and translations: ``q = −½ t p`` (eq. 6)."""
-    p = np.asarray(quat_wxyz, dtype=float)
-    t = np.asarray(translations, dtype=float)
-    t1, t2, t3 = np.moveaxis(t, -1, 0)
-    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
-    # q = -1/2 (0, t) p
-    q = -0.5 * np.stack(
-        [
-            -t1 * p1 - t2 * p2 - t3 * p3,
-            t1 * p0 + t2 * p3 - t3 * p2,
-            -t1 * p3 + t2 * p0 + t3 * p1,
-            t1 * p2 - t2 * p1 + t3 * p0,
-        ],
-        axis=-1,
-    )
-    return np.concatenate([np.broadcast_to(p, q.shape), q], axis=-1)
-
-
 def study_from_matrices(matrices: np.ndarray) -> np.ndarray:
     """Study parameters ``(..., 8)`` of robotics-layout matrices ``(..., 4, 4)``.
 
@@ -283,10 +264,15 @@ def matrices_from_study(
         condition, stating the residual and the tolerance.
     """
     h = check_study(study, tol=tol, on_quadric=not through_kappa)
-    rot, trans = kappa(h)
-    out = np.zeros(h.shape[:-1] + (4, 4))
+    return matrices_from_rot_trans(*kappa(h))
+
+
+def matrices_from_rot_trans(rotations: np.ndarray, translations: np.ndarray) -> np.ndarray:
+    """Robotics matrices ``(..., 4, 4)`` from rotations ``(..., 3, 3)`` and translations ``(..., 3)``."""
+    rot = np.asarray(rotations, dtype=float)
+    out = np.zeros(rot.shape[:-2] + (4, 4))
     out[..., :3, :3] = rot
-    out[..., :3, 3] = trans
+    out[..., :3, 3] = translations
     out[..., 3, 3] = 1.0
     return out
 

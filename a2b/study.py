@@ -161,6 +161,29 @@ def check_study(h: np.ndarray, *, tol: float = STUDY_TOL, on_quadric: bool = Tru
     return h
 
 
+def study_from_quat_trans(quat_wxyz: np.ndarray, translations: np.ndarray) -> np.ndarray:
+    """Study parameters ``(..., 8)`` from quaternions ``p`` and translations ``t``: ``q = −½ t p`` (eq. 6).
+
+    For a unit ``p`` this is eq. 6; for any ``p ≠ 0`` it gives the point of the Study quadric with
+    primal part ``p`` whose κ-image has the translation ``t``.
+    """
+    p = np.asarray(quat_wxyz, dtype=float)
+    t = np.asarray(translations, dtype=float)
+    t1, t2, t3 = np.moveaxis(t, -1, 0)
+    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
+    # q = -1/2 (0, t) p
+    q = -0.5 * np.stack(
+        [
+            -t1 * p1 - t2 * p2 - t3 * p3,
+            t1 * p0 + t2 * p3 - t3 * p2,
+            -t1 * p3 + t2 * p0 + t3 * p1,
+            t1 * p2 - t2 * p1 + t3 * p0,
+        ],
+        axis=-1,
+    )
+    return np.concatenate([np.broadcast_to(p, q.shape), q], axis=-1)
+
+
 def kappa(h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The extended kinematic map κ: P^7 minus E → SE(3) (section 3, eq. 3–5).
 
