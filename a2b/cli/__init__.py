@@ -1,0 +1,83 @@
+"""The ``a2b`` command line: a lazy click group and its one error boundary.
+
+Each command lives in its own module, imported only when it runs (or shows its own help), so
+``a2b --help`` and ``a2b --version`` import neither numpy nor rich, yaml or mcap.
+
+To add a command ``NAME``: write ``a2b/cli/NAME.py`` defining a click command called
+``command`` (thin: parse options, call a reader, one library function, a writer), and add
+one line ``"NAME": ("a2b.cli.NAME", "Short help."),`` to :data:`COMMANDS`. Mention it in
+README.md; ``tests/test_readme.py`` checks that.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import click
+
+from .. import __version__
+from ..errors import A2bError
+
+#: name -> (module defining ``command``, short help shown by ``a2b --help``)
+COMMANDS = {
+    "interpolate": ("a2b.cli.interpolate", "Sample the motion between two poses to CSV, TUM, KITTI or MCAP."),
+    "describe": ("a2b.cli.describe", "Show the canonical frame and the essential parameters of a motion."),
+    "fiber": ("a2b.cli.fiber", "Show points of the fiber of a pose under κ or μ_[m]."),
+    "batch": ("a2b.cli.batch", "Sample many motions from a jobs file into one CSV."),
+}
+
+CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
+
+
+class LazyGroup(click.Group):
+    """A group whose commands are imported on first use, from :data:`COMMANDS`.
+
+    It is also the single error boundary of the program: an :class:`a2b.A2bError` (bad input,
+    a parameter without a solution, a singular motion) becomes a one-line message and exit
+    status 1. Any other exception is a bug and keeps its traceback. A closed output pipe
+    (``a2b ... | head``) ends the program quietly with status 0.
+    """
+
+    def list_commands(self, ctx):
+        return list(COMMANDS)
+
+    def get_command(self, ctx, name):
+        if name not in COMMANDS:
+            return None
+        return importlib.import_module(COMMANDS[name][0]).command
+
+    def format_commands(self, ctx, formatter):
+        rows = [(name, help_) for name, (_, help_) in COMMANDS.items()]
+        with formatter.section("Commands"):
+            formatter.write_dl(rows)
+
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except A2bError as e:
+            raise click.ClickException(str(e)) from e
+        except BrokenPipeError:
+            from ..io.atomic import silence_stdout
+
+            silence_stdout()
+            ctx.exit(0)
+
+
+@click.group(cls=LazyGroup, context_settings=CONTEXT_SETTINGS)
+@click.version_option(__version__, "-V", "--version", prog_name="a2b", message="%(prog)s %(version)s")
+def cli():
+    """Interpolate two rigid-body poses: vertical Darboux motions, cubic circular motions and
+    screw motions (H.-P. Schröcker, From A to B: New Methods to Interpolate Two Poses).
+
+    Poses come from JSON or YAML files; samples go to CSV, TUM, KITTI or MCAP (Foxglove).
+
+    \b
+    Example:
+        a2b interpolate samples/quarter-turn.yaml --samples 5
+        a2b interpolate samples/quarter-turn.yaml --format mcap -o turn.mcap
+        a2b describe samples/quarter-turn.yaml
+
+    \b
+    Shell completion (bash; zsh and fish likewise with zsh_source, fish_source):
+        eval "$(_A2B_COMPLETE=bash_source a2b)"
+    """

@@ -1,0 +1,780 @@
+"""Readers: pose files (JSON, YAML, JSON Lines) in; the trajectory formats of ``writers`` back.
+
+Pose files
+----------
+A pose is a mapping with exactly one of these forms::
+
+    {matrix: [[r11, r12, r13, t1], ..., [0, 0, 0, 1]], layout: robotics | paper}
+    {quaternion: {w: .., x: .., y: .., z: ..} | [w, x, y, z], translation: [x, y, z] | {x, y, z}}
+    {quaternion_xyzw: [x, y, z, w], translation: ...}      # ROS order, read at this edge only
+    {study: [p0, p1, p2, p3, q0, q1, q2, q3], kappa: false | true}
+
+``translation`` defaults to zero. ``kappa: true`` reads a Study vector off the Study quadric
+through the extended map κ. A *poses file* (``a2b interpolate``) is a mapping with ``start``,
+``end`` and optionally ``mode``, ``samples`` and ``parameters``; a *jobs file* (``a2b batch``) is
+a list of such mappings (each may have a ``name``), or JSON Lines with one per line.
+
+Every structural error is an :class:`a2b.errors.InputFileError` whose message starts with
+``FILE:LINE:COLUMN:`` (where the parser gives a position) and names the key, as in
+``poses.yaml:4:3: start.quaternion: expected 4 numbers (w, x, y, z), got 3``.
+
+Trajectory files
+----------------
+``read_csv``, ``read_matrix_csv``, ``read_study_csv``, ``read_tum``, ``read_kitti``,
+``read_mcap`` and ``read_batch_csv`` read what the ``write_*`` function of the same name in
+:mod:`a2b.io.writers` writes, bit for bit.
+"""
+
+from __future__ import annotations
+
+import difflib
+import io
+import json
+import math
+import re
+from dataclasses import dataclass, field
+from json.decoder import scanstring
+from typing import IO, Any, Callable, Iterator
+
+import numpy as np
+
+from ..errors import A2bError, InputFileError
+
+__all__ = [
+    "Job",
+    "Jobs",
+    "read_pose",
+    "read_poses",
+    "read_jobs",
+    "read_csv",
+    "read_matrix_csv",
+    "read_study_csv",
+    "read_tum",
+    "read_kitti",
+    "read_mcap",
+    "read_batch_csv",
+]
+
+MODES = ("darboux", "cubic", "screw")
+FRAMES = ("canonical", "given")
+POSE_FORMS = ("matrix", "quaternion", "quaternion_xyzw", "study")
+POSE_KEYS = POSE_FORMS + ("layout", "translation", "kappa")
+POSES_KEYS = ("start", "end", "mode", "samples", "parameters")
+JOB_KEYS = POSES_KEYS + ("name",)
+#: Parameter name -> kind; the names are those of :func:`a2b.motion`.
+PARAMETER_KINDS = {
+    "delta": "number",
+    "kappa": "number",
+    "lam": "number",
+    "branch": "branch",
+    "pitch_start": "number",
+    "pitch_end": "number",
+    "through": "pose",
+    "long_way": "bool",
+    "m": 4,
+    "alpha": 6,
+    "beta": 6,
+    "a": "number",
+    "b": "number",
+    "frame": "frame",
+}
+
+Path = tuple  # keys (str) and list indexes (int) from the document root
+
+
+@dataclass(frozen=True)
+class Job:
+    """One motion to sample: validated poses (robotics 4x4 matrices) and what the file says.
+
+    ``mode`` and ``samples`` are ``None`` where the file does not give them; ``parameters``
+    holds only the keys the file gives, with ``through`` already a 4x4 matrix.
+    """
+
+    start: np.ndarray
+    end: np.ndarray
+    mode: str | None = None
+    samples: int | None = None
+    parameters: dict = field(default_factory=dict)
+    name: str | None = None
+
+
+# --------------------------------------------------------------------------------------------
+# Documents: parsed data plus a way back from a key path to a line and column
+
+
+class _NonFinite:
+    """Stands in for JSON's ``NaN``/``Infinity`` so the error can name the key."""
+
+    def __init__(self, token: str):
+        self.token = token
+
+
+class _Duplicate(Exception):
+    def __init__(self, key: str, mark: tuple[int, int] | None = None):
+        super().__init__(key)
+        self.key = key
+        self.mark = mark
+
+
+@dataclass
+class _Document:
+    name: str
+    data: Any
+    locate: Callable[[Path], tuple[int, int] | None]
+
+    def error(self, path: Path, message: str) -> InputFileError:
+        where = self.locate(path) if path is not None else None
+        prefix = f"{self.name}:{where[0]}:{where[1]}" if where else self.name
+        key = _format_path(path)
+        return InputFileError(f"{prefix}: {key + ': ' if key else ''}{message}")
+
+
+def _format_path(path: Path | None) -> str:
+    path = tuple(path or ())
+    if path and isinstance(path[0], int):  # a job of a jobs file
+        rest = _format_path(path[1:])
+        return f"job {path[0]}" + (f": {rest}" if rest else "")
+    out = ""
+    for el in path:
+        out += f"[{el}]" if isinstance(el, int) else (f".{el}" if out else str(el))
+    return out
+
+
+def _line_col(text: str, pos: int) -> tuple[int, int]:
+    line = text.count("\n", 0, pos) + 1
+    return line, pos - (text.rfind("\n", 0, pos) + 1) + 1
+
+
+def _read_text(stream: IO, name: str) -> str:
+    raw = stream.read()
+    if isinstance(raw, bytes):
+        try:
+            raw = raw.decode("utf-8-sig")
+        except UnicodeDecodeError as e:
+            raise InputFileError(f"{name}: not UTF-8 text (byte {e.start})") from e
+    return raw
+
+
+def _stream_name(stream: IO, name: str | None) -> str:
+    if name:
+        return name
+    n = getattr(stream, "name", None)
+    return n if isinstance(n, str) else "<stdin>"
+
+
+def _kind_from_suffix(name: str) -> str | None:
+    lower = name.lower()
+    for suffixes, kind in (
+        ((".json",), "json"),
+        ((".jsonl", ".ndjson"), "jsonl"),
+        ((".yaml", ".yml"), "yaml"),
+    ):
+        if lower.endswith(suffixes):
+            return kind
+    return None
+
+
+# -- JSON --
+
+
+def _json_pairs(pairs: list) -> dict:
+    out = {}
+    for key, value in pairs:
+        if key in out:
+            raise _Duplicate(key)
+        out[key] = value
+    return out
+
+
+_JSON = json.JSONDecoder(object_pairs_hook=_json_pairs, parse_constant=_NonFinite)
+_JSON_SKIP = json.JSONDecoder()
+_WS = re.compile(r"[ \t\n\r]*")
+
+
+def _ws(text: str, pos: int) -> int:
+    return _WS.match(text, pos).end()
+
+
+def _json_locate(text: str, path: Path, start: int = 0) -> int:
+    """Offset of the last key (or list item) of ``path`` that exists in valid JSON ``text``."""
+    pos = _ws(text, start)
+    found = pos
+    for el in path:
+        if isinstance(el, str) and text.startswith("{", pos):
+            pos = _ws(text, pos + 1)
+            while not text.startswith("}", pos):
+                key_pos = pos
+                key, pos = scanstring(text, pos + 1)
+                pos = _ws(text, _ws(text, pos) + 1)  # past ":"
+                if key == el:
+                    found = key_pos
+                    break
+                _, pos = _JSON_SKIP.raw_decode(text, pos)
+                pos = _ws(text, pos)
+                if text.startswith(",", pos):
+                    pos = _ws(text, pos + 1)
+            else:
+                return found
+        elif isinstance(el, int) and text.startswith("[", pos):
+            pos = _ws(text, pos + 1)
+            for _ in range(el):
+                if text.startswith("]", pos):
+                    return found
+                _, pos = _JSON_SKIP.raw_decode(text, pos)
+                pos = _ws(text, _ws(text, pos) + 1)  # past ","
+            if text.startswith("]", pos):
+                return found
+            found = pos
+        else:
+            return found
+    return found
+
+
+def _json_find_duplicate(text: str, pos: int) -> tuple[int | None, int]:
+    """``(offset of the first repeated key or None, end of the value at pos)``."""
+    pos = _ws(text, pos)
+    if text.startswith("{", pos):
+        seen = set()
+        pos = _ws(text, pos + 1)
+        while not text.startswith("}", pos):
+            key_pos = pos
+            key, pos = scanstring(text, pos + 1)
+            if key in seen:
+                return key_pos, pos
+            seen.add(key)
+            dup, pos = _json_find_duplicate(text, _ws(text, pos) + 1)
+            if dup is not None:
+                return dup, pos
+            pos = _ws(text, pos)
+            if text.startswith(",", pos):
+                pos = _ws(text, pos + 1)
+        return None, pos + 1
+    if text.startswith("[", pos):
+        pos = _ws(text, pos + 1)
+        while not text.startswith("]", pos):
+            dup, pos = _json_find_duplicate(text, pos)
+            if dup is not None:
+                return dup, pos
+            pos = _ws(text, pos)
+            if text.startswith(",", pos):
+                pos = _ws(text, pos + 1)
+        return None, pos + 1
+    _, end = _JSON_SKIP.raw_decode(text, pos)
+    return None, end
+
+
+def _parse_json(text: str, name: str, first_line: int = 1) -> _Document:
+    """Parse JSON; ``first_line`` is the line of the file that ``text`` starts on (JSON Lines)."""
+
+    def where(pos: int) -> tuple[int, int]:
+        line, col = _line_col(text, pos)
+        return line + first_line - 1, col
+
+    try:
+        data = _JSON.decode(text)
+    except _Duplicate as e:
+        dup, _ = _json_find_duplicate(text, 0)
+        line, col = where(dup or 0)
+        raise InputFileError(f"{name}:{line}:{col}: duplicate key {e.key!r}") from None
+    except json.JSONDecodeError as e:
+        line, col = where(e.pos)
+        raise InputFileError(f"{name}:{line}:{col}: invalid JSON: {e.msg}") from None
+    return _Document(name, data, lambda path: where(_json_locate(text, path)))
+
+
+# -- YAML --
+
+_YAML_LOADER = None
+
+
+def _yaml_loader():
+    """A safe loader that rejects duplicate keys and reads ``1e-3`` as a number (YAML 1.2)."""
+    global _YAML_LOADER
+    if _YAML_LOADER is not None:
+        return _YAML_LOADER
+    import yaml
+
+    base = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+    class Loader(base):  # type: ignore[misc, valid-type]
+        def construct_mapping(self, node, deep=False):
+            seen = set()
+            for key_node, _ in node.value:
+                key = self.construct_object(key_node, deep=deep)
+                try:
+                    repeated = key in seen
+                except TypeError:  # an unhashable key; the constructor reports it
+                    break
+                if repeated:
+                    mark = key_node.start_mark
+                    raise _Duplicate(str(key), (mark.line + 1, mark.column + 1))
+                seen.add(key)
+            return super().construct_mapping(node, deep=deep)
+
+    Loader.add_implicit_resolver(
+        "tag:yaml.org,2002:float",
+        re.compile(r"^[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)[eE][-+]?[0-9]+$"),
+        list("-+.0123456789"),
+    )
+    _YAML_LOADER = Loader
+    return Loader
+
+
+def _yaml_locate(root, path: Path) -> tuple[int, int] | None:
+    node, mark = root, root.start_mark if root is not None else None
+    for el in path:
+        value = getattr(node, "value", None)
+        if isinstance(el, str) and isinstance(value, list) and value and isinstance(value[0], tuple):
+            for key_node, value_node in value:
+                if getattr(key_node, "value", None) == el:
+                    node, mark = value_node, key_node.start_mark
+                    break
+            else:
+                break
+        elif isinstance(el, int) and isinstance(value, list) and el < len(value) and not isinstance(value[el], tuple):
+            node = value[el]
+            mark = node.start_mark
+        else:
+            break
+    return (mark.line + 1, mark.column + 1) if mark is not None else None
+
+
+def _parse_yaml(text: str, name: str) -> _Document:
+    import yaml
+
+    loader = _yaml_loader()(text)
+    try:
+        node = loader.get_single_node()
+        data = loader.construct_document(node) if node is not None else None
+    except _Duplicate as e:
+        line, col = e.mark
+        raise InputFileError(f"{name}:{line}:{col}: duplicate key {e.key!r}") from None
+    except yaml.MarkedYAMLError as e:
+        mark = e.problem_mark or e.context_mark
+        where = f":{mark.line + 1}:{mark.column + 1}" if mark else ""
+        problem = e.problem or e.context or "syntax error"
+        raise InputFileError(f"{name}{where}: invalid YAML: {problem}") from None
+    except yaml.YAMLError as e:
+        raise InputFileError(f"{name}: invalid YAML: {e}") from None
+    finally:
+        loader.dispose()
+    return _Document(name, data, lambda path: _yaml_locate(node, path))
+
+
+def _parse(text: str, name: str, kind: str | None) -> _Document:
+    """Parse ``text`` as JSON or YAML: by ``kind`` if known, else JSON when it looks like it."""
+    if not text.strip():
+        raise InputFileError(f"{name}: the file is empty")
+    if kind == "json":
+        return _parse_json(text, name)
+    if kind == "yaml":
+        return _parse_yaml(text, name)
+    if text.lstrip()[:1] in ("{", "["):
+        try:
+            return _parse_json(text, name)
+        except InputFileError as json_error:
+            try:
+                return _parse_yaml(text, name)
+            except InputFileError:
+                raise json_error from None
+    return _parse_yaml(text, name)
+
+
+# --------------------------------------------------------------------------------------------
+# Validation of the parsed data
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _number(doc: _Document, path: Path, v) -> float:
+    if isinstance(v, _NonFinite):
+        raise doc.error(path, f"{v.token} is not allowed; numbers must be finite")
+    if not _is_number(v):
+        raise doc.error(path, f"expected a number, got {_describe(v)}")
+    f = float(v)
+    if not math.isfinite(f):
+        raise doc.error(path, f"{v!r} is not allowed; numbers must be finite")
+    return f
+
+
+def _describe(v) -> str:
+    if isinstance(v, bool):
+        return f"the boolean {str(v).lower()}"
+    if isinstance(v, str):
+        return f"the string {v!r}"
+    if v is None:
+        return "nothing (null)"
+    if isinstance(v, dict):
+        return "a mapping"
+    if isinstance(v, list):
+        return f"a list of {len(v)}"
+    return type(v).__name__
+
+
+def _numbers(doc: _Document, path: Path, v, n: int, what: str) -> list[float]:
+    if not isinstance(v, list):
+        raise doc.error(path, f"expected a list of {n} numbers {what}, got {_describe(v)}".rstrip())
+    if len(v) != n:
+        raise doc.error(path, f"expected {n} numbers {what}, got {len(v)}".replace("  ", " "))
+    return [_number(doc, path + (i,), x) for i, x in enumerate(v)]
+
+
+def _mapping(doc: _Document, path: Path, v, what: str) -> dict:
+    if not isinstance(v, dict):
+        raise doc.error(path, f"expected {what}, got {_describe(v)}")
+    return v
+
+
+def _check_keys(doc: _Document, path: Path, mapping: dict, allowed: tuple, what: str) -> None:
+    for key in mapping:
+        if key not in allowed:
+            hint = difflib.get_close_matches(str(key), allowed, n=1)
+            suggestion = f"; did you mean {hint[0]!r}?" if hint else ""
+            raise doc.error(
+                path + (key,),
+                f"unknown key {key!r} in {what} (expected {', '.join(allowed)}){suggestion}",
+            )
+
+
+def _pose(doc: _Document, path: Path, v) -> np.ndarray:
+    """Validate one pose mapping and return its robotics 4x4 matrix."""
+    from ..poses import check_matrices, matrices_from_quat_trans, matrices_from_study
+
+    pose = _mapping(doc, path, v, "a pose mapping (matrix, quaternion, quaternion_xyzw or study)")
+    _check_keys(doc, path, pose, POSE_KEYS, "a pose")
+    forms = [k for k in POSE_FORMS if k in pose]
+    if len(forms) != 1:
+        found = f"got {' and '.join(forms)}" if forms else "got none"
+        raise doc.error(path, f"a pose needs exactly one of {', '.join(POSE_FORMS)} ({found})")
+    form = forms[0]
+    extras = {"matrix": ("layout",), "study": ("kappa",)}.get(form, ("translation",))
+    for key in ("layout", "translation", "kappa"):
+        if key in pose and key not in extras:
+            raise doc.error(path + (key,), f"{key!r} does not go with {form!r}")
+    try:
+        if form == "matrix":
+            rows = pose["matrix"]
+            if not isinstance(rows, list) or len(rows) != 4:
+                got = f"{len(rows)} row{'s' * (len(rows) != 1)}" if isinstance(rows, list) else _describe(rows)
+                raise doc.error(path + ("matrix",), f"expected 4 rows of 4 numbers, got {got}")
+            m = [_numbers(doc, path + ("matrix", i), r, 4, "") for i, r in enumerate(rows)]
+            layout = pose.get("layout", "robotics")
+            if layout not in ("robotics", "paper"):
+                raise doc.error(path + ("layout",), f"expected robotics or paper, got {_describe(layout)}")
+            return check_matrices(np.array(m), layout=layout)
+        if form == "study":
+            h = _numbers(doc, path + ("study",), pose["study"], 8, "(p0, p1, p2, p3, q0, q1, q2, q3)")
+            through = pose.get("kappa", False)
+            if not isinstance(through, bool):
+                raise doc.error(path + ("kappa",), f"expected true or false, got {_describe(through)}")
+            try:
+                return matrices_from_study(np.array(h), through_kappa=through)
+            except A2bError as e:
+                message = str(e)
+                if "Study condition" in message:  # point to the file's way of saying it
+                    message = message.split(" (pass")[0] + " (add kappa: true to read it through κ)"
+                raise doc.error(path + ("study",), message) from e
+        q = pose[form]
+        if form == "quaternion" and isinstance(q, dict):
+            _check_keys(doc, path + (form,), q, ("w", "x", "y", "z"), "a quaternion")
+            missing = [k for k in "wxyz" if k not in q]
+            if missing:
+                raise doc.error(path + (form,), f"the quaternion lacks {', '.join(missing)}")
+            wxyz = [_number(doc, path + (form, k), q[k]) for k in "wxyz"]
+        elif form == "quaternion":
+            wxyz = _numbers(doc, path + (form,), q, 4, "(w, x, y, z)")
+        else:
+            x, y, z, w = _numbers(doc, path + (form,), q, 4, "(x, y, z, w)")
+            wxyz = [w, x, y, z]  # ROS order is converted here and nowhere else
+        t = pose.get("translation", [0.0, 0.0, 0.0])
+        if isinstance(t, dict):
+            _check_keys(doc, path + ("translation",), t, ("x", "y", "z"), "a translation")
+            missing = [k for k in "xyz" if k not in t]
+            if missing:
+                raise doc.error(path + ("translation",), f"the translation lacks {', '.join(missing)}")
+            xyz = [_number(doc, path + ("translation", k), t[k]) for k in "xyz"]
+        else:
+            xyz = _numbers(doc, path + ("translation",), t, 3, "(x, y, z)")
+        return matrices_from_quat_trans(np.array(wxyz), np.array(xyz))
+    except InputFileError:
+        raise
+    except A2bError as e:
+        raise doc.error(path + (form,), str(e)) from e
+
+
+def _parameters(doc: _Document, path: Path, v) -> dict:
+    params = _mapping(doc, path, v, "a mapping of motion parameters")
+    _check_keys(doc, path, params, tuple(PARAMETER_KINDS), "parameters")
+    out = {}
+    for key, value in params.items():
+        kind = PARAMETER_KINDS[key]
+        here = path + (key,)
+        if value is None:
+            continue
+        if kind == "number":
+            out[key] = _number(doc, here, value)
+        elif isinstance(kind, int):
+            out[key] = tuple(_numbers(doc, here, value, kind, ""))
+        elif kind == "branch":
+            if not _is_number(value) or value not in (1, -1):
+                raise doc.error(here, f"expected +1 or -1, got {_describe(value) if not _is_number(value) else value}")
+            out[key] = int(value)
+        elif kind == "bool":
+            if not isinstance(value, bool):
+                raise doc.error(here, f"expected true or false, got {_describe(value)}")
+            out[key] = value
+        elif kind == "frame":
+            if value not in FRAMES:
+                raise doc.error(here, f"expected one of {', '.join(FRAMES)}, got {_describe(value)}")
+            out[key] = value
+        else:  # pose
+            out[key] = _pose(doc, here, value)
+    return out
+
+
+def _job(doc: _Document, path: Path, v, allowed: tuple) -> Job:
+    job = _mapping(doc, path, v, "a mapping with start and end")
+    _check_keys(doc, path, job, allowed, "a poses file" if allowed is POSES_KEYS else "a job")
+    for key in ("start", "end"):
+        if key not in job:
+            raise doc.error(path, f"missing {key!r}: a poses file needs start and end poses")
+    mode = job.get("mode")
+    if mode is not None and mode not in MODES:
+        raise doc.error(path + ("mode",), f"expected one of {', '.join(MODES)}, got {_describe(mode)}")
+    samples = job.get("samples")
+    if samples is not None and (not isinstance(samples, int) or isinstance(samples, bool) or samples < 1):
+        raise doc.error(path + ("samples",), f"expected a positive whole number, got {_describe(samples) if not _is_number(samples) else samples}")
+    name = job.get("name")
+    if name is not None and not isinstance(name, (str, int)):
+        raise doc.error(path + ("name",), f"expected a string, got {_describe(name)}")
+    return Job(
+        start=_pose(doc, path + ("start",), job["start"]),
+        end=_pose(doc, path + ("end",), job["end"]),
+        mode=mode,
+        samples=samples,
+        parameters=_parameters(doc, path + ("parameters",), job.get("parameters") or {}),
+        name=None if name is None else str(name),
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# Public pose-file readers
+
+
+def read_pose(stream: IO, name: str | None = None) -> np.ndarray:
+    """Read a file holding one pose mapping (``a2b fiber``, ``--through``).
+
+    Returns
+    -------
+    ndarray, shape (4, 4)
+        The pose, robotics layout.
+
+    Raises
+    ------
+    InputFileError
+        Naming the file, the key and the line and column.
+    """
+    name = _stream_name(stream, name)
+    doc = _parse(_read_text(stream, name), name, _kind_from_suffix(name))
+    return _pose(doc, (), doc.data)
+
+
+def read_poses(stream: IO, name: str | None = None) -> Job:
+    """Read a poses file: ``start``, ``end`` and optional ``mode``, ``samples``, ``parameters``.
+
+    Raises
+    ------
+    InputFileError
+        Naming the file, the key and the line and column.
+    """
+    name = _stream_name(stream, name)
+    doc = _parse(_read_text(stream, name), name, _kind_from_suffix(name))
+    return _job(doc, (), doc.data, POSES_KEYS)
+
+
+@dataclass
+class Jobs:
+    """The jobs of a jobs file: iterate to validate and get them one by one.
+
+    ``count`` is the number of jobs, or ``None`` for JSON Lines, which are read lazily.
+    """
+
+    count: int | None
+    _iter: Iterator[Job]
+
+    def __iter__(self) -> Iterator[Job]:
+        return self._iter
+
+
+def read_jobs(stream: IO, name: str | None = None) -> Jobs:
+    """Read a jobs file: a YAML or JSON list of job mappings, or JSON Lines (one per line).
+
+    A job has ``start``, ``end`` and optionally ``name``, ``mode``, ``samples`` and
+    ``parameters``. JSON Lines are read line by line as the jobs are consumed, so a large file
+    never sits in memory; a list is parsed at once and validated job by job.
+    """
+    name = _stream_name(stream, name)
+    kind = _kind_from_suffix(name)
+    if kind == "jsonl":
+        return Jobs(None, _json_lines(_lines(stream, name), name))
+    text_start = stream.readline()
+    if isinstance(text_start, bytes):
+        text_start = text_start.decode("utf-8-sig", errors="replace")
+    first = text_start.strip()
+    if kind is None and first.startswith("{") and _is_complete_json(first):
+        return Jobs(None, _json_lines(_lines(stream, name, text_start), name))
+    rest = _read_text(stream, name)
+    doc = _parse(text_start + rest, name, kind)
+    if not isinstance(doc.data, list):
+        raise doc.error((), f"expected a list of jobs, got {_describe(doc.data)}")
+    data = doc.data
+
+    def jobs() -> Iterator[Job]:
+        for i, item in enumerate(data):
+            yield _job(doc, (i,), item, JOB_KEYS)
+
+    return Jobs(len(data), jobs())
+
+
+def _is_complete_json(line: str) -> bool:
+    try:
+        json.loads(line)
+    except ValueError:
+        return False
+    return True
+
+
+def _lines(stream: IO, name: str, first: str | None = None) -> Iterator[str]:
+    if first is not None:
+        yield first
+    for raw in stream:
+        if isinstance(raw, bytes):
+            try:
+                raw = raw.decode("utf-8")
+            except UnicodeDecodeError as e:
+                raise InputFileError(f"{name}: not UTF-8 text") from e
+        yield raw
+
+
+def _json_lines(lines: Iterator[str], name: str) -> Iterator[Job]:
+    index = 0
+    for number, line in enumerate(lines, start=1):
+        if not line.strip():
+            continue
+        doc = _parse_json(line, name, first_line=number)
+        inner = doc.locate
+        doc.locate = lambda path, _inner=inner: _inner(path[1:])  # the job index is the line
+        yield _job(doc, (index,), doc.data, JOB_KEYS)
+        index += 1
+
+
+# --------------------------------------------------------------------------------------------
+# Trajectory readers: the pairs of the writers
+
+
+def _text_stream(stream: IO):
+    if isinstance(stream, io.TextIOBase):
+        return stream
+    return io.TextIOWrapper(stream, encoding="utf-8", newline="")
+
+
+def _read_table(stream: IO, header: str | None, sep: str, ncols: int, what: str) -> np.ndarray:
+    text = _text_stream(stream).read()
+    lines = text.splitlines()
+    if header is not None:
+        if not lines or lines[0] != header:
+            raise InputFileError(f"{what}: expected the header {header!r}")
+        lines = lines[1:]
+    if not lines:
+        return np.empty((0, ncols))
+    table = np.loadtxt(lines, delimiter=sep if sep != " " else None, ndmin=2)
+    if table.shape[1] != ncols:
+        raise InputFileError(f"{what}: expected {ncols} columns, got {table.shape[1]}")
+    return table
+
+
+CSV_HEADER = "t,tx,ty,tz,qw,qx,qy,qz"
+MATRIX_HEADER = "t,r11,r12,r13,tx,r21,r22,r23,ty,r31,r32,r33,tz"
+STUDY_HEADER = "t,p0,p1,p2,p3,q0,q1,q2,q3"
+
+
+def read_csv(stream: IO) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Read ``csv`` output: ``t (N,)``, ``quat_wxyz (N, 4)``, ``translations (N, 3)``."""
+    table = _read_table(stream, CSV_HEADER, ",", 8, "csv")
+    return table[:, 0], table[:, 4:8], table[:, 1:4]
+
+
+def read_matrix_csv(stream: IO) -> tuple[np.ndarray, np.ndarray]:
+    """Read ``matrix`` output: ``t (N,)`` and robotics matrices ``(N, 4, 4)``."""
+    table = _read_table(stream, MATRIX_HEADER, ",", 13, "matrix")
+    return table[:, 0], _matrices_from_rows(table[:, 1:])
+
+
+def read_study_csv(stream: IO) -> tuple[np.ndarray, np.ndarray]:
+    """Read ``study`` output: ``t (N,)`` and Study parameters ``(N, 8)``."""
+    table = _read_table(stream, STUDY_HEADER, ",", 9, "study")
+    return table[:, 0], table[:, 1:]
+
+
+def read_tum(stream: IO) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Read TUM ``time tx ty tz qx qy qz qw``: ``time``, ``quat_wxyz`` (rolled from xyzw here)
+    and ``translations``. Lines starting with ``#`` are comments."""
+    text = _text_stream(stream).read()
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    table = np.loadtxt(lines, ndmin=2) if lines else np.empty((0, 8))
+    return table[:, 0], table[:, [7, 4, 5, 6]], table[:, 1:4]
+
+
+def read_kitti(stream: IO) -> np.ndarray:
+    """Read KITTI poses (12 numbers per line, ``[R | t]`` row by row): matrices ``(N, 4, 4)``."""
+    text = _text_stream(stream).read()
+    lines = [ln for ln in text.splitlines() if ln.strip()]
+    table = np.loadtxt(lines, ndmin=2) if lines else np.empty((0, 12))
+    return _matrices_from_rows(table)
+
+
+def _matrices_from_rows(rows: np.ndarray) -> np.ndarray:
+    out = np.zeros((rows.shape[0], 4, 4))
+    out[:, :3, :] = rows.reshape(-1, 3, 4)
+    out[:, 3, 3] = 1.0
+    return out
+
+
+def read_batch_csv(stream: IO) -> tuple[list[str], np.ndarray]:
+    """Read ``a2b batch`` output: the ``job`` column and the remaining columns as floats."""
+    import csv
+
+    reader = csv.reader(_text_stream(stream))
+    header = next(reader)
+    if header[0] != "job":
+        raise InputFileError("batch csv: the first column must be 'job'")
+    jobs, values = [], []
+    for row in reader:
+        jobs.append(row[0])
+        values.append([float(x) for x in row[1:]])
+    return jobs, np.array(values, dtype=float).reshape(len(values), len(header) - 1)
+
+
+def read_mcap(stream: IO, topic: str = "/a2b/pose") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Read the poses of ``write_mcap`` back: ``time`` (s), ``quat_wxyz``, ``translations``.
+
+    ``topic`` is ``/a2b/pose`` (``foxglove.PoseInFrame``) or ``/tf``
+    (``foxglove.FrameTransform``).
+    """
+    from mcap.reader import make_reader
+
+    reader = make_reader(stream)
+    times, quats, trans = [], [], []
+    for _schema, _channel, message in reader.iter_messages(topics=[topic]):
+        msg = json.loads(message.data)
+        stamp = msg["timestamp"]
+        times.append(stamp["sec"] + stamp["nsec"] * 1e-9)
+        if "pose" in msg:
+            pos, ori = msg["pose"]["position"], msg["pose"]["orientation"]
+        else:
+            pos, ori = msg["translation"], msg["rotation"]
+        quats.append([ori["w"], ori["x"], ori["y"], ori["z"]])
+        trans.append([pos["x"], pos["y"], pos["z"]])
+    return np.array(times), np.array(quats).reshape(-1, 4), np.array(trans).reshape(-1, 3)

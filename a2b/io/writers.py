@@ -1,0 +1,289 @@
+"""Writers: sampled motions out as CSV layouts, TUM, KITTI and MCAP.
+
+Every writer takes a binary stream and an iterable of :class:`Chunk` (so a million samples
+never sit in memory at once), writes, and never closes the stream. Numbers are written as
+Python's ``repr`` (the shortest text that reads back bit for bit), formatted in bulk by
+:mod:`a2b.io.floatrepr`. Each ``write_x`` has a ``read_x`` in :mod:`a2b.io.readers`.
+
+=========  ===========================================================================
+format     layout
+=========  ===========================================================================
+csv        ``t,tx,ty,tz,qw,qx,qy,qz`` (header line, then one sample per line)
+matrix     ``t,r11,r12,r13,tx,r21,r22,r23,ty,r31,r32,r33,tz``: the 3x4 ``[R | t]`` row by row
+study      ``t,p0,p1,p2,p3,q0,q1,q2,q3``: unit Study parameters
+tum        ``time tx ty tz qx qy qz qw``, space-separated (evo, TUM RGB-D tools)
+kitti      12 numbers of ``[R | t]`` row by row, space-separated, no time
+mcap       ``foxglove.PoseInFrame`` on ``/a2b/pose``, ``foxglove.FrameTransform`` on ``/tf``
+=========  ===========================================================================
+
+In ``tum`` and ``mcap`` the time of sample ``t`` is ``t · duration + start_time`` seconds.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from typing import IO, Iterable, Iterator
+
+import numpy as np
+
+from ..errors import ParameterError
+from .floatrepr import format_rows
+from .readers import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER
+
+__all__ = [
+    "Chunk",
+    "FORMATS",
+    "REPRESENTATION",
+    "sample_chunks",
+    "write_csv",
+    "write_matrix_csv",
+    "write_study_csv",
+    "write_tum",
+    "write_kitti",
+    "write_mcap",
+    "write_batch_csv",
+    "write_samples",
+]
+
+#: Samples per chunk: about 10 MB of text for ``csv``.
+CHUNK_SAMPLES = 65536
+
+
+@dataclass
+class Chunk:
+    """Consecutive samples of one motion. Only the fields a format needs are filled.
+
+    ``t (n,)``; ``quat_wxyz (n, 4)`` unit, continuous in t; ``trans (n, 3)``;
+    ``matrices (n, 4, 4)`` robotics layout; ``study (n, 8)``; ``job`` names each row (batch).
+    """
+
+    t: np.ndarray
+    quat_wxyz: np.ndarray | None = None
+    trans: np.ndarray | None = None
+    matrices: np.ndarray | None = None
+    study: np.ndarray | None = None
+    job: list[str] | None = None
+
+
+#: What each format needs from the motion: ``quat_trans``, ``matrices`` or ``study``.
+REPRESENTATION = {
+    "csv": "quat_trans",
+    "matrix": "matrices",
+    "study": "study",
+    "tum": "quat_trans",
+    "kitti": "matrices",
+    "mcap": "quat_trans",
+}
+FORMATS = tuple(REPRESENTATION)
+
+
+def sample_chunks(motion, ts: np.ndarray, representation: str, size: int = CHUNK_SAMPLES) -> Iterator[Chunk]:
+    """Sample ``motion`` at ``ts`` in chunks of ``size``, in the representation a format needs.
+
+    ``motion`` is an :class:`a2b.motions.base.Motion` (anything with ``quat_trans``,
+    ``matrices`` and ``study`` methods of ``ts``).
+    """
+    for lo in range(0, len(ts), size):
+        t = ts[lo : lo + size]
+        if representation == "quat_trans":
+            quat, trans = motion.quat_trans(t)
+            yield Chunk(t, quat_wxyz=quat, trans=trans)
+        elif representation == "matrices":
+            yield Chunk(t, matrices=motion.matrices(t))
+        elif representation == "study":
+            yield Chunk(t, study=motion.study(t))
+        else:
+            raise ValueError(f"unknown representation {representation!r}")
+
+
+def _rows(fmt: str, chunk: Chunk) -> np.ndarray:
+    """The numeric columns of one chunk in the layout of ``fmt`` (without tum's time)."""
+    n = len(chunk.t)
+    if fmt == "csv":
+        return np.column_stack([chunk.t, chunk.trans, chunk.quat_wxyz])
+    if fmt in ("matrix", "kitti"):
+        flat = chunk.matrices[:, :3, :].reshape(n, 12)
+        return flat if fmt == "kitti" else np.column_stack([chunk.t, flat])
+    if fmt == "study":
+        return np.column_stack([chunk.t, chunk.study])
+    raise ValueError(f"no table layout for {fmt!r}")
+
+
+def _write_table(stream: IO, fmt: str, header: str | None, chunks: Iterable[Chunk], sep: str = ",") -> None:
+    if header is not None:
+        stream.write(header.encode() + b"\n")
+    for chunk in chunks:
+        stream.write(format_rows(_rows(fmt, chunk), sep=sep))
+
+
+def write_csv(stream: IO, chunks: Iterable[Chunk]) -> None:
+    """Write ``t,tx,ty,tz,qw,qx,qy,qz`` with a header line. Needs ``quat_wxyz`` and ``trans``."""
+    _write_table(stream, "csv", CSV_HEADER, chunks)
+
+
+def write_matrix_csv(stream: IO, chunks: Iterable[Chunk]) -> None:
+    """Write ``t`` and the 12 entries of ``[R | t]`` row by row, with a header. Needs ``matrices``."""
+    _write_table(stream, "matrix", MATRIX_HEADER, chunks)
+
+
+def write_study_csv(stream: IO, chunks: Iterable[Chunk]) -> None:
+    """Write ``t,p0,p1,p2,p3,q0,q1,q2,q3`` with a header. Needs ``study``."""
+    _write_table(stream, "study", STUDY_HEADER, chunks)
+
+
+def write_kitti(stream: IO, chunks: Iterable[Chunk]) -> None:
+    """Write KITTI poses: 12 space-separated numbers per line, no time. Needs ``matrices``."""
+    _write_table(stream, "kitti", None, chunks, sep=" ")
+
+
+def _times(t: np.ndarray, duration: float, start_time: float) -> np.ndarray:
+    return t * duration + start_time
+
+
+def write_tum(stream: IO, chunks: Iterable[Chunk], duration: float = 1.0, start_time: float = 0.0) -> None:
+    """Write TUM ``time tx ty tz qx qy qz qw`` (space-separated, one ``#`` comment line).
+
+    The quaternion is rolled from a2b's ``wxyz`` to TUM's ``xyzw`` here, at the edge.
+    """
+    stream.write(b"# time tx ty tz qx qy qz qw\n")
+    for c in chunks:
+        rows = np.column_stack([_times(c.t, duration, start_time), c.trans, c.quat_wxyz[:, [1, 2, 3, 0]]])
+        stream.write(format_rows(rows, sep=" "))
+
+
+def _csv_field(name: str) -> str:
+    if any(ch in name for ch in ',"\n\r') or name != name.strip():
+        return '"' + name.replace('"', '""') + '"'
+    return name
+
+
+def write_batch_csv(stream: IO, chunks: Iterable[Chunk], fmt: str = "csv") -> None:
+    """Write many motions into one CSV whose first column, ``job``, names the motion of each row.
+
+    ``fmt`` is one of the CSV layouts ``csv``, ``matrix``, ``study``; every chunk needs
+    ``job`` and the representation of that layout.
+    """
+    header = {"csv": CSV_HEADER, "matrix": MATRIX_HEADER, "study": STUDY_HEADER}[fmt]
+    stream.write(b"job," + header.encode() + b"\n")
+    for chunk in chunks:
+        stream.write(format_rows(_rows(fmt, chunk), prefix=[_csv_field(j) for j in chunk.job]))
+
+
+def _schema(name: str) -> bytes:
+    from importlib.resources import files
+
+    return (files("a2b") / "schemas" / f"{name}.json").read_bytes()
+
+
+class _Counting:
+    """A write-only stream that knows its position, so MCAP goes into pipes too.
+
+    The MCAP writer asks ``tell()`` for the offsets of its indexes; a pipe cannot answer.
+    Counting the bytes written answers it for any stream that starts empty.
+    """
+
+    def __init__(self, raw: IO):
+        self._raw = raw
+        self._written = 0
+
+    def write(self, data) -> int:
+        self._raw.write(data)
+        self._written += len(data)
+        return len(data)
+
+    def tell(self) -> int:
+        return self._written
+
+    def flush(self) -> None:
+        self._raw.flush()
+
+
+def write_mcap(
+    stream: IO,
+    chunks: Iterable[Chunk],
+    duration: float = 1.0,
+    start_time: float = 0.0,
+    frame_id: str = "world",
+    child_frame_id: str = "a2b",
+    pose_topic: str = "/a2b/pose",
+    tf_topic: str = "/tf",
+) -> None:
+    """Write an MCAP file that Foxglove opens without plugins.
+
+    Each sample becomes a ``foxglove.PoseInFrame`` (in ``frame_id``) on ``pose_topic`` and a
+    ``foxglove.FrameTransform`` (``frame_id`` → ``child_frame_id``) on ``tf_topic``, JSON-encoded
+    with the JSON schemas shipped in ``a2b/schemas``. Log and publish times are
+    ``t · duration + start_time`` in nanoseconds. The file is chunked (zstd) and carries only
+    chunk and message indexes. The stream needs no ``seek`` or ``tell``: pipes work.
+
+    Raises
+    ------
+    ParameterError
+        If a time is negative (MCAP times are unsigned).
+    """
+    from mcap.writer import CompressionType, IndexType, Writer
+
+    from .. import __version__
+
+    writer = Writer(
+        _Counting(stream),
+        compression=CompressionType.ZSTD,
+        index_types=IndexType.CHUNK | IndexType.MESSAGE,
+    )
+    writer.start(profile="", library=f"a2b {__version__}")
+    pose_schema = writer.register_schema("foxglove.PoseInFrame", "jsonschema", _schema("foxglove.PoseInFrame"))
+    tf_schema = writer.register_schema("foxglove.FrameTransform", "jsonschema", _schema("foxglove.FrameTransform"))
+    pose_channel = writer.register_channel(pose_topic, "json", pose_schema)
+    tf_channel = writer.register_channel(tf_topic, "json", tf_schema)
+    frame, child = json.dumps(frame_id), json.dumps(child_frame_id)
+    pose_template = (
+        '{"timestamp":{"sec":%d,"nsec":%d},"frame_id":' + frame.replace("%", "%%") + ","
+        '"pose":{"position":{"x":%s,"y":%s,"z":%s},"orientation":{"x":%s,"y":%s,"z":%s,"w":%s}}}'
+    )
+    tf_template = (
+        '{"timestamp":{"sec":%d,"nsec":%d},"parent_frame_id":' + frame.replace("%", "%%") + ","
+        '"child_frame_id":' + child.replace("%", "%%") + ","
+        '"translation":{"x":%s,"y":%s,"z":%s},"rotation":{"x":%s,"y":%s,"z":%s,"w":%s}}'
+    )
+    sequence = 0
+    for c in chunks:
+        times = _times(c.t, duration, start_time)
+        if times.size and times.min() < 0:
+            raise ParameterError(
+                f"MCAP times must not be negative; t · duration + start_time reaches {times.min():g} s"
+            )
+        ns = np.rint(times * 1e9).astype(np.int64)
+        sec, nsec = np.divmod(ns, 1_000_000_000)
+        text = format_rows(np.column_stack([c.trans, c.quat_wxyz[:, [1, 2, 3, 0]]])).decode()
+        for s, n, t_ns, line in zip(sec.tolist(), nsec.tolist(), ns.tolist(), text.splitlines()):
+            values = (s, n, *line.split(","))
+            writer.add_message(pose_channel, t_ns, (pose_template % values).encode(), t_ns, sequence)
+            writer.add_message(tf_channel, t_ns, (tf_template % values).encode(), t_ns, sequence)
+            sequence += 1
+    writer.finish()
+
+
+_TABLE_WRITERS = {
+    "csv": write_csv,
+    "matrix": write_matrix_csv,
+    "study": write_study_csv,
+    "kitti": write_kitti,
+}
+
+
+def write_samples(stream: IO, fmt: str, chunks: Iterable[Chunk], **options) -> None:
+    """Write ``chunks`` in format ``fmt`` (one of :data:`FORMATS`).
+
+    ``options``: ``duration`` and ``start_time`` for ``tum`` and ``mcap``; ``frame_id`` and
+    ``child_frame_id`` for ``mcap``. Options a format does not use are ignored.
+    """
+    if fmt in _TABLE_WRITERS:
+        _TABLE_WRITERS[fmt](stream, chunks)
+    elif fmt == "tum":
+        write_tum(stream, chunks, options.get("duration", 1.0), options.get("start_time", 0.0))
+    elif fmt == "mcap":
+        keys = ("duration", "start_time", "frame_id", "child_frame_id")
+        write_mcap(stream, chunks, **{k: options[k] for k in keys if k in options})
+    else:
+        raise ValueError(f"unknown format {fmt!r}; expected one of {', '.join(FORMATS)}")
