@@ -150,7 +150,7 @@ def _as_tracks(start, end, motions, samples: int, instants: int) -> list[_Track]
     from .motions.base import Motion
     from .poses import check_matrices
 
-    if isinstance(motions, (str, Motion)) or callable(motions):
+    if isinstance(motions, (str, Motion)) or callable(getattr(motions, "matrices", None)):
         motions = [motions]
     elif isinstance(motions, tuple) and len(motions) == 2 and isinstance(motions[0], str):
         motions = [motions]
@@ -163,6 +163,9 @@ def _as_tracks(start, end, motions, samples: int, instants: int) -> list[_Track]
             entry = (entry, {})
         if isinstance(entry, Motion):
             mode, obj, params, label = entry.mode, entry, {}, entry.mode
+        elif callable(getattr(entry, "matrices", None)):  # e.g. an a2b.bezier.BezierMotion
+            label = getattr(entry, "kind", None) or type(entry).__name__
+            mode, obj, params = None, entry, {}
         elif isinstance(entry, tuple) and len(entry) == 2 and isinstance(entry[0], str):
             label, what = entry
             if isinstance(what, Mapping):
@@ -425,7 +428,7 @@ def _default_axis_length(tracks) -> float:
 def _body_points(points, axis_length: float) -> tuple[np.ndarray, list[str], bool]:
     if points is None:
         pts = axis_length * np.eye(3)
-        return pts, [f"{name}-axis tip ({_format_number(axis_length)} along {name})" for name in "xyz"], True
+        return pts, [f"{name}-axis tip" for name in "xyz"], True
     pts = np.asarray(points, dtype=float)
     if pts.ndim == 1:
         pts = pts[None]
@@ -437,7 +440,8 @@ def _body_points(points, axis_length: float) -> tuple[np.ndarray, list[str], boo
     return pts, names, False
 
 
-def _set_equal_3d(ax, points: np.ndarray, length_label: str) -> None:
+def _set_equal_3d(ax, points: np.ndarray, length_label: str) -> tuple[np.ndarray, np.ndarray]:
+    """Cube limits around ``points`` and an equal box aspect; returns the cube's corners."""
     lo, hi = points.min(axis=0), points.max(axis=0)
     centre = (lo + hi) / 2
     half = max(float((hi - lo).max()) / 2, 1e-9) * 1.08
@@ -448,6 +452,7 @@ def _set_equal_3d(ax, points: np.ndarray, length_label: str) -> None:
     for setter, name in ((ax.set_xlabel, "x"), (ax.set_ylabel, "y"), (ax.set_zlabel, "z")):
         setter(f"{name}{length_label}", labelpad=2)
     ax.tick_params(labelsize=7, pad=0)
+    return centre - half, centre + half
 
 
 def _draw_frames(ax, track: _Track, length: float, single: bool, frame_lw: float) -> list:
@@ -470,12 +475,20 @@ def _draw_frames(ax, track: _Track, length: float, single: bool, frame_lw: float
     return drawn
 
 
-def _screw_axis_segment(frame, points: np.ndarray) -> np.ndarray:
+def _screw_axis_segment(frame, lo: np.ndarray, hi: np.ndarray) -> np.ndarray | None:
+    """The part of the screw axis inside the box ``[lo, hi]`` (2, 3), or None if it misses it."""
     u, c = frame.axis_direction, frame.axis_point
-    s = (points - c) @ u
-    lo, hi = float(s.min()), float(s.max())
-    pad = 0.15 * max(hi - lo, float(np.ptp(points, axis=0).max()), 1e-9)
-    return np.stack([c + (lo - pad) * u, c + (hi + pad) * u])
+    s_min, s_max = -np.inf, np.inf
+    for i in range(3):
+        if abs(u[i]) < 1e-12:
+            if not lo[i] <= c[i] <= hi[i]:
+                return None
+            continue
+        s1, s2 = sorted(((lo[i] - c[i]) / u[i], (hi[i] - c[i]) / u[i]))
+        s_min, s_max = max(s_min, s1), min(s_max, s2)
+    if not s_min < s_max:
+        return None
+    return np.stack([c + s_min * u, c + s_max * u])
 
 
 def plot_motions(
@@ -507,6 +520,8 @@ def plot_motions(
         * a mode name, ``"darboux"``, ``"cubic"`` or ``"screw"``;
         * a pair ``(mode, parameters)``, the parameters of :func:`a2b.motion` as a dict;
         * a :class:`a2b.motions.base.Motion` made by :func:`a2b.motion`;
+        * any other object with a ``matrices(ts)`` method, such as an
+          :class:`a2b.bezier.BezierMotion`, labelled by its ``kind`` attribute;
         * a pair ``(label, sampler)``: any callable taking ``ts`` of shape ``(N,)`` in
           ``[0, 1]`` and returning robotics matrices ``(N, 4, 4)`` (for instance a Bézier
           motion through several control poses);
@@ -633,15 +648,15 @@ def plot_motions(
                                linewidth=1.0, alpha=0.6, arrow_length_ratio=0.22)
         traj_pts.append(track.inst[[0, -1], :3, 3])
     for ax, pts in ((ax_frames, frame_pts), (ax_traj, traj_pts)):
-        pts = np.concatenate(pts)
-        axis_seg = _screw_axis_segment(frame, pts)
-        (line,) = ax.plot(*axis_seg.T, color="0.45", linestyle=(0, (6, 3)), linewidth=1.0)
-        line.set_gid("screw-axis")
+        lo, hi = _set_equal_3d(ax, np.concatenate(pts), length_label)
+        axis_seg = _screw_axis_segment(frame, lo, hi)
+        if axis_seg is not None:
+            (line,) = ax.plot(*axis_seg.T, color="0.45", linestyle=(0, (6, 3)), linewidth=1.0)
+            line.set_gid("screw-axis")
         for pose, name, colour in ((a, "A", A_COLOUR), (b, "B", B_COLOUR)):
             ax.scatter(*pose[:3, 3, None], color=colour, s=28, depthshade=False, zorder=5)
             ax.text(*pose[:3, 3], f"  {name}", color=colour, fontsize=13, fontweight="bold",
                     ha="left", va="top", zorder=6)
-        _set_equal_3d(ax, pts, length_label)
         ax.view_init(elev=22, azim=-58)
     ax_frames.set_title(f"Moving frame at {int(instants)} instants", fontsize=11)
     ax_traj.set_title("Trajectories of body points", fontsize=11)
@@ -655,8 +670,12 @@ def plot_motions(
     else:
         handles = [Line2D([], [], color="0.2", linestyle=styles[k % len(styles)], label=name)
                    for k, name in enumerate(point_names)]
+    if default_points:
+        points_title = None if axis_length == 1 else f"axes drawn {_format_number(axis_length)} long"
+    else:
+        points_title = "body point"
     ax_traj.legend(handles=handles, loc="upper left", fontsize=8, frameon=False,
-                   title="body point" if not default_points else None, title_fontsize=8)
+                   title=points_title, title_fontsize=8)
 
     # Panel 3: the transmission curve in canonical coordinates.
     if ax_trans is not None:

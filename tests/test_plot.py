@@ -1,0 +1,427 @@
+"""a2b.plot: files in every format, and the plotted data against the engine and the closed forms.
+
+The tests read the data of the drawn lines (found by their ``gid``), never pixels. Figures are
+small and sampled coarsely so that the module runs in a few seconds.
+"""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import a2b
+from a2b.errors import A2bError, ParameterError
+from a2b.plot import (
+    MissingDependencyError,
+    closed_form_z,
+    family_members,
+    figure_format,
+    in_cylinder_group,
+    plot_motions,
+    require_matplotlib,
+    write_figure,
+)
+
+from .conftest import pose_about_axis, random_pose
+
+pytest.importorskip("matplotlib")
+
+SAMPLES = 9
+SMALL = dict(samples=SAMPLES, instants=4, figsize=(6.0, 2.4))
+MAGIC = {"png": b"\x89PNG\r\n\x1a\n", "pdf": b"%PDF-"}
+MODES = ("darboux", "cubic", "screw")
+
+
+@pytest.fixture
+def poses(rng):
+    """A random start pose and an end pose a generic screw away from it (φ ≈ 100°)."""
+    start = random_pose(rng)
+    screw = pose_about_axis(1.75, rng.normal(size=3), rng.normal(size=3), 0.8)
+    return start, screw @ start
+
+
+def lines_by_gid(fig):
+    found = {}
+    for ax in fig.axes:
+        for artist in ax.get_children():
+            gid = artist.get_gid()
+            if gid:
+                found.setdefault(gid, []).append(artist)
+    return found
+
+
+def line(fig, gid):
+    (artist,) = lines_by_gid(fig)[gid]
+    return artist
+
+
+def render(fig, path, fmt):
+    with open(path, "wb") as fh:
+        write_figure(fig, fh, fmt, dpi=40)
+    data = path.read_bytes()
+    assert len(data) > 1000
+    if fmt == "svg":
+        assert data.lstrip().startswith(b"<?xml") and b"<svg" in data[:2000]
+    else:
+        assert data.startswith(MAGIC[fmt])
+    return data
+
+
+def engine(start, end, mode, **params):
+    motion = a2b.motion(start, end, mode, **params)
+    ts = np.linspace(0.0, 1.0, SAMPLES)
+    return motion, ts, motion.matrices(ts)
+
+
+# -- files ----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("fmt", ["png", "svg"])
+@pytest.mark.parametrize("mode", MODES)
+def test_every_mode_renders(poses, tmp_path, mode, fmt):
+    fig = plot_motions(*poses, mode, **SMALL)
+    render(fig, tmp_path / f"{mode}.{fmt}", fmt)
+    assert len(fig.axes) == 3
+
+
+@pytest.mark.parametrize("fmt", ["png", "svg", "pdf"])
+def test_compare_and_family_render(poses, tmp_path, fmt):
+    render(plot_motions(*poses, list(MODES), **SMALL), tmp_path / f"compare.{fmt}", fmt)
+    render(plot_motions(*poses, ["darboux", "cubic"], family=True, **SMALL), tmp_path / f"family.{fmt}", fmt)
+
+
+def test_svg_carries_the_gids(poses, tmp_path):
+    data = render(plot_motions(*poses, "darboux", **SMALL), tmp_path / "d.svg", "svg")
+    assert b'id="transmission-samples:darboux"' in data
+
+
+def test_same_figure_same_bytes(poses, tmp_path):
+    first = render(plot_motions(*poses, "cubic", **SMALL), tmp_path / "1.svg", "svg")
+    second = render(plot_motions(*poses, "cubic", **SMALL), tmp_path / "2.svg", "svg")
+    assert first == second
+
+
+@pytest.mark.parametrize(
+    "name, fmt", [("a.png", "png"), ("b.SVG", "svg"), ("dir.x/c.pdf", "pdf")]
+)
+def test_figure_format_by_suffix(name, fmt):
+    assert figure_format(name) == fmt
+
+
+@pytest.mark.parametrize("name", ["a.jpg", "plot", "a.png.gz"])
+def test_figure_format_rejects_other_suffixes(name):
+    with pytest.raises(ParameterError, match=r"\.png, \.svg or \.pdf"):
+        figure_format(name)
+
+
+# -- the plotted data -----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_trajectories_are_the_engines_samples(poses, mode):
+    start, end = poses
+    _, _, mats = engine(start, end, mode)
+    fig = plot_motions(start, end, mode, **SMALL)
+    for k in range(3):  # default points: the tips of the unit axes
+        drawn = np.array(line(fig, f"trajectory:{mode}:{k}").get_data_3d())
+        np.testing.assert_allclose(drawn.T, mats[:, :3, k] + mats[:, :3, 3], atol=1e-12)
+
+
+def test_custom_points(poses):
+    start, end = poses
+    points = np.array([[0.5, -1.0, 2.0], [0.0, 0.0, 0.0]])
+    _, _, mats = engine(start, end, "screw")
+    fig = plot_motions(start, end, "screw", points=points, **SMALL)
+    for k, p in enumerate(points):
+        drawn = np.array(line(fig, f"trajectory:screw:{k}").get_data_3d())
+        np.testing.assert_allclose(drawn.T, mats[:, :3, :3] @ p + mats[:, :3, 3], atol=1e-12)
+    assert "trajectory:screw:2" not in lines_by_gid(fig)
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_frames_at_the_instants(poses, mode):
+    start, end = poses
+    fig = plot_motions(start, end, mode, **SMALL)
+    gids = lines_by_gid(fig)
+    assert sorted(g for g in gids if g.startswith("frame:")) == sorted(
+        f"frame:{mode}:{i}:{axis}" for i in range(4) for axis in "xyz"
+    )
+
+
+@pytest.mark.parametrize("unit", ["deg", "rad"])
+@pytest.mark.parametrize("mode", MODES)
+def test_transmission_samples_are_the_engines(poses, mode, unit):
+    start, end = poses
+    motion, ts, mats = engine(start, end, mode)
+    fig = plot_motions(start, end, mode, angle_unit=unit, **SMALL)
+    omega, z = motion.frame.transmission(mats)
+    x, y = line(fig, f"transmission-samples:{mode}").get_data()
+    np.testing.assert_allclose(x, np.degrees(omega) if unit == "deg" else omega, atol=1e-9)
+    np.testing.assert_allclose(y, z, atol=1e-12)
+    # The samples start at A = (0, 0) and end at B = (φ, d).
+    assert abs(omega[0]) < 1e-12 and abs(z[0]) < 1e-12
+    assert omega[-1] == pytest.approx(motion.frame.phi) and z[-1] == pytest.approx(motion.frame.d)
+    assert ("°" if unit == "deg" else "[rad]") in fig.axes[2].get_xlabel()
+
+
+def test_darboux_closed_form_is_the_sine(poses):
+    start, end = poses
+    for delta in (0.0, 0.7):
+        motion = a2b.motion(start, end, "darboux", delta=delta)
+        info = motion.describe()
+        fig = plot_motions(start, end, ("darboux", {"delta": delta}), angle_unit="rad", **SMALL)
+        x, y = line(fig, "transmission-closed-form:darboux").get_data()
+        sine = info["z0"] + info["lam"] * np.sin(x + info["kappa"])
+        np.testing.assert_allclose(y, sine, atol=1e-12)
+        # It passes through the samples, and the samples lie on it (Theorem 1).
+        omega, z = motion.frame.transmission(motion.matrices(np.linspace(0, 1, SAMPLES)))
+        np.testing.assert_allclose(z, info["z0"] + info["lam"] * np.sin(omega + info["kappa"]), atol=1e-12)
+        assert x.min() < 0 < motion.frame.phi < x.max()
+
+
+def test_darboux_long_way_closed_form(poses):
+    start, end = poses
+    motion = a2b.motion(start, end, "darboux", long_way=True, delta=-0.3)
+    info = motion.describe()
+    fig = plot_motions(start, end, ("darboux", {"long_way": True, "delta": -0.3}), angle_unit="rad", **SMALL)
+    x, y = line(fig, "transmission-closed-form:darboux").get_data()
+    np.testing.assert_allclose(y, info["z0"] + info["lam"] * np.sin(x + info["kappa"]), atol=1e-12)
+    xs, _ = line(fig, "transmission-samples:darboux").get_data()
+    assert xs[-1] == pytest.approx(motion.frame.phi - 2 * math.pi)
+
+
+def _t_of_omega(motion, omega):
+    """Invert eq. 17 (monotone in t on [0, 1]) by bisection, with the engine's tan_half_omega."""
+    lo, hi = np.zeros_like(omega), np.ones_like(omega)
+    target = np.tan(omega / 2)
+    rising = motion.tan_half_omega(np.array([1.0]))[0] > 0
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        below = (motion.tan_half_omega(mid) < target) == rising
+        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+    return (lo + hi) / 2
+
+
+@pytest.mark.parametrize("params", [{}, {"a": 0.5, "b": -0.25}, {"m": [1.0, 0.2, -0.1, 0.3], "b": 1.5}])
+def test_cubic_closed_form_is_eq_17_and_18(poses, params):
+    start, end = poses
+    motion = a2b.motion(start, end, "cubic", **params)
+    fig = plot_motions(start, end, ("cubic", params), angle_unit="rad", **SMALL)
+    x, y = line(fig, "transmission-closed-form:cubic").get_data()
+    inside = (x >= 0) & (x <= motion.frame.phi)
+    assert inside.sum() > 100
+    t = _t_of_omega(motion, x[inside])
+    np.testing.assert_allclose(y[inside], motion.z_of_t(t), atol=1e-9)
+    # Those closed-form points are poses of the motion: the engine's (ω, z) at the same t.
+    omega, z = motion.frame.transmission(motion.matrices(t))
+    np.testing.assert_allclose(omega, x[inside], atol=1e-9)
+    np.testing.assert_allclose(z, y[inside], atol=1e-9)
+
+
+def test_screw_closed_form_is_a_line(poses):
+    start, end = poses
+    frame = a2b.motion(start, end, "screw").frame
+    fig = plot_motions(start, end, "screw", **SMALL)
+    x, y = line(fig, "transmission-closed-form:screw").get_data()
+    np.testing.assert_allclose(y, frame.d * np.radians(x) / frame.phi, atol=1e-12)
+
+
+def test_compare_overlays_the_modes(poses):
+    start, end = poses
+    fig = plot_motions(start, end, list(MODES), **SMALL)
+    gids = lines_by_gid(fig)
+    colours = set()
+    for mode in MODES:
+        _, _, mats = engine(start, end, mode)
+        samples = line(fig, f"transmission-samples:{mode}")
+        assert f"transmission-closed-form:{mode}" in gids
+        drawn = np.array(line(fig, f"trajectory:{mode}:0").get_data_3d())
+        np.testing.assert_allclose(drawn.T, mats[:, :3, 0] + mats[:, :3, 3], atol=1e-12)
+        colours.add(samples.get_color())
+    assert len(colours) == 3
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert [text.split(" ")[0] for text in legend] == list(MODES)
+    assert "δ = 0" in legend[0] and "m0:m3" in legend[1] and "pitch" in legend[2]
+
+
+@pytest.mark.parametrize("mode, kind, count", [("darboux", True, 7), ("cubic", True, 7), ("cubic", "m", 7)])
+def test_family_through_a_and_b(poses, mode, kind, count):
+    start, end = poses
+    motion = a2b.motion(start, end, mode)
+    fig = plot_motions(start, end, mode, family=kind, angle_unit="rad", **SMALL)
+    name, members, chosen = family_members(motion, None if kind is True else kind)
+    assert len(members) == count and members[count // 2][0] == pytest.approx(chosen)
+    ends = np.array([0.0, motion.frame.phi])
+    for j, (_, member) in enumerate(members):
+        x, y = line(fig, f"family:{mode}:{j}").get_data()
+        expected = closed_form_z(member, x)
+        shown = np.isfinite(y)
+        assert shown.sum() > 50
+        np.testing.assert_allclose(y[shown], expected[shown], atol=1e-12)
+        # Every member runs from A to B, as a motion and as a curve.
+        np.testing.assert_allclose(member.matrices([0.0, 1.0]), [start, end], atol=1e-9)
+        np.testing.assert_allclose(closed_form_z(member, ends), [0.0, motion.frame.d], atol=1e-9)
+    # The chosen member is the highlighted closed form, drawn on top.
+    x, y = line(fig, f"family:{mode}:{count // 2}").get_data()
+    xc, yc = line(fig, f"transmission-closed-form:{mode}").get_data()
+    np.testing.assert_allclose(yc, y, atol=1e-12)
+    assert line(fig, f"transmission-closed-form:{mode}").get_linewidth() > 2 * line(fig, f"family:{mode}:0").get_linewidth()
+
+
+def test_family_of_darboux_varies_delta(poses):
+    motion = a2b.motion(*poses, "darboux", delta=0.2)
+    name, members, chosen = family_members(motion)
+    assert name == "δ" and chosen == 0.2
+    deltas = [m.delta for _, m in members]
+    assert deltas == sorted(deltas) and len(set(deltas)) == len(deltas)
+
+
+def test_family_errors(poses):
+    with pytest.raises(ParameterError, match="no family"):
+        family_members(a2b.motion(*poses, "screw"))
+    with pytest.raises(ParameterError, match="varies delta"):
+        family_members(a2b.motion(*poses, "darboux"), "m")
+    with pytest.raises(ParameterError, match="given frame"):
+        family_members(a2b.motion(*poses, "cubic", frame="given"))
+
+
+def test_equal_aspect_and_labels(poses):
+    fig = plot_motions(*poses, "darboux", length_unit="mm", **SMALL)
+    for ax in fig.axes[:2]:
+        spans = [np.ptp(lim) for lim in (ax.get_xlim(), ax.get_ylim(), ax.get_zlim())]
+        np.testing.assert_allclose(spans, spans[0])
+        np.testing.assert_allclose(ax.get_box_aspect(), ax.get_box_aspect()[0])
+        assert ax.get_xlabel() == "x [mm]"
+    assert fig.axes[2].get_ylabel().endswith("[mm]")
+    assert fig.axes[2].get_xlabel().endswith("[°]")
+    title = fig.get_suptitle()
+    assert title.startswith("darboux motion: δ = 0") and "φ = " in title
+
+
+def test_title_states_essential_parameters(poses):
+    cubic = plot_motions(*poses, ("cubic", {"a": 0.5}), **SMALL).get_suptitle()
+    assert cubic.startswith("cubic motion: m0:m3 = ") and "a = 0.5, b = 0" in cubic
+    screw = plot_motions(*poses, "screw", angle_unit="rad", **SMALL).get_suptitle()
+    assert screw.startswith("screw motion: pitch = ") and " rad" in screw
+
+
+def test_two_of_a_mode_get_their_parameters_as_labels(poses):
+    fig = plot_motions(*poses, [("darboux", {}), ("darboux", {"delta": 0.5})], **SMALL)
+    gids = lines_by_gid(fig)
+    assert "transmission-samples:darboux (defaults)" in gids
+    assert "transmission-samples:darboux (delta=0.5)" in gids
+
+
+# -- sampled motions (Bézier and the like) ----------------------------------------------------
+
+
+def test_sampler_in_the_cylinder_group(poses):
+    start, end = poses
+    darboux = a2b.motion(start, end, "darboux", delta=0.3)
+    fig = plot_motions(start, end, [("mine", darboux.matrices)], **SMALL)
+    omega, z = darboux.frame.transmission(darboux.matrices(np.linspace(0, 1, SAMPLES)))
+    x, y = line(fig, "transmission-samples:mine").get_data()
+    np.testing.assert_allclose(np.radians(x), omega, atol=1e-12)
+    np.testing.assert_allclose(y, z, atol=1e-12)
+    assert "transmission-closed-form:mine" not in lines_by_gid(fig)
+    assert fig.get_suptitle().startswith("mine ")
+
+
+def test_samples_outside_the_cylinder_group_have_no_transmission_panel(poses):
+    start, end = poses
+    given = a2b.motion(start, end, "cubic", frame="given")
+    mats = given.matrices(np.linspace(0, 1, 12))
+    assert not in_cylinder_group(given.frame, mats)
+    fig = plot_motions(start, end, [("measured", mats)], **SMALL)
+    assert len(fig.axes) == 2
+    drawn = np.array(line(fig, "trajectory:measured:1").get_data_3d())
+    np.testing.assert_allclose(drawn.T, mats[:, :3, 1] + mats[:, :3, 3], atol=1e-12)
+    assert sum(g.startswith("frame:measured:") for g in lines_by_gid(fig)) == 4 * 3
+    # With a motion that is in the group the panel is back, and the other one is named.
+    fig = plot_motions(start, end, [("cubic", {"frame": "given"}), "darboux"], **SMALL)
+    assert len(fig.axes) == 3
+    assert "transmission-samples:cubic" not in lines_by_gid(fig)
+    assert any("cubic: not in the cylinder group" in t.get_text() for t in fig.axes[2].texts)
+
+
+def test_bezier_motion(rng):
+    from a2b.bezier import bezier_motion
+
+    controls = [random_pose(rng) for _ in range(4)]
+    motion = bezier_motion(controls)
+    fig = plot_motions(controls[0], controls[-1], motion, **SMALL)
+    mats = motion.matrices(np.linspace(0, 1, SAMPLES))
+    drawn = np.array(line(fig, f"trajectory:{motion.kind}:2").get_data_3d())
+    np.testing.assert_allclose(drawn.T, mats[:, :3, 2] + mats[:, :3, 3], atol=1e-12)
+
+
+def test_sampler_must_return_matrices(poses):
+    with pytest.raises(ParameterError, match=r"\(len\(ts\), 4, 4\)"):
+        plot_motions(*poses, [("bad", lambda ts: np.stack([np.eye(4)] * 2))], **SMALL)
+
+
+# -- special poses and errors ---------------------------------------------------------------
+
+
+def test_pure_translation_and_identical_poses():
+    shift = np.eye(4)
+    shift[:3, 3] = [1.0, 2.0, 0.5]
+    fig = plot_motions(np.eye(4), shift, list(MODES), family=True, **SMALL)
+    x, y = line(fig, "transmission-samples:darboux").get_data()
+    np.testing.assert_allclose(x, 0.0, atol=1e-12)
+    np.testing.assert_allclose(y, np.linspace(0, math.sqrt(5.25), SAMPLES), atol=1e-12)
+    assert not any(g.startswith(("family:", "transmission-closed-form:")) for g in lines_by_gid(fig))
+    fig = plot_motions(np.eye(4), np.eye(4), list(MODES), **SMALL)
+    assert len(fig.axes) == 3
+
+
+def test_large_scene_scales_the_axes(poses):
+    start, end = poses
+    start, end = start.copy(), end.copy()
+    start[:3, 3] *= 1000
+    end[:3, 3] *= 1000
+    _, _, mats = engine(start, end, "darboux")
+    fig = plot_motions(start, end, "darboux", **SMALL)
+    tip = np.array(line(fig, "trajectory:darboux:0").get_data_3d()).T - mats[:, :3, 3]
+    length = np.linalg.norm(tip, axis=1)
+    assert np.allclose(length, length[0]) and length[0] > 10
+    assert plot_motions(start, end, "darboux", axis_length=1.0, **SMALL)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(angle_unit="grad"), "angle unit"),
+        (dict(points=[[1.0, 2.0]]), r"shape \(K, 3\)"),
+        (dict(samples=1), "samples must be an integer"),
+        (dict(family="x"), "family must be"),
+        (dict(axis_length=-1.0), "axis_length"),
+    ],
+)
+def test_invalid_arguments(poses, kwargs, match):
+    with pytest.raises(ParameterError, match=match):
+        plot_motions(*poses, "darboux", **kwargs)
+
+
+def test_engine_errors_pass_through(poses):
+    with pytest.raises(A2bError, match="unknown mode"):
+        plot_motions(*poses, ("helix", {}))
+    with pytest.raises(A2bError, match="does not take"):
+        plot_motions(*poses, ("screw", {"delta": 1.0}))
+
+
+def test_missing_matplotlib_says_how_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    with pytest.raises(MissingDependencyError, match=r"pip install 'a2b\[plot\]'") as info:
+        require_matplotlib()
+    assert isinstance(info.value, A2bError) and isinstance(info.value, ImportError)
+
+
+def test_import_does_not_load_matplotlib():
+    code = "import sys, a2b.plot; print('matplotlib' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
