@@ -107,25 +107,21 @@ _BISECTIONS = 80
 
 
 def _bern_eval(coeffs: np.ndarray, ts: np.ndarray) -> np.ndarray:
-    """Values at ``ts`` (1-D) of a scalar polynomial with Bernstein coefficients ``(n+1,)``."""
-    n = coeffs.shape[0] - 1
+    """Values ``(S, P)`` of ``S`` polynomials (Bernstein coefficients ``(S, n+1)``) at ``ts (S, P)``."""
+    n = coeffs.shape[-1] - 1
     if n == 0:
-        return np.full(np.shape(ts), float(coeffs[0]))
-    return bernstein_basis(ts, n) @ coeffs
+        return np.broadcast_to(coeffs[:, :1], ts.shape).copy()
+    basis = bernstein_basis(ts.reshape(-1), n).reshape(ts.shape + (n + 1,))
+    return np.einsum("spi,si->sp", basis, coeffs)
 
 
-def _bern_derivative(coeffs: np.ndarray) -> np.ndarray:
-    """Bernstein coefficients ``n (c_{i+1} − c_i)`` of the derivative, degree ``n − 1``."""
-    n = coeffs.shape[0] - 1
-    return n * np.diff(coeffs, axis=0)
-
-
-def _bisect(coeffs: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Zeros in brackets ``[lo, hi]`` where the polynomial changes sign, to machine precision."""
-    f_lo = np.sign(_bern_eval(coeffs, lo))
+def _bisect(coeffs: np.ndarray, rows: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Zeros of polynomial ``coeffs[rows]`` in brackets ``[lo, hi]`` with a sign change."""
+    c = coeffs[rows]
+    f_lo = np.sign(_bern_eval(c, lo[:, None]))[:, 0]
     for _ in range(_BISECTIONS):
         mid = 0.5 * (lo + hi)
-        f_mid = np.sign(_bern_eval(coeffs, mid))
+        f_mid = np.sign(_bern_eval(c, mid[:, None]))[:, 0]
         right = f_mid == f_lo  # the zero lies in [mid, hi]
         lo = np.where(right, mid, lo)
         hi = np.where(right, hi, mid)
@@ -135,56 +131,79 @@ def _bisect(coeffs: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 
 
 def _zeros_and_extrema(coeffs: np.ndarray, lo: float, hi: float) -> tuple[np.ndarray, np.ndarray]:
-    """The real zeros and the critical points in ``[lo, hi]`` of a polynomial (Bernstein form).
+    """Real zeros and critical points in ``[lo, hi]`` of polynomials in Bernstein form.
 
-    Derivative recursion: the critical points are the zeros of the derivative (found the same
-    way); between two consecutive ones, and the interval's ends, the polynomial is monotone, so
-    a sign change there brackets exactly one zero, which bisection finds. Zeros of even
-    multiplicity are critical points; callers test the values there against a tolerance.
+    ``coeffs`` has shape ``(S, n+1)``; both results have shape ``(S, w)``, padded with NaN.
+
+    Derivative recursion: the critical points are the zeros of the derivative (Bernstein
+    coefficients ``n (c_{i+1} − c_i)``), found the same way. Between two consecutive ones, and
+    the ends of the interval, a polynomial is monotone, so a sign change there brackets exactly
+    one zero, which bisection finds to machine precision. Zeros of even multiplicity are
+    critical points; callers compare the values there with a tolerance.
     """
-    n = coeffs.shape[0] - 1
+    rows, n = coeffs.shape[0], coeffs.shape[1] - 1
     if n <= 0:
-        return np.empty(0), np.empty(0)
+        return np.full((rows, 0), np.nan), np.full((rows, 0), np.nan)
     if n == 1:
-        crit = np.empty(0)
+        crit = np.full((rows, 0), np.nan)
     else:
-        crit, _ = _zeros_and_extrema(_bern_derivative(coeffs), lo, hi)
-    pts = np.unique(np.concatenate([[lo], crit, [hi]]))
+        crit, _ = _zeros_and_extrema(n * np.diff(coeffs, axis=-1), lo, hi)
+    pts = np.concatenate([np.full((rows, 1), lo), crit, np.full((rows, 1), hi)], axis=1)
+    pts = np.sort(pts, axis=1)  # NaN last
+    pts = np.where(np.isnan(pts), hi, pts)
     vals = _bern_eval(coeffs, pts)
-    exact = pts[vals == 0.0]
-    change = vals[:-1] * vals[1:] < 0.0
-    bracketed = _bisect(coeffs, pts[:-1][change], pts[1:][change]) if np.any(change) else np.empty(0)
-    return np.unique(np.concatenate([exact, bracketed])), crit
+    exact = np.where(vals == 0.0, pts, np.nan)
+    change = vals[:, :-1] * vals[:, 1:] < 0.0
+    bracketed = np.full(change.shape, np.nan)
+    if np.any(change):
+        r, i = np.nonzero(change)
+        bracketed[r, i] = _bisect(coeffs, r, pts[r, i], pts[r, i + 1])
+    return np.concatenate([exact, bracketed], axis=1), crit
 
 
-def first_small_value(coeffs, lo: float, hi: float, tol: float = SINGULAR_TOL):
-    """The smallest ``t ∈ [lo, hi]`` where a polynomial vanishes or nearly does.
+def first_small_values(coeffs, lo: float, hi: float, tol: float = SINGULAR_TOL):
+    """For each polynomial, the smallest ``t ∈ [lo, hi]`` where it vanishes or nearly does.
 
     Parameters
     ----------
-    coeffs : array_like, shape (n+1,)
-        Bernstein coefficients on ``[0, 1]`` (the interval ``[lo, hi]`` may extend beyond).
+    coeffs : array_like, shape (S, n+1)
+        Bernstein coefficients on ``[0, 1]`` of ``S`` polynomials (``[lo, hi]`` may extend
+        beyond ``[0, 1]``).
     lo, hi : float
     tol : float
         Relative tolerance: ``|f(t)| ≤ tol · max |coeffs|`` counts as zero.
 
     Returns
     -------
-    (t, ratio) or None
-        The first such ``t`` and ``|f(t)| / max |coeffs|`` there.
+    ts, ratios : ndarray, shape (S,)
+        The first such ``t`` (NaN if there is none) and ``|f(t)| / max |coeffs|`` there.
     """
     c = np.asarray(coeffs, dtype=float)
-    scale = float(np.max(np.abs(c)))
-    if scale == 0.0:
-        return lo, 0.0
-    zeros, crit = _zeros_and_extrema(c, lo, hi)
-    pts = np.concatenate([[lo], crit, [hi]])
-    small = pts[np.abs(_bern_eval(c, pts)) <= tol * scale]
-    found = np.concatenate([zeros, small])
-    if found.size == 0:
-        return None
-    t = float(np.min(found))
-    return t, float(abs(_bern_eval(c, np.array([t]))[0])) / scale
+    scale = np.max(np.abs(c), axis=1)
+    safe = np.where(scale == 0.0, 1.0, scale)
+    zeros, crit = _zeros_and_extrema(c / safe[:, None], lo, hi)
+    rows = c.shape[0]
+    pts = np.concatenate([np.full((rows, 1), lo), crit, np.full((rows, 1), hi)], axis=1)
+    pts = np.where(np.isnan(pts), hi, pts)
+    small = np.where(np.abs(_bern_eval(c, pts)) <= tol * scale[:, None], pts, np.nan)
+    found = np.concatenate([zeros, small], axis=1)
+    has = ~np.all(np.isnan(found), axis=1)
+    ts = np.full(rows, np.nan)
+    ts[has] = np.nanmin(found[has], axis=1)
+    ratios = np.full(rows, np.nan)
+    if np.any(has):
+        ratios[has] = np.abs(_bern_eval(c[has], ts[has][:, None])[:, 0]) / safe[has]
+    return ts, ratios
+
+
+def first_small_value(coeffs, lo: float, hi: float, tol: float = SINGULAR_TOL):
+    """The smallest ``t ∈ [lo, hi]`` where one polynomial (Bernstein coefficients ``(n+1,)``)
+    vanishes or has ``|f(t)| ≤ tol · max |coeffs|``, with that ratio; or None.
+
+    See :func:`first_small_values`.
+    """
+    ts, ratios = first_small_values(np.asarray(coeffs, dtype=float)[None], lo, hi, tol)
+    return None if np.isnan(ts[0]) else (float(ts[0]), float(ratios[0]))
 
 
 # -- validation ---------------------------------------------------------------------------------
@@ -322,40 +341,42 @@ class BezierMotion:
     def _name(self) -> str:
         return f"{self.kind} ({self.space} space)"
 
-    def _check_segment(self, j: int, lo: float, hi: float) -> None:
+    def _check(self, first: int, last: int, lo: float, hi: float) -> None:
+        """Raise if segments ``first … last`` (local parameter in ``[lo, hi]``) are singular."""
         segments = self.controls.shape[0]
+        picked = self.controls[first:last + 1]
         if self.space == "matrix":
-            x0 = self.controls[j, :, 0]
-            found = first_small_value(x0, lo, hi)
-            if found is not None:
-                t, ratio = found
+            ts, ratios = first_small_values(picked[..., 0], lo, hi)
+            if np.any(~np.isnan(ts)):
+                j = int(np.argmax(~np.isnan(ts)))
+                x0 = picked[j, :, 0]
                 raise SingularMotionError(
-                    f"the {self._name()} passes through infinity at t = {(j + t) / segments:.6g}: "
-                    f"x0(t) = 0 (|x0(t)| / max|x0_i| = {ratio:.3g}, tolerance {SINGULAR_TOL:g}); "
-                    f"the control points of this segment have x0_i = w_i ψ_i = "
+                    f"the {self._name()} passes through infinity at "
+                    f"t = {(first + j + ts[j]) / segments:.6g}: x0(t) = 0 (|x0(t)| / max|x0_i| = "
+                    f"{ratios[j]:.3g}, tolerance {SINGULAR_TOL:g}); the control points "
+                    f"{'of this segment ' if segments > 1 else ''}have x0_i = w_i ψ_i = "
                     f"{[float(f'{v:.6g}') for v in x0]}, which need one sign"
                 )
-        quats = self._quaternion_controls()[j]
-        norm2 = bern_mul(quats, quats).sum(axis=-1)
-        found = first_small_value(norm2, lo, hi)
-        if found is not None:
-            t, ratio = found
+        quats = self._quaternion_controls()[first:last + 1]
+        norm2 = bern_mul(np.moveaxis(quats, 1, 0), np.moveaxis(quats, 1, 0)).sum(axis=-1).T
+        ts, ratios = first_small_values(norm2, lo, hi)
+        if np.any(~np.isnan(ts)):
+            j = int(np.argmax(~np.isnan(ts)))
             raise SingularMotionError(
                 f"the {self._name()} passes through p(t) = 0 (no rotation defined) at "
-                f"t = {(j + t) / segments:.6g}: |p(t)|² / max|coefficient| = {ratio:.3g}, "
-                f"tolerance {SINGULAR_TOL:g}"
+                f"t = {(first + j + ts[j]) / segments:.6g}: |p(t)|² / max|coefficient| = "
+                f"{ratios[j]:.3g}, tolerance {SINGULAR_TOL:g}"
             )
 
     def _check_segments(self, lo: float, hi: float) -> None:
         segments = self.controls.shape[0]
         if lo == 0.0 and hi == 1.0:
-            for j in range(segments):
-                self._check_segment(j, 0.0, 1.0)
+            self._check(0, segments - 1, 0.0, 1.0)
             return
         if lo < 0.0:
-            self._check_segment(0, lo * segments, 0.0)
+            self._check(0, 0, lo * segments, 0.0)
         if hi > 1.0:
-            self._check_segment(segments - 1, 1.0, hi * segments - (segments - 1))
+            self._check(segments - 1, segments - 1, 1.0, hi * segments - (segments - 1))
 
     # -- sampling -------------------------------------------------------------------------------
     def _prepare(self, ts) -> tuple[np.ndarray, tuple]:
