@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import io
+from pathlib import Path
+
 import numpy as np
 import pytest
+from click.testing import CliRunner
 
 import a2b
 from a2b.bezier import (
@@ -15,12 +19,15 @@ from a2b.bezier import (
     spline,
     spline_motion,
 )
-from a2b.errors import ParameterError, PoseError, SingularMotionError
+from a2b.cli import cli
+from a2b.cli.bezier import read_curve_file
+from a2b.errors import InputFileError, ParameterError, PoseError, SingularMotionError
 from a2b.extended import kernel_basis
 from a2b.motions._rational import bern_mul
 from a2b.poses import matrices_from_quat_trans, quat_trans_from_matrices
 
 SPACES = ("matrix", "study")
+SAMPLES = Path(__file__).resolve().parents[1] / "samples"
 TS = np.linspace(0.0, 1.0, 41)
 
 
@@ -208,15 +215,19 @@ def test_unequal_fiber_offsets_leave_the_plane(rng):
     np.testing.assert_allclose(poses[:, :3, :3] @ normal, np.broadcast_to(normal, (len(TS), 3)), atol=1e-12)
 
 
-def test_planar_sample_has_rotation_about_z_in_the_xy_plane():
-    import yaml
-    from pathlib import Path
-
-    path = Path(__file__).resolve().parents[1] / "samples" / "planar-bezier.yaml"
-    if not path.exists():
-        pytest.skip("samples/planar-bezier.yaml not written yet")
-    doc = yaml.safe_load(path.read_text())
-    assert len(doc["controls"]) == 4
+def test_planar_sample_is_a_planar_cubic_through_its_first_and_last_control():
+    with open(SAMPLES / "planar-bezier.yaml", "rb") as fh:
+        curve = read_curve_file(fh, "controls")
+    assert curve.poses.shape == (4, 4, 4)
+    ez = np.array([0.0, 0.0, 1.0])
+    for space in SPACES:
+        motion = bezier_motion(curve.poses, space)
+        assert motion.degree == 3
+        poses = motion.matrices(TS)
+        assert_rigid(poses)
+        np.testing.assert_allclose(poses[[0, -1]], curve.poses[[0, -1]], atol=1e-12)
+        np.testing.assert_allclose(poses[:, :3, :3] @ ez, np.broadcast_to(ez, (len(TS), 3)), atol=1e-12)
+        np.testing.assert_allclose(poses[:, 2, 3], 0.0, atol=1e-12)
 
 
 # -- splines ---------------------------------------------------------------------------------------
@@ -428,3 +439,124 @@ def test_default_m_of_cancelling_rotations_is_an_error():
     assert np.linalg.norm(default_m(quats)) > 0.5
     with pytest.raises(ParameterError, match="default m, .* vanishes"):
         default_m(np.array([[1.0, 0, 0, 0], [0, 0, 0, 1.0], [-1.0, 0, 0, 0], [0, 0, 0, -1.0]]))
+
+
+# -- the command line ------------------------------------------------------------------------------
+
+
+def run(*args, input=None):
+    return CliRunner().invoke(cli, list(args), input=input, catch_exceptions=False)
+
+
+PLANAR_CSV = """t,tx,ty,tz,qw,qx,qy,qz
+0.0,0.0,0.0,0.0,1.0,0.0,0.0,0.0
+0.25,0.90625,1.125,0.0,0.9298351215248353,0.0,0.0,0.36797642149857207
+0.5,2.0,1.5,0.0,0.7071067811865476,0.0,0.0,0.7071067811865476
+0.75,3.09375,1.125,0.0,0.36797642149857207,0.0,0.0,0.9298351215248353
+1.0,4.0,0.0,0.0,0.0,0.0,0.0,1.0
+"""
+
+
+def test_cli_bezier_planar_sample_exact_output():
+    result = run("bezier", str(SAMPLES / "planar-bezier.yaml"), "--samples", "5")
+    assert result.exit_code == 0, result.output
+    assert result.output == PLANAR_CSV
+
+
+@pytest.mark.parametrize("command", ["bezier", "spline"])
+def test_cli_help_has_an_example(command):
+    for flag in ("-h", "--help"):
+        result = run(command, flag)
+        assert result.exit_code == 0
+        assert "Example:" in result.output
+        assert f"a2b {command} samples/" in result.output
+
+
+def read_matrix_output(text):
+    from a2b.io.readers import read_matrix_csv
+
+    return read_matrix_csv(io.StringIO(text))
+
+
+@pytest.mark.parametrize("space", SPACES)
+def test_cli_bezier_matches_the_library_with_options_overriding_the_file(space):
+    with open(SAMPLES / "planar-bezier.yaml", "rb") as fh:
+        controls = read_curve_file(fh, "controls").poses
+    extra = ["--weights", "1,2,2,1"]
+    params = {"weights": [1.0, 2.0, 2.0, 1.0]}
+    if space == "matrix":
+        extra += ["--m", "1,0,0,0.5", "--basis", "rref"] + ["--alpha", "0.1,0,0,0,0,0"] * 4
+        params.update(m=[1.0, 0.0, 0.0, 0.5], basis="rref", alphas=np.tile([0.1, 0, 0, 0, 0, 0], (4, 1)))
+    else:
+        extra += ["--offsets", "0,0.1,0.2,0"]
+        params["offsets"] = [0.0, 0.1, 0.2, 0.0]
+    result = run("bezier", str(SAMPLES / "planar-bezier.yaml"), "--space", space, "--samples", "7",
+                 "--format", "matrix", *extra)
+    assert result.exit_code == 0, result.output
+    ts, mats = read_matrix_output(result.output)
+    np.testing.assert_array_equal(ts, np.linspace(0, 1, 7))
+    np.testing.assert_array_equal(mats, bezier(controls, ts, space=space, **params))
+
+
+@pytest.mark.parametrize("space", SPACES)
+def test_cli_spline_hits_every_key_pose(space, tmp_path):
+    with open(SAMPLES / "spline.yaml", "rb") as fh:
+        keys = read_curve_file(fh, "poses").poses
+    out = tmp_path / "spline.csv"
+    result = run("spline", str(SAMPLES / "spline.yaml"), "--space", space, "--samples", "9",
+                 "--format", "matrix", "-o", str(out))
+    assert result.exit_code == 0 and result.output == ""
+    ts, mats = read_matrix_output(out.read_text())
+    np.testing.assert_allclose(mats[::2], keys, atol=1e-12)
+    np.testing.assert_array_equal(mats, spline(keys, ts, space=space))
+
+
+def test_cli_reads_stdin_and_file_parameters():
+    text = """{"controls": [{"quaternion": [1, 0, 0, 0]},
+                            {"quaternion": [0, 0, 0, 1], "translation": [1, 0, 0]}],
+               "space": "study", "samples": 3, "parameters": {"offsets": [0, 0.5]}}"""
+    result = run("bezier", "-", "--format", "matrix", input=text)
+    assert result.exit_code == 0, result.output
+    ts, mats = read_matrix_output(result.output)
+    b = np.eye(4)
+    b[:3, :3] = [[-1, 0, 0], [0, -1, 0], [0, 0, 1]]
+    b[0, 3] = 1.0
+    np.testing.assert_allclose(mats, a2b.interpolate(np.eye(4), b, ts, mode="darboux", delta=0.5), atol=1e-15)
+
+
+def test_cli_errors_are_one_line_with_file_position_or_t():
+    planar = str(SAMPLES / "planar-bezier.yaml")
+    result = run("bezier", planar, "--m", "0,1,0,0")
+    assert result.exit_code == 1
+    assert "orthogonal to the quaternion of the control pose 1 of 4 (t = 0)" in result.output
+    assert "Traceback" not in result.output
+    result = run("bezier", planar, "--m", "1,0,0,1", "--basis", "rref", "--alpha", "0,0,0,0,0,0",
+                 "--alpha", "0,0,0,0,0,0", "--alpha", "0,0,0,0,0,0", "--alpha", "-2,0,0,0,0,0")
+    assert result.exit_code == 1
+    assert "passes through infinity at t = " in result.output
+    result = run("bezier", planar, "--weights", "1,2")
+    assert result.exit_code == 1
+    assert "weights needs one number per control pose, shape (4,)" in result.output
+    result = run("bezier", "-", input="controls:\n  - quaternion: [1, 0, 0, 0]\n  - quaternion: [1, 0, 0]\n")
+    assert result.exit_code == 1
+    assert "<stdin>:3:5: controls[1].quaternion: expected 4 numbers (w, x, y, z), got 3" in result.output
+    result = run("spline", "-", input="poses:\n  - quaternion: [1, 0, 0, 0]\n")
+    assert result.exit_code == 1
+    assert "<stdin>:1:1: poses: expected a list of at least two poses, got 1" in result.output
+    result = run("spline", "-", input="controls: []\n")
+    assert result.exit_code == 1
+    assert "unknown key 'controls' in a poses file" in result.output
+    result = run("spline", planar.replace("planar-bezier", "spline"), "--space", "study", "--m", "1,0,0,0")
+    assert result.exit_code == 1
+    assert "space study does not take m" in result.output
+
+
+def test_read_curve_file_checks_per_control_parameters():
+    text = b"""controls:
+  - quaternion: [1, 0, 0, 0]
+  - quaternion: [1, 0, 0, 0]
+parameters:
+  alphas: [[0, 0, 0, 0, 0, 0]]
+"""
+    with pytest.raises(InputFileError, match=r"curve.yaml:5:3: parameters.alphas: expected 2 lists of 6 numbers"):
+        read_curve_file(io.BytesIO(text), "controls", name="curve.yaml")
