@@ -59,7 +59,7 @@ def command(poses, mode, samples, fmt, output, duration, start_time, frame_id, c
     if fmt == "mcap" and output == "-" and sys.stdout.isatty():
         raise click.UsageError("MCAP is binary: write it with -o FILE or into a pipe, not to a terminal")
     job = read_poses(poses)
-    parameters = options.merge_parameters(job.parameters, parameters)
+    parameters = options.merge_parameters(job.parameters, parameters, mode)
     motion = a2b.motion(job.start, job.end, mode or job.mode or "darboux", **parameters)
     ts = np.linspace(0.0, 1.0, samples or job.samples or 101)
     with atomic_output(output) as stream:

@@ -176,15 +176,34 @@ def json_option(f):
     return click.option("--json", "as_json", is_flag=True, help="Machine-readable JSON instead of a table.")(f)
 
 
-def merge_parameters(from_file: dict, from_command_line: dict) -> dict:
+#: Parameters that choose the same thing; giving one on the command line drops the file's others.
+EXCLUSIVE = (
+    {"delta", "kappa", "lam", "branch", "pitch_start", "pitch_end", "through"},
+    {"alpha", "a"},
+    {"beta", "b"},
+)
+
+
+def merge_parameters(from_file: dict, from_command_line: dict, mode: str | None = None) -> dict:
     """The file's motion parameters, overridden by those given on the command line.
 
-    ``--through`` arrives as an open file and is read here into a 4x4 matrix.
+    An option overrides the file's value of the same name and of the parameters that choose
+    the same thing (``--lam`` replaces a ``delta`` from the file; ``--a`` replaces ``alpha``).
+    With ``mode`` (a ``--mode`` given on the command line), the file's parameters that this
+    mode does not take are dropped. ``--through`` arrives as an open file and is read here.
     """
     merged = dict(from_file)
-    for key, value in from_command_line.items():
-        if value is None:
-            continue
+    if mode is not None:
+        from ..api import PARAMETERS
+
+        merged = {k: v for k, v in merged.items() if k in PARAMETERS[mode]}
+    given = {k: v for k, v in from_command_line.items() if v is not None}
+    for group in EXCLUSIVE:
+        if group & set(given):
+            for key in group - set(given):
+                if not (key == "branch" and "lam" in given):
+                    merged.pop(key, None)
+    for key, value in given.items():
         if key == "through":
             from ..io.readers import read_pose
 

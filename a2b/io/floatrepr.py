@@ -17,7 +17,7 @@ integer ``D17 = round(X)`` is the correctly rounded 17-digit decimal of ``x`` ex
 passes this test *with a safety margin* is used; the 17-digit one always passes. Stripping its
 trailing zeros gives the shortest digits, which is what ``repr`` prints. Everything outside the
 fast range (zero, subnormals, huge values, NaN, infinity, and the rare candidate the margin
-cannot decide) is formatted with ``repr`` itself, so the output always reads back bit for bit.
+cannot decide) is formatted with ``repr`` itself (zeros by a table), so the output always reads back bit for bit.
 """
 
 from __future__ import annotations
@@ -212,6 +212,11 @@ def format_rows(values: np.ndarray, sep: str = ",", prefix: list[str] | None = N
         keep = ~undecided
         _render(cells, idx[keep], np.signbit(flat[idx[keep]]), d[keep], e[keep])
         fast[idx[undecided]] = False
+    zero = flat == 0.0
+    negative_zero = zero & np.signbit(flat)
+    cells[zero & ~negative_zero, :3] = np.frombuffer(b"0.0", dtype=np.uint8)
+    cells[negative_zero, :4] = np.frombuffer(b"-0.0", dtype=np.uint8)
+    fast |= zero
     for i in np.flatnonzero(~fast):
         text = repr(float(flat[i])).encode()
         cells[i, : len(text)] = np.frombuffer(text, dtype=np.uint8)

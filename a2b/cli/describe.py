@@ -1,0 +1,106 @@
+"""``a2b describe``: the canonical frame and the essential parameters of a motion."""
+
+from __future__ import annotations
+
+import click
+
+from . import CONTEXT_SETTINGS, options
+
+#: How ``a2b describe`` labels the keys of :func:`a2b.describe` in its table.
+LABELS = {
+    "mode": "mode",
+    "phi": "φ, rotation angle of B A⁻¹ (rad)",
+    "phi_degrees": "φ (degrees)",
+    "d": "d, translation along the screw axis",
+    "axis_point": "screw axis: point",
+    "axis_direction": "screw axis: direction",
+    "delta": "δ = sB − sA, fiber offset",
+    "z0": "z0, transmission curve offset",
+    "lam": "λ, transmission curve amplitude",
+    "kappa": "κ, transmission curve phase (rad)",
+    "pitch_start": "pitch at the start, dz/dω",
+    "pitch_end": "pitch at the end, dz/dω",
+    "m": "m of μ_[m]",
+    "a": "a (essential scalar of the start)",
+    "b": "b (essential scalar of the end)",
+    "transmission_curve": "transmission curve",
+    "singular_t": "singular t",
+}
+
+
+def _number(value) -> str:
+    if isinstance(value, bool) or value is None:
+        return str(value).lower() if value is not None else "—"
+    if isinstance(value, float):
+        return f"{value:.10g}"
+    if isinstance(value, (list, tuple)):
+        return "(" + ", ".join(_number(v) for v in value) + ")" if value else "none"
+    return str(value)
+
+
+def json_safe(value):
+    """``value`` with non-finite floats as the strings "nan", "inf", "-inf" (valid JSON)."""
+    import math
+
+    if isinstance(value, float) and not math.isfinite(value):
+        return str(value)
+    if isinstance(value, dict):
+        return {k: json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_safe(v) for v in value]
+    return value
+
+
+def render(description: dict) -> None:
+    """Print ``description`` as a rich table, then the choices a2b made."""
+    from rich.console import Console
+    from rich.table import Table
+    from rich.text import Text
+
+    console = Console()
+    table = Table(title=Text(f"a2b describe: {description.get('mode', '')} motion"), show_header=True)
+    table.add_column("quantity")
+    table.add_column("value", overflow="fold")
+    for key, value in description.items():
+        if key == "choices":
+            continue
+        table.add_row(Text(LABELS.get(key, key.replace("_", " "))), Text(_number(value)))
+    console.print(table)
+    choices = description.get("choices") or []
+    if choices:
+        console.print("Choices a2b made:")
+        for choice in choices:
+            console.print(f"  • {choice}", highlight=False, markup=False)
+
+
+@click.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("poses", type=click.File("rb"))
+@options.motion_options
+@options.json_option
+def command(poses, mode, as_json, **parameters):
+    """Describe the motion between the two poses in POSES (a file, or - for stdin).
+
+    Shows the canonical frame (rotation angle φ, translation d along the screw axis, the
+    axis), the motion's essential parameters and its transmission curve (darboux: δ, z0, λ,
+    κ and the pitches; cubic: m, m0, m3, a and b), any singular t, and every choice a2b
+    made for you. Pitches are translation per radian, dz/dω. --json prints the keys of
+    a2b.describe.
+
+    \b
+    Example:
+      a2b describe samples/quarter-turn.yaml
+      a2b describe samples/canonical.yaml --lam 1.5 --branch -1 --json
+    """
+    import json
+
+    import a2b
+
+    from ..io.readers import read_poses
+
+    job = read_poses(poses)
+    parameters = options.merge_parameters(job.parameters, parameters, mode)
+    description = a2b.describe(job.start, job.end, mode or job.mode or "darboux", **parameters)
+    if as_json:
+        click.echo(json.dumps(json_safe(description), indent=2))
+    else:
+        render(description)

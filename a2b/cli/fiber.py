@@ -1,0 +1,168 @@
+"""``a2b fiber``: points of the fiber of one pose under κ or μ_[m], and the check that they map back."""
+
+from __future__ import annotations
+
+import click
+
+from . import CONTEXT_SETTINGS, options
+
+
+def fiber(pose, kind: str, s=(), m=None, alphas=(), basis: str = "auto") -> dict:
+    """The fiber of ``pose`` under κ or μ_[m], as plain data (what ``--json`` prints).
+
+    Parameters
+    ----------
+    pose : ndarray, shape (4, 4)
+        Robotics layout.
+    kind : {"kappa", "mu"}
+    s : sequence of float
+        κ: the points ``h + s ε p`` (erratum 1 of MATH.md).
+    m : sequence of 4 floats
+        μ: the vector m of μ_[m].
+    alphas : sequence of 6-tuples
+        μ: the points ``(1, R) + Σ α_l f_l`` with translation block ``ψ t`` (eq. 15).
+    basis : {"auto", "paper", "rref"}
+        μ: the kernel basis of ``M_m``; ``auto`` is the paper's unless it degenerates.
+
+    Returns
+    -------
+    dict
+        ``map, pose, basis_name, basis, points, residuals`` and, for μ, ``m, alphas,
+        paper_basis_degenerate``. ``residuals[i]`` is ``max |map(point_i) − pose|``.
+    """
+    import numpy as np
+
+    from ..extended import kernel_basis, matrices_from_model_points, mu_fiber_points, paper_basis_degenerate
+    from ..poses import matrices_from_study, study_from_matrices
+    from ..study import kappa_fiber_direction, kappa_fiber_points
+
+    pose = np.asarray(pose, dtype=float)
+    out = {"map": kind, "pose": pose.tolist()}
+    if kind == "kappa":
+        h = study_from_matrices(pose)
+        points = kappa_fiber_points(h, np.asarray(s, dtype=float))
+        back = matrices_from_study(points, through_kappa=True)
+        out.update(
+            basis_name="h, εp: the fiber is the line h ∨ εp without εp",
+            basis=[h.tolist(), kappa_fiber_direction(h).tolist()],
+            s=[float(v) for v in s],
+        )
+    else:
+        m = np.asarray(m, dtype=float)
+        base, name = kernel_basis(m, basis)
+        points = mu_fiber_points(pose, m, np.asarray(alphas, dtype=float).reshape(-1, 6), basis=name)
+        back = matrices_from_model_points(points, m)
+        out.update(
+            m=m.tolist(),
+            paper_basis_degenerate=bool(paper_basis_degenerate(m)),
+            basis_name=name,
+            basis=base.tolist(),
+            alphas=[list(a) for a in alphas],
+        )
+    out["points"] = points.tolist()
+    out["residuals"] = np.max(np.abs(back - pose), axis=(-2, -1)).tolist()
+    return out
+
+
+def _fmt(values) -> str:
+    return ", ".join(f"{v:.6g}" for v in values)
+
+
+def render(result: dict) -> None:
+    """Print the basis, the points and their residuals as rich tables."""
+    from rich.console import Console
+    from rich.table import Table
+    from rich.text import Text
+
+    console = Console()
+    if result["map"] == "kappa":
+        console.print(Text(f"κ-fiber: points h + s εp; basis {result['basis_name']}"))
+        console.print(Text(f"  h  = ({_fmt(result['basis'][0])})"))
+        console.print(Text(f"  εp = ({_fmt(result['basis'][1])})"))
+        table = Table(title=Text("fiber points (p0 … p3, q0 … q3)"))
+        table.add_column("s", justify="right")
+        labels = result["s"]
+    else:
+        if result["paper_basis_degenerate"]:
+            console.print(
+                Text(
+                    "Note: the paper's kernel basis (eq. 13) degenerates for this m "
+                    "(n0 = 4 m0 m1 m2 m3 = 0); "
+                    + ("using the RREF basis instead." if result["basis_name"] == "rref" else "")
+                ),
+                style="yellow",
+            )
+        console.print(Text(f"μ_[m]-fiber, m = ({_fmt(result['m'])}), {result['basis_name']} basis f0 … f5 (x0, a11 … a33):"))
+        basis = Table(show_header=False)
+        for i, f in enumerate(result["basis"]):
+            basis.add_row(Text(f"f{i}"), Text(_fmt(f)))
+        console.print(basis)
+        table = Table(title=Text("fiber points (x0, a11 … a33, t1 … t3)"))
+        table.add_column("α", justify="right")
+        labels = [_fmt(a) for a in result["alphas"]]
+    table.add_column("point", overflow="fold")
+    table.add_column("maps back to the pose: max |error|", justify="right")
+    for label, point, residual in zip(labels, result["points"], result["residuals"]):
+        table.add_row(Text(str(label)), Text(_fmt(point)), Text(f"{residual:.3g}"))
+    console.print(table)
+
+
+@click.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("pose", type=click.File("rb"))
+@click.option(
+    "--map",
+    "kind",
+    type=click.Choice(["kappa", "mu"]),
+    default="kappa",
+    show_default=True,
+    help="κ (extended dual-quaternion model, points of P^7) or μ_[m] (extended matrix model, points of R^13).",
+)
+@click.option("--s", "s", type=options.FLOAT, multiple=True, help="kappa: one fiber point h + s εp per --s  [default: -1, 0, 1]")
+@click.option("--m", "m", type=options.Vector(4, "m0, m1, m2, m3"), help="mu: the vector m of μ_[m] (required).")
+@click.option(
+    "--alpha",
+    "alphas",
+    type=options.Vector(6, "α0 … α5"),
+    multiple=True,
+    help="mu: one fiber point (1, R) + Σ α_l f_l per --alpha  [default: 0 and each unit vector]",
+)
+@click.option(
+    "--basis",
+    type=click.Choice(["auto", "paper", "rref"]),
+    default="auto",
+    show_default=True,
+    help="mu: kernel basis of M_m; auto is the paper's (eq. 13) unless it degenerates for m.",
+)
+@options.json_option
+def command(pose, kind, s, m, alphas, basis, as_json):
+    """Points of the fiber of the pose in POSE (a file with one pose, or - for stdin).
+
+    A fiber is every point of the extended model that maps to the same pose. Under κ it is
+    the line h + s εp (a2b uses the corrected form, see MATH.md); under μ_[m] it is the
+    6-dimensional family (1, R) + Σ α_l f_l of affine matrices (eq. 15). Each point is mapped
+    back, and the largest deviation from the pose is shown.
+
+    \b
+    Example:
+      a2b fiber samples/pose.yaml --s 0 --s 0.5
+      a2b fiber samples/pose.yaml --map mu --m 1,0,0,0.5 --alpha 0,0,0,0,0,1 --json
+    """
+    import json
+
+    from ..io.readers import read_pose
+
+    if kind == "mu" and m is None:
+        raise click.UsageError("--map mu needs --m, e.g. --m 1,0,0,0.5")
+    if kind == "kappa" and (m is not None or alphas):
+        raise click.UsageError("--m and --alpha belong to --map mu")
+    if kind == "mu" and s:
+        raise click.UsageError("--s belongs to --map kappa")
+    if not s:
+        s = (-1.0, 0.0, 1.0)
+    if not alphas:
+        alphas = [tuple(0.0 for _ in range(6))] + [tuple(float(i == j) for i in range(6)) for j in range(6)]
+    result = fiber(read_pose(pose), kind, s=s, m=m, alphas=alphas, basis=basis)
+    if as_json:
+        click.echo(json.dumps(result, indent=2))
+    else:
+        render(result)

@@ -1,0 +1,142 @@
+"""``a2b plot``: the paper's three pictures of a motion between the two poses of a file."""
+
+from __future__ import annotations
+
+import click
+
+from . import CONTEXT_SETTINGS, options
+
+
+class ModeList(click.ParamType):
+    """Comma-separated modes, as in ``--compare darboux,cubic,screw``."""
+
+    name = "MODE,MODE,..."
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, tuple):
+            return value
+        modes = tuple(part.strip() for part in str(value).split(",") if part.strip())
+        unknown = [mode for mode in modes if mode not in options.MODES]
+        if unknown or not modes:
+            self.fail(
+                f"expected modes from {', '.join(options.MODES)} separated by commas, got {value!r}",
+                param,
+                ctx,
+            )
+        if len(set(modes)) != len(modes):
+            self.fail(f"a mode is repeated in {value!r}", param, ctx)
+        return modes
+
+
+class PointList(click.ParamType):
+    """Body points ``x,y,z;x,y,z;...`` in the moving frame's coordinates."""
+
+    name = "X,Y,Z;..."
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, tuple):
+            return value
+        vector = options.Vector(3, "x, y, z")
+        points = tuple(vector.convert(part, param, ctx) for part in str(value).split(";") if part.strip())
+        if not points:
+            self.fail("expected at least one point x,y,z", param, ctx)
+        return points
+
+
+@click.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("poses", type=click.File("rb"))
+@click.option(
+    "-o",
+    "--output",
+    required=True,
+    type=click.Path(dir_okay=False),
+    help="The image to write: .png, .svg or .pdf. Written to a temporary file and renamed into place.",
+)
+@options.motion_options
+@click.option(
+    "--compare",
+    type=ModeList(),
+    help="Overlay several modes, one colour each, e.g. darboux,cubic,screw (instead of --mode).",
+)
+@click.option(
+    "--family",
+    is_flag=True,
+    help="Also draw the family of transmission curves through A and B: darboux varies δ, cubic (1+b)/(1+a).",
+)
+@click.option(
+    "--family-of",
+    type=click.Choice(["ab", "m"]),
+    help="cubic: vary a and b (ab, the default) or m3:m0 (m) in the family; implies --family.",
+)
+@click.option(
+    "--points",
+    type=PointList(),
+    help="Body points whose trajectories are drawn, in the moving frame  [default: the tips of its unit axes]",
+)
+@click.option(
+    "--angle-unit",
+    type=click.Choice(["deg", "rad"]),
+    default="deg",
+    show_default=True,
+    help="Unit of the rotation angle ω in the transmission curve and of angles in the title.",
+)
+@click.option("--length-unit", metavar="NAME", help="Name of the poses' length unit for the axis labels, e.g. m.")
+@click.option(
+    "--samples",
+    type=click.IntRange(min=2),
+    default=61,
+    show_default=True,
+    help="Samples per motion, t evenly spaced in [0, 1].",
+)
+def command(poses, output, mode, compare, family, family_of, points, angle_unit, length_unit, samples, **parameters):
+    """Draw the motion between the start and end pose in POSES (a file, or - for stdin).
+
+    Three panels, as in the paper's figures: the moving frame at 8 instants (axes x, y, z in
+    red, green, blue), the trajectories of body points, and the transmission curve: the
+    rotation ω about and the translation z along the screw axis, relative to A, with the
+    closed form (darboux a sine, cubic a tangent, screw a line) drawn through the samples.
+    Motions that are not in the cylinder group of A and B (cubic with --frame given) have no
+    transmission curve. The suffix of -o chooses PNG, SVG or PDF. Needs matplotlib:
+    pip install 'a2b[plot]'.
+
+    With --compare, the motion parameters apply to the modes that take them.
+
+    \b
+    Example:
+      a2b plot samples/quarter-turn.yaml -o turn.png
+      a2b plot samples/quarter-turn.yaml --compare darboux,cubic,screw -o compare.svg
+      a2b plot samples/half-turn.yaml --mode cubic --family --angle-unit rad -o family.pdf
+    """
+    from ..api import PARAMETERS
+    from ..errors import ParameterError
+    from ..io.atomic import atomic_output
+    from ..io.readers import read_poses
+    from ..plot import figure_format, plot_motions, write_figure
+
+    fmt = figure_format(output)
+    if compare and mode:
+        raise click.UsageError("give --mode or --compare, not both")
+    job = read_poses(poses)
+    parameters = options.merge_parameters(job.parameters, parameters)
+    if compare:
+        unused = sorted(k for k in parameters if not any(k in PARAMETERS[m] for m in compare))
+        if unused:
+            raise ParameterError(
+                f"{', '.join('--' + k.replace('_', '-') for k in unused)} applies to none of the "
+                f"compared modes {', '.join(compare)}"
+            )
+        motions = [(m, {k: v for k, v in parameters.items() if k in PARAMETERS[m]}) for m in compare]
+    else:
+        motions = [(mode or job.mode or "darboux", parameters)]
+    figure = plot_motions(
+        job.start,
+        job.end,
+        motions,
+        points=points,
+        family=family_of or family,
+        angle_unit=angle_unit,
+        length_unit=length_unit,
+        samples=samples,
+    )
+    with atomic_output(output) as stream:
+        write_figure(figure, stream, fmt)
