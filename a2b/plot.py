@@ -3,8 +3,8 @@
 :func:`plot_motions` draws one figure with three panels:
 
 1. **Moving frame.** The moving frame at a few instants (``instants``, default 8), its axes as
-   arrows (x red, y green, z blue; one colour per motion when several are compared), and the
-   screw axis of ``B A⁻¹`` dashed.
+   arrows (x red, y green, z blue; between A and B one colour per motion when several are
+   compared), and the screw axis of ``B A⁻¹`` dashed.
 2. **Trajectories.** The trajectories of a few body points from A to B: by default the tips of
    the moving frame's axes, otherwise the points the caller gives in body coordinates.
 3. **Transmission curve.** In canonical coordinates (``MATH.md``): the rotation angle ω about
@@ -20,7 +20,8 @@ only through the Agg-based :class:`matplotlib.figure.Figure` (no pyplot, no GUI)
 works headless and leaves matplotlib's global state alone.
 
 Every drawn line carries a ``gid`` (written as ``id`` into SVG files) so that its data can be
-found again: ``frame:<label>:<i>:<axis>`` (the quiver of axis x, y or z at instant ``i``),
+found again: ``frame:<label>:<i>:<axis>`` (the arrow of axis x, y or z at instant ``i``; the
+instants at A and B are drawn once, as ``frame:A:<axis>`` and ``frame:B:<axis>``),
 ``trajectory:<label>:<k>`` (body point ``k``), ``screw-axis``,
 ``transmission-samples:<label>``, ``transmission-closed-form:<label>`` and
 ``family:<label>:<j>`` (family member ``j``). ``<label>`` is the motion's label, the mode name
@@ -420,7 +421,7 @@ def _nice(x: float) -> float:
 def _default_axis_length(tracks) -> float:
     origins = np.concatenate([t.mats[:, :3, 3] for t in tracks])
     extent = float(np.ptp(origins, axis=0).max())
-    if extent == 0.0 or extent / 50 <= 1.0 <= 2 * extent:
+    if extent == 0.0 or extent / 50 <= 1.0 <= 50 * extent:
         return 1.0
     return _nice(extent / 4)
 
@@ -448,30 +449,38 @@ def _set_equal_3d(ax, points: np.ndarray, length_label: str) -> tuple[np.ndarray
     ax.set_xlim(centre[0] - half, centre[0] + half)
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_zlim(centre[2] - half, centre[2] + half)
-    ax.set_box_aspect((1.0, 1.0, 1.0))
-    for setter, name in ((ax.set_xlabel, "x"), (ax.set_ylabel, "y"), (ax.set_zlabel, "z")):
-        setter(f"{name}{length_label}", labelpad=2)
+    ax.set_box_aspect((1.0, 1.0, 1.0), zoom=1.08)
+    from matplotlib.ticker import MaxNLocator
+
+    for axis, name in ((ax.xaxis, "x"), (ax.yaxis, "y"), (ax.zaxis, "z")):
+        axis.set_major_locator(MaxNLocator(5))
+        axis.set_label_text(f"{name}{length_label}", fontsize=9)
+        axis.labelpad = 0
     ax.tick_params(labelsize=7, pad=0)
     return centre - half, centre + half
 
 
-def _draw_frames(ax, track: _Track, length: float, single: bool, frame_lw: float) -> list:
+def _draw_frame(ax, pose: np.ndarray, length: float, colours, gid: str, **style) -> np.ndarray:
+    """The axes of one pose as three arrows; returns their origin and tips (4, 3)."""
+    origin = pose[:3, 3]
+    for j, name in enumerate("xyz"):
+        arrow = ax.quiver(*origin, *(length * pose[:3, j]), color=colours[j], arrow_length_ratio=0.22, **style)
+        arrow.set_gid(f"{gid}:{name}")
+    return np.vstack([origin, origin + length * pose[:3, :3].T])
+
+
+def _draw_frames(ax, track: _Track, ends, length: float, single: bool) -> list:
+    """The moving frame of ``track`` at its instants, except where it is at A or B (``ends``)."""
     drawn = []
+    last = len(track.inst) - 1
     for i, pose in enumerate(track.inst):
-        origin = pose[:3, 3]
-        end_pose = i in (0, len(track.inst) - 1)
-        for j, name in enumerate("xyz"):
-            colour = AXIS_COLOURS[j] if single else track.colour
-            q = ax.quiver(
-                *origin, *(length * pose[:3, j]),
-                color=colour,
-                linewidth=frame_lw * (1.6 if end_pose else 1.0),
-                alpha=1.0 if (single or end_pose) else 0.75,
-                arrow_length_ratio=0.22,
-            )
-            q.set_gid(f"frame:{track.label}:{i}:{name}")
-        drawn.append(origin + length * pose[:3, :3].T)
-        drawn.append(origin[None])
+        if (i == 0 and np.allclose(pose, ends[0], atol=1e-9)) or (
+            i == last and np.allclose(pose, ends[1], atol=1e-9)
+        ):
+            continue  # drawn once, as A or B
+        colours = AXIS_COLOURS if single else (track.colour,) * 3
+        drawn.append(_draw_frame(ax, pose, length, colours, f"frame:{track.label}:{i}",
+                                 linewidth=1.3, alpha=1.0 if single else 0.8))
     return drawn
 
 
@@ -554,7 +563,7 @@ def plot_motions(
     axis_length : float, optional
         Length of the drawn frame axes in the poses' length unit. Default 1 (the frame's
         unit axes), unless the origins of the moving frame span more than 50 units or less
-        than half a unit, in which case a round number near a quarter of that span.
+        than 1/50 of a unit, in which case a round number near a quarter of that span.
     figsize : (float, float), optional
         Figure size in inches; default 15 × 5.2 for three panels, 10.5 × 5.2 for two.
     title : str, optional
@@ -600,6 +609,8 @@ def plot_motions(
         raise ParameterError("start and end must each be one 4x4 matrix")
     frame = screw_frame(a, b)
     tracks = _as_tracks(a, b, motions, int(samples), int(instants))
+    if family and not any(t.mode in ("darboux", "cubic") for t in tracks):
+        raise ParameterError("a family of transmission curves needs a darboux or cubic motion")
     if axis_length is None:
         axis_length = _default_axis_length(tracks)
     elif not (math.isfinite(axis_length) and axis_length > 0):
@@ -629,7 +640,7 @@ def plot_motions(
     frame_pts, traj_pts = [], []
     styles = ("-", "--", ":", "-.")
     for track in tracks:
-        frame_pts += _draw_frames(ax_frames, track, float(axis_length), single, 1.4)
+        frame_pts += _draw_frames(ax_frames, track, (a, b), float(axis_length), single)
         world = np.einsum("nij,kj->kni", track.mats[:, :3, :3], body) + track.mats[None, :, :3, 3]
         for k, path in enumerate(world):
             if single:
@@ -640,13 +651,10 @@ def plot_motions(
             (line,) = ax_traj.plot(*path.T, color=colour, linestyle=style, linewidth=1.6)
             line.set_gid(f"trajectory:{track.label}:{k}")
             traj_pts.append(path)
-        for i in (0, len(track.inst) - 1):
-            pose = track.inst[i]
-            for j in range(3):
-                colour = AXIS_COLOURS[j] if single else track.colour
-                ax_traj.quiver(*pose[:3, 3], *(axis_length * pose[:3, j]), color=colour,
-                               linewidth=1.0, alpha=0.6, arrow_length_ratio=0.22)
-        traj_pts.append(track.inst[[0, -1], :3, 3])
+    for pose, name in ((a, "A"), (b, "B")):
+        frame_pts.append(_draw_frame(ax_frames, pose, axis_length, AXIS_COLOURS, f"frame:{name}", linewidth=2.4))
+        traj_pts.append(_draw_frame(ax_traj, pose, axis_length, AXIS_COLOURS, f"end-frame:{name}",
+                                    linewidth=1.2, alpha=0.6))
     for ax, pts in ((ax_frames, frame_pts), (ax_traj, traj_pts)):
         lo, hi = _set_equal_3d(ax, np.concatenate(pts), length_label)
         axis_seg = _screw_axis_segment(frame, lo, hi)
@@ -660,9 +668,8 @@ def plot_motions(
         ax.view_init(elev=22, azim=-58)
     ax_frames.set_title(f"Moving frame at {int(instants)} instants", fontsize=11)
     ax_traj.set_title("Trajectories of body points", fontsize=11)
-    legend_axis = [Line2D([], [], color="0.45", linestyle=(0, (6, 3)), label="screw axis")]
-    if single:
-        legend_axis += [Line2D([], [], color=AXIS_COLOURS[j], label=f"{n} axis") for j, n in enumerate("xyz")]
+    legend_axis = [Line2D([], [], color=AXIS_COLOURS[j], label=f"{n} axis") for j, n in enumerate("xyz")]
+    legend_axis.append(Line2D([], [], color="0.45", linestyle=(0, (6, 3)), label="screw axis"))
     ax_frames.legend(handles=legend_axis, loc="upper left", fontsize=8, frameon=False)
     if single:
         handles = [Line2D([], [], color=line.get_color(), label=name)

@@ -147,9 +147,19 @@ def test_frames_at_the_instants(poses, mode):
     start, end = poses
     fig = plot_motions(start, end, mode, **SMALL)
     gids = lines_by_gid(fig)
+    # Four instants: A and B are drawn once each, the two in between per motion.
     assert sorted(g for g in gids if g.startswith("frame:")) == sorted(
-        f"frame:{mode}:{i}:{axis}" for i in range(4) for axis in "xyz"
+        f"frame:{name}:{axis}" for name in ("A", "B", f"{mode}:1", f"{mode}:2") for axis in "xyz"
     )
+    inst = a2b.motion(start, end, mode).matrices(np.linspace(0, 1, 4))
+    for i, pose in ((0, start), (1, inst[1]), (2, inst[2]), (3, end)):
+        name = {0: "A", 3: "B"}.get(i, f"{mode}:{i}")
+        for j, axis in enumerate("xyz"):
+            (arrow,) = gids[f"frame:{name}:{axis}"]
+            # Line3DCollection keeps its 3D segments (the shaft from tip to tail, then the two head strokes) only
+            # in this private attribute; get_segments() holds the 2D projection after drawing.
+            tip, tail = np.asarray(arrow._segments3d)[0]
+            np.testing.assert_allclose([tail, tip], [pose[:3, 3], pose[:3, 3] + pose[:3, j]], atol=1e-12)
 
 
 @pytest.mark.parametrize("unit", ["deg", "rad"])
@@ -340,7 +350,7 @@ def test_samples_outside_the_cylinder_group_have_no_transmission_panel(poses):
     assert len(fig.axes) == 2
     drawn = np.array(line(fig, "trajectory:measured:1").get_data_3d())
     np.testing.assert_allclose(drawn.T, mats[:, :3, 1] + mats[:, :3, 3], atol=1e-12)
-    assert sum(g.startswith("frame:measured:") for g in lines_by_gid(fig)) == 4 * 3
+    assert sum(g.startswith("frame:measured:") for g in lines_by_gid(fig)) == 2 * 3
     # With a motion that is in the group the panel is back, and the other one is named.
     fig = plot_motions(start, end, [("cubic", {"frame": "given"}), "darboux"], **SMALL)
     assert len(fig.axes) == 3
