@@ -84,14 +84,14 @@ from .poses import check_matrices, quat_trans_from_matrices, study_from_matrices
 from .study import kappa_fiber_points, rotation_numerators, translation_numerators
 
 __all__ = [
-    "SPACES",
     "SINGULAR_TOL",
+    "SPACES",
     "BezierMotion",
     "bezier",
     "bezier_motion",
+    "default_m",
     "spline",
     "spline_motion",
-    "default_m",
 ]
 
 SPACES = ("matrix", "study")
@@ -223,7 +223,9 @@ def _check_ts(ts) -> np.ndarray:
 def _check_poses(poses, what: str, minimum: int = 2) -> np.ndarray:
     arr = check_matrices(poses)
     if arr.ndim != 3:
-        raise PoseError(f"the {what} must be a list of 4x4 matrices, shape (k, 4, 4); got shape {arr.shape}")
+        raise PoseError(
+            f"the {what} must be a list of 4x4 matrices, shape (k, 4, 4); got shape {arr.shape}"
+        )
     if arr.shape[0] < minimum:
         raise ParameterError(f"a curve needs at least {minimum} {what}, got {arr.shape[0]}")
     return arr
@@ -234,7 +236,9 @@ def _per_control(values, k: int, name: str, width: int | None = None) -> np.ndar
     shape = (k,) if width is None else (k, width)
     if arr.shape != shape:
         each = "one number" if width is None else f"{width} numbers"
-        raise ParameterError(f"{name} needs {each} per control pose, shape {shape}; got shape {arr.shape}")
+        raise ParameterError(
+            f"{name} needs {each} per control pose, shape {shape}; got shape {arr.shape}"
+        )
     if not np.all(np.isfinite(arr)):
         raise ParameterError(f"{name} contains NaN or infinity")
     return arr
@@ -253,8 +257,10 @@ def _check_weights(weights, k: int) -> np.ndarray:
 
 
 def _greville(i: int, k: int) -> str:
-    return f"control pose {i + 1} of {k} (t = {i / (k - 1):.6g})" if i in (0, k - 1) else (
-        f"control pose {i + 1} of {k} (Greville abscissa t = {i / (k - 1):.6g})"
+    return (
+        f"control pose {i + 1} of {k} (t = {i / (k - 1):.6g})"
+        if i in (0, k - 1)
+        else (f"control pose {i + 1} of {k} (Greville abscissa t = {i / (k - 1):.6g})")
     )
 
 
@@ -344,7 +350,7 @@ class BezierMotion:
     def _check(self, first: int, last: int, lo: float, hi: float) -> None:
         """Raise if segments ``first … last`` (local parameter in ``[lo, hi]``) are singular."""
         segments = self.controls.shape[0]
-        picked = self.controls[first:last + 1]
+        picked = self.controls[first : last + 1]
         if self.space == "matrix":
             ts, ratios = first_small_values(picked[..., 0], lo, hi)
             if np.any(~np.isnan(ts)):
@@ -357,7 +363,7 @@ class BezierMotion:
                     f"{'of this segment ' if segments > 1 else ''}have x0_i = w_i ψ_i = "
                     f"{[float(f'{v:.6g}') for v in x0]}, which need one sign"
                 )
-        quats = self._quaternion_controls()[first:last + 1]
+        quats = self._quaternion_controls()[first : last + 1]
         norm2 = bern_mul(np.moveaxis(quats, 1, 0), np.moveaxis(quats, 1, 0)).sum(axis=-1).T
         ts, ratios = first_small_values(norm2, lo, hi)
         if np.any(~np.isnan(ts)):
@@ -424,7 +430,9 @@ class BezierMotion:
         flat, shape = self._prepare(ts)
         p, trans = self._quat_trans_unnormalised(flat)
         out = np.zeros((flat.size, 4, 4))
-        out[:, :3, :3] = (rotation_numerators(p) / np.sum(p * p, axis=-1)[:, None]).reshape(-1, 3, 3)
+        out[:, :3, :3] = (rotation_numerators(p) / np.sum(p * p, axis=-1)[:, None]).reshape(
+            -1, 3, 3
+        )
         out[:, :3, 3] = trans
         out[:, 3, 3] = 1.0
         return out.reshape(shape + (4, 4))
@@ -482,20 +490,33 @@ def _matrix_rotation_weights(m: np.ndarray, quats: np.ndarray, label, choices: l
     return 4.0 * dots
 
 
-def bezier_motion(control_poses, space: str = "matrix", *, m=None, weights=None, alphas=None,
-                  basis: str = "paper", offsets=None) -> BezierMotion:
+def bezier_motion(
+    control_poses,
+    space: str = "matrix",
+    *,
+    m=None,
+    weights=None,
+    alphas=None,
+    basis: str = "paper",
+    offsets=None,
+) -> BezierMotion:
     """The Bézier motion of control poses, as an object to sample (see :func:`bezier`)."""
     if space not in SPACES:
         raise ParameterError(f"unknown space {space!r}; expected one of {', '.join(SPACES)}")
     poses = _check_poses(control_poses, "control poses")
     k = poses.shape[0]
     w = _check_weights(weights, k)
-    quats, trans = quat_trans_from_matrices(poses)
+    quats, _ = quat_trans_from_matrices(poses)
     choices: list[str] = []
-    label = lambda i: _greville(i, k)  # noqa: E731
+
+    def label(i: int) -> str:
+        return _greville(i, k)
+
     if space == "matrix":
         if offsets is not None:
-            raise ParameterError("space matrix does not take offsets (κ-fiber offsets belong to space study)")
+            raise ParameterError(
+                "space matrix does not take offsets (κ-fiber offsets belong to space study)"
+            )
         if basis not in BASES:
             raise ParameterError(f"unknown kernel basis {basis!r}; expected one of {BASES}")
         if m is None:
@@ -508,7 +529,9 @@ def bezier_motion(control_poses, space: str = "matrix", *, m=None, weights=None,
             points = model_points_from_matrices(poses)
         else:
             a = _per_control(alphas, k, "alphas", 6)
-            points = np.concatenate([mu_fiber_points(poses[i], m_arr, a[i:i + 1], basis) for i in range(k)])
+            points = np.concatenate(
+                [mu_fiber_points(poses[i], m_arr, a[i : i + 1], basis) for i in range(k)]
+            )
         points = points * w[:, None]
         describe = {
             "weights": [float(v) for v in w],
@@ -533,12 +556,18 @@ def bezier_motion(control_poses, space: str = "matrix", *, m=None, weights=None,
             )
         s = np.zeros(k) if offsets is None else _per_control(offsets, k, "offsets")
         if offsets is not None:
-            h = np.concatenate([kappa_fiber_points(h[i], s[i:i + 1]) for i in range(k)])
+            h = np.concatenate([kappa_fiber_points(h[i], s[i : i + 1]) for i in range(k)])
         points = h * w[:, None]
         describe = {"weights": [float(v) for v in w], "offsets": [float(v) for v in s]}
         first = h[0, :4]
-    return BezierMotion(space, points[None], m_arr, "Bézier motion",
-                        {"first_quaternion": first, "describe": describe}, choices)
+    return BezierMotion(
+        space,
+        points[None],
+        m_arr,
+        "Bézier motion",
+        {"first_quaternion": first, "describe": describe},
+        choices,
+    )
 
 
 def bezier(control_poses, ts, space: str = "matrix", **parameters) -> np.ndarray:
@@ -602,11 +631,16 @@ def spline_motion(poses, space: str = "matrix", *, m=None) -> BezierMotion:
     count = keys.shape[0]
     quats, _ = quat_trans_from_matrices(keys)
     choices = [
-        "inner control points by the uniform Catmull–Rom rule T_j = (X_{j+1} − X_{j−1}) / 2, "
-        "end tangents X_1 − X_0 and X_N − X_{N−1}"
+        (
+            "inner control points by the uniform Catmull–Rom rule T_j = (X_{j+1} − X_{j−1}) / 2, "
+            "end tangents X_1 − X_0 and X_N − X_{N−1}"
+        )
     ]
     segments = count - 1
-    label = lambda i: f"pose {i + 1} of {count} (t = {i / segments:.6g})"  # noqa: E731
+
+    def label(i: int) -> str:
+        return f"pose {i + 1} of {count} (t = {i / segments:.6g})"
+
     if space == "matrix":
         if m is None:
             m_arr = default_m(quats)
@@ -633,11 +667,18 @@ def spline_motion(poses, space: str = "matrix", *, m=None) -> BezierMotion:
     tangents[-1] = points[-1] - points[-2]
     tangents[1:-1] = 0.5 * (points[2:] - points[:-2])
     controls = np.stack(
-        [points[:-1], points[:-1] + tangents[:-1] / 3.0, points[1:] - tangents[1:] / 3.0, points[1:]],
+        [
+            points[:-1],
+            points[:-1] + tangents[:-1] / 3.0,
+            points[1:] - tangents[1:] / 3.0,
+            points[1:],
+        ],
         axis=1,
     )
     describe = {"poses": count}
-    return BezierMotion(space, controls, m_arr, "spline", {"first_quaternion": first, "describe": describe}, choices)
+    return BezierMotion(
+        space, controls, m_arr, "spline", {"first_quaternion": first, "describe": describe}, choices
+    )
 
 
 def spline(poses, ts_or_samples, space: str = "matrix", *, m=None) -> np.ndarray:

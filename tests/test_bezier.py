@@ -110,7 +110,9 @@ def test_same_answer_for_0_1_and_3_leading_dimensions(rng, space):
     assert full.shape == (2, 3, 5, 4, 4)
     flat = bezier(controls, ts.ravel(), space=space)
     np.testing.assert_array_equal(full.reshape(-1, 4, 4), flat)
-    np.testing.assert_allclose(bezier(controls, ts[1, 2, 3], space=space), full[1, 2, 3], atol=1e-15)
+    np.testing.assert_allclose(
+        bezier(controls, ts[1, 2, 3], space=space), full[1, 2, 3], atol=1e-15
+    )
     spl = spline(controls, ts, space=space)
     assert spl.shape == (2, 3, 5, 4, 4)
     np.testing.assert_allclose(spl[0, 1, 2], spline(controls, ts[0, 1, 2], space=space), atol=1e-15)
@@ -120,7 +122,9 @@ def test_same_answer_for_0_1_and_3_leading_dimensions(rng, space):
 def test_quat_trans_and_study_agree_with_matrices_and_are_continuous(rng, space):
     motion = bezier_motion(random_poses(rng, 5, spread=0.5), space)
     quat, trans = motion.quat_trans(TS)
-    np.testing.assert_allclose(matrices_from_quat_trans(quat, trans), motion.matrices(TS), atol=1e-12)
+    np.testing.assert_allclose(
+        matrices_from_quat_trans(quat, trans), motion.matrices(TS), atol=1e-12
+    )
     assert quat[0, 0] >= 0.0
     assert np.min(np.sum(quat[1:] * quat[:-1], axis=-1)) > 0.9  # no sign jumps
     study = motion.study(TS)
@@ -142,7 +146,9 @@ def test_two_controls_in_matrix_space_are_the_cubic_mode_in_the_given_frame(rng)
         m = rng.normal(size=4)
         alpha, beta = 0.02 * rng.normal(size=(2, 6))
         try:
-            expected = a2b.interpolate(a, b, TS, mode="cubic", frame="given", m=m, alpha=alpha, beta=beta)
+            expected = a2b.interpolate(
+                a, b, TS, mode="cubic", frame="given", m=m, alpha=alpha, beta=beta
+            )
         except a2b.A2bError:
             continue  # a random m and fiber that the cubic mode rejects; tested below
         got = bezier([a, b], TS, space="matrix", m=m, alphas=[alpha, beta])
@@ -198,7 +204,9 @@ def test_planar_control_poses_give_a_planar_motion(rng, space, build):
     poses = (bezier if build == "bezier" else spline)(controls, TS, space=space, **params)
     assert_rigid(poses)
     # every rotation fixes the normal, every origin stays in the plane
-    np.testing.assert_allclose(poses[:, :3, :3] @ normal, np.broadcast_to(normal, (len(TS), 3)), atol=1e-12)
+    np.testing.assert_allclose(
+        poses[:, :3, :3] @ normal, np.broadcast_to(normal, (len(TS), 3)), atol=1e-12
+    )
     np.testing.assert_allclose(poses[:, :3, 3] @ normal, offset, atol=1e-12)
     # so every point of the moving body moves in a plane parallel to it
     point = rng.normal(size=3)
@@ -212,7 +220,9 @@ def test_unequal_fiber_offsets_leave_the_plane(rng):
     controls = planar_poses(rng, 3, normal, 0.0)
     poses = bezier(controls, TS, space="study", offsets=[0.0, 0.5, 0.0])
     assert np.max(np.abs(poses[:, :3, 3] @ normal)) > 1e-2
-    np.testing.assert_allclose(poses[:, :3, :3] @ normal, np.broadcast_to(normal, (len(TS), 3)), atol=1e-12)
+    np.testing.assert_allclose(
+        poses[:, :3, :3] @ normal, np.broadcast_to(normal, (len(TS), 3)), atol=1e-12
+    )
 
 
 def test_planar_sample_is_a_planar_cubic_through_its_first_and_last_control():
@@ -226,7 +236,9 @@ def test_planar_sample_is_a_planar_cubic_through_its_first_and_last_control():
         poses = motion.matrices(TS)
         assert_rigid(poses)
         np.testing.assert_allclose(poses[[0, -1]], curve.poses[[0, -1]], atol=1e-12)
-        np.testing.assert_allclose(poses[:, :3, :3] @ ez, np.broadcast_to(ez, (len(TS), 3)), atol=1e-12)
+        np.testing.assert_allclose(
+            poses[:, :3, :3] @ ez, np.broadcast_to(ez, (len(TS), 3)), atol=1e-12
+        )
         np.testing.assert_allclose(poses[:, 2, 3], 0.0, atol=1e-12)
 
 
@@ -289,7 +301,9 @@ def test_matrix_spline_controls_have_x0_one_and_catmull_rom_tangents(rng):
     ctrl = motion.controls
     points = ctrl[:, 0]
     # inner tangent of key 1: (X2 − X0)/2 = 3 · (first inner control − X1) of segment 1
-    np.testing.assert_allclose(3 * (ctrl[1, 1] - ctrl[1, 0]), 0.5 * (ctrl[2, 0] - points[0]), atol=1e-14)
+    np.testing.assert_allclose(
+        3 * (ctrl[1, 1] - ctrl[1, 0]), 0.5 * (ctrl[2, 0] - points[0]), atol=1e-14
+    )
     # translations form the Catmull–Rom spline of the key translations
     trans = motion.matrices(np.array([0.5 / 3]))[0, :3, 3]
     t0, t1, t2 = keys[0, :3, 3], keys[1, :3, 3], keys[2, :3, 3]
@@ -312,7 +326,9 @@ def test_first_small_value_finds_simple_double_and_no_zeros():
     double = bern_mul(linear(0.55), linear(0.55))  # touches zero, no sign change
     assert first_small_value(double, 0.0, 1.0)[0] == pytest.approx(0.55, abs=1e-12)
     assert first_small_value(double + 1e-3, 0.0, 1.0) is None
-    assert first_small_value(double + 0.5 * SINGULAR_TOL * 0.2025, 0.0, 1.0)[0] == pytest.approx(0.55)
+    assert first_small_value(double + 0.5 * SINGULAR_TOL * 0.2025, 0.0, 1.0)[0] == pytest.approx(
+        0.55
+    )
     assert first_small_value(cubic, 0.75, 2.0) is None
     assert first_small_value(cubic, -1.0, 0.1) is None
     assert first_small_value(linear(-0.25), -1.0, 0.0)[0] == pytest.approx(-0.25)
@@ -324,12 +340,15 @@ def test_first_small_value_finds_simple_double_and_no_zeros():
 def test_control_pose_orthogonal_to_m_names_the_control_and_its_t(rng):
     controls = random_poses(rng, 4, spread=0.3)
     quat = quat_trans_from_matrices(controls)[0]
+
     def orthogonal_to(p):
         v = rng.normal(size=4)
         return v - (v @ p) * p
 
     m = orthogonal_to(quat[1])
-    with pytest.raises(ParameterError, match=r"control pose 2 of 4 \(Greville abscissa t = 0\.333333\)"):
+    with pytest.raises(
+        ParameterError, match=r"control pose 2 of 4 \(Greville abscissa t = 0\.333333\)"
+    ):
         bezier(controls, TS, m=m)
     with pytest.raises(ParameterError, match=r"control pose 1 of 4 \(t = 0\).*m·p = "):
         bezier(controls, TS, m=orthogonal_to(quat[0]))
@@ -343,7 +362,9 @@ def test_curve_through_infinity_simple_zero(rng):
     controls = random_poses(rng, 3, spread=0.3)
     m = np.array([1.0, 0.3, -0.2, 0.4])
     # x0 = (1−t)² + 2t(1−t) − t² = 1 − 2t², zero at t = 1/√2
-    with pytest.raises(SingularMotionError, match=r"passes through infinity at t = 0\.707107: x0\(t\) = 0"):
+    with pytest.raises(
+        SingularMotionError, match=r"passes through infinity at t = 0\.707107: x0\(t\) = 0"
+    ):
         bezier(controls, TS, m=m, alphas=psi_alphas(m, [1.0, 1.0, -1.0]))
 
 
@@ -351,7 +372,9 @@ def test_curve_through_infinity_double_zero_without_sign_change(rng):
     controls = random_poses(rng, 3, spread=0.3)
     m = np.array([1.0, 0.3, -0.2, 0.4])
     # x0 = (1−t)² − 2t(1−t) + t² = (1 − 2t)²: touches zero at t = 1/2
-    with pytest.raises(SingularMotionError, match=r"through infinity at t = 0\.5\b.*tolerance 1e-12"):
+    with pytest.raises(
+        SingularMotionError, match=r"through infinity at t = 0\.5\b.*tolerance 1e-12"
+    ):
         bezier(controls, TS, m=m, alphas=psi_alphas(m, [1.0, -1.0, 1.0]))
 
 
@@ -374,7 +397,9 @@ def test_study_curve_through_p_zero():
     # p0 + 3 w1 p1 + 3 w2 p2 + w3 p3 = 0 with w1 = 1
     w2, w3 = np.linalg.solve(np.stack([3 * p[2], p[3]], axis=1), -p[0] - 3 * p[1])
     assert w2 > 0 and w3 > 0
-    with pytest.raises(SingularMotionError, match=r"through p\(t\) = 0 \(no rotation defined\) at t = 0\.5\b"):
+    with pytest.raises(
+        SingularMotionError, match=r"through p\(t\) = 0 \(no rotation defined\) at t = 0\.5\b"
+    ):
         bezier(controls, TS, space="study", weights=[1.0, 1.0, w2, w3])
 
 
@@ -390,7 +415,9 @@ def test_matrix_space_p_never_vanishes_on_the_unit_interval_but_can_beyond(rng):
     same = np.stack([controls[0], controls[0]])
     same[1, :3, 3] += 1.0
     m = np.array([1.0, 0.3, -0.2, 0.4])
-    motion = bezier_motion(same, "matrix", m=m, weights=[1.0, 3.0], alphas=psi_alphas(m, [1.0, 1.0 / 3.0]))
+    motion = bezier_motion(
+        same, "matrix", m=m, weights=[1.0, 3.0], alphas=psi_alphas(m, [1.0, 1.0 / 3.0])
+    )
     motion.matrices(np.array([-0.2, 1.5]))
     with pytest.raises(SingularMotionError, match=r"p\(t\) = 0 .* at t = -0\.5\b"):
         motion.matrices(np.array([-1.0, 0.5]))
@@ -409,11 +436,17 @@ def test_parameter_errors(rng):
     controls = random_poses(rng, 3)
     with pytest.raises(ParameterError, match="unknown space 'dual'"):
         bezier(controls, TS, space="dual")
-    with pytest.raises(ParameterError, match=r"weights must be positive; control pose 2 of 3 has weight -1"):
+    with pytest.raises(
+        ParameterError, match=r"weights must be positive; control pose 2 of 3 has weight -1"
+    ):
         bezier(controls, TS, weights=[1.0, -1.0, 1.0])
-    with pytest.raises(ParameterError, match=r"weights needs one number per control pose, shape \(3,\)"):
+    with pytest.raises(
+        ParameterError, match=r"weights needs one number per control pose, shape \(3,\)"
+    ):
         bezier(controls, TS, weights=[1.0, 1.0])
-    with pytest.raises(ParameterError, match=r"alphas needs 6 numbers per control pose, shape \(3, 6\)"):
+    with pytest.raises(
+        ParameterError, match=r"alphas needs 6 numbers per control pose, shape \(3, 6\)"
+    ):
         bezier(controls, TS, alphas=np.zeros((2, 6)))
     with pytest.raises(ParameterError, match="space study does not take m, alphas"):
         bezier(controls, TS, space="study", m=[1, 0, 0, 0], alphas=np.zeros((3, 6)))
@@ -486,12 +519,23 @@ def test_cli_bezier_matches_the_library_with_options_overriding_the_file(space):
     params = {"weights": [1.0, 2.0, 2.0, 1.0]}
     if space == "matrix":
         extra += ["--m", "1,0,0,0.5", "--basis", "rref"] + ["--alpha", "0.1,0,0,0,0,0"] * 4
-        params.update(m=[1.0, 0.0, 0.0, 0.5], basis="rref", alphas=np.tile([0.1, 0, 0, 0, 0, 0], (4, 1)))
+        params.update(
+            m=[1.0, 0.0, 0.0, 0.5], basis="rref", alphas=np.tile([0.1, 0, 0, 0, 0, 0], (4, 1))
+        )
     else:
         extra += ["--offsets", "0,0.1,0.2,0"]
         params["offsets"] = [0.0, 0.1, 0.2, 0.0]
-    result = run("bezier", str(SAMPLES / "planar-bezier.yaml"), "--space", space, "--samples", "7",
-                 "--format", "matrix", *extra)
+    result = run(
+        "bezier",
+        str(SAMPLES / "planar-bezier.yaml"),
+        "--space",
+        space,
+        "--samples",
+        "7",
+        "--format",
+        "matrix",
+        *extra,
+    )
     assert result.exit_code == 0, result.output
     ts, mats = read_matrix_output(result.output)
     np.testing.assert_array_equal(ts, np.linspace(0, 1, 7))
@@ -503,8 +547,18 @@ def test_cli_spline_hits_every_key_pose(space, tmp_path):
     with open(SAMPLES / "spline.yaml", "rb") as fh:
         keys = read_curve_file(fh, "poses").poses
     out = tmp_path / "spline.csv"
-    result = run("spline", str(SAMPLES / "spline.yaml"), "--space", space, "--samples", "9",
-                 "--format", "matrix", "-o", str(out))
+    result = run(
+        "spline",
+        str(SAMPLES / "spline.yaml"),
+        "--space",
+        space,
+        "--samples",
+        "9",
+        "--format",
+        "matrix",
+        "-o",
+        str(out),
+    )
     assert result.exit_code == 0 and result.output == ""
     ts, mats = read_matrix_output(out.read_text())
     np.testing.assert_allclose(mats[::2], keys, atol=1e-12)
@@ -521,7 +575,9 @@ def test_cli_reads_stdin_and_file_parameters():
     b = np.eye(4)
     b[:3, :3] = [[-1, 0, 0], [0, -1, 0], [0, 0, 1]]
     b[0, 3] = 1.0
-    np.testing.assert_allclose(mats, a2b.interpolate(np.eye(4), b, ts, mode="darboux", delta=0.5), atol=1e-15)
+    np.testing.assert_allclose(
+        mats, a2b.interpolate(np.eye(4), b, ts, mode="darboux", delta=0.5), atol=1e-15
+    )
 
 
 def test_cli_errors_are_one_line_with_file_position_or_t():
@@ -530,23 +586,44 @@ def test_cli_errors_are_one_line_with_file_position_or_t():
     assert result.exit_code == 1
     assert "orthogonal to the quaternion of the control pose 1 of 4 (t = 0)" in result.output
     assert "Traceback" not in result.output
-    result = run("bezier", planar, "--m", "1,0,0,1", "--basis", "rref", "--alpha", "0,0,0,0,0,0",
-                 "--alpha", "0,0,0,0,0,0", "--alpha", "0,0,0,0,0,0", "--alpha", "-2,0,0,0,0,0")
+    result = run(
+        "bezier",
+        planar,
+        "--m",
+        "1,0,0,1",
+        "--basis",
+        "rref",
+        "--alpha",
+        "0,0,0,0,0,0",
+        "--alpha",
+        "0,0,0,0,0,0",
+        "--alpha",
+        "0,0,0,0,0,0",
+        "--alpha",
+        "-2,0,0,0,0,0",
+    )
     assert result.exit_code == 1
     assert "passes through infinity at t = " in result.output
     result = run("bezier", planar, "--weights", "1,2")
     assert result.exit_code == 1
     assert "weights needs one number per control pose, shape (4,)" in result.output
-    result = run("bezier", "-", input="controls:\n  - quaternion: [1, 0, 0, 0]\n  - quaternion: [1, 0, 0]\n")
+    result = run(
+        "bezier", "-", input="controls:\n  - quaternion: [1, 0, 0, 0]\n  - quaternion: [1, 0, 0]\n"
+    )
     assert result.exit_code == 1
-    assert "<stdin>:3:5: controls[1].quaternion: expected 4 numbers (w, x, y, z), got 3" in result.output
+    assert (
+        "<stdin>:3:5: controls[1].quaternion: expected 4 numbers (w, x, y, z), got 3"
+        in result.output
+    )
     result = run("spline", "-", input="poses:\n  - quaternion: [1, 0, 0, 0]\n")
     assert result.exit_code == 1
     assert "<stdin>:1:1: poses: expected a list of at least two poses, got 1" in result.output
     result = run("spline", "-", input="controls: []\n")
     assert result.exit_code == 1
     assert "unknown key 'controls' in a poses file" in result.output
-    result = run("spline", planar.replace("planar-bezier", "spline"), "--space", "study", "--m", "1,0,0,0")
+    result = run(
+        "spline", planar.replace("planar-bezier", "spline"), "--space", "study", "--m", "1,0,0,0"
+    )
     assert result.exit_code == 1
     assert "space study does not take m" in result.output
 
@@ -558,5 +635,7 @@ def test_read_curve_file_checks_per_control_parameters():
 parameters:
   alphas: [[0, 0, 0, 0, 0, 0]]
 """
-    with pytest.raises(InputFileError, match=r"curve.yaml:5:3: parameters.alphas: expected 2 lists of 6 numbers"):
+    with pytest.raises(
+        InputFileError, match=r"curve.yaml:5:3: parameters.alphas: expected 2 lists of 6 numbers"
+    ):
         read_curve_file(io.BytesIO(text), "controls", name="curve.yaml")

@@ -20,8 +20,13 @@ BASES = ("paper", "rref", "auto")
 #: Parameters a curve file may give, per list key: name -> kind ("m": 4 numbers, "per-control":
 #: one number per pose, "per-control-6": 6 numbers per pose, "basis": a kernel basis name).
 CURVE_PARAMETERS = {
-    "controls": {"m": "m", "weights": "per-control", "alphas": "per-control-6", "basis": "basis",
-                 "offsets": "per-control"},
+    "controls": {
+        "m": "m",
+        "weights": "per-control",
+        "alphas": "per-control-6",
+        "basis": "basis",
+        "offsets": "per-control",
+    },
     "poses": {"m": "m"},
 }
 
@@ -69,12 +74,18 @@ def read_curve_file(stream: IO, key: str, name: str | None = None) -> CurveFile:
     k = len(items)
     space = top.get("space")
     if space is not None and space not in SPACES:
-        raise doc.error(("space",), f"expected one of {', '.join(SPACES)}, got {r._describe(space)}")
+        raise doc.error(
+            ("space",), f"expected one of {', '.join(SPACES)}, got {r._describe(space)}"
+        )
     samples = top.get("samples")
-    if samples is not None and (not isinstance(samples, int) or isinstance(samples, bool) or samples < 1):
+    if samples is not None and (
+        not isinstance(samples, int) or isinstance(samples, bool) or samples < 1
+    ):
         shown = samples if r._is_number(samples) else r._describe(samples)
         raise doc.error(("samples",), f"expected a positive whole number, got {shown}")
-    given = r._mapping(doc, ("parameters",), top.get("parameters") or {}, "a mapping of curve parameters")
+    given = r._mapping(
+        doc, ("parameters",), top.get("parameters") or {}, "a mapping of curve parameters"
+    )
     kinds = CURVE_PARAMETERS[key]
     r._check_keys(doc, ("parameters",), given, tuple(kinds), "parameters")
     parameters = {}
@@ -90,12 +101,18 @@ def read_curve_file(stream: IO, key: str, name: str | None = None) -> CurveFile:
         elif kind == "per-control-6":
             if not isinstance(value, list) or len(value) != k:
                 got = len(value) if isinstance(value, list) else r._describe(value)
-                raise doc.error(here, f"expected {k} lists of 6 numbers (one per pose in {key}), got {got}")
-            rows = [r._numbers(doc, here + (i,), row, 6, "(α0 … α5)") for i, row in enumerate(value)]
+                raise doc.error(
+                    here, f"expected {k} lists of 6 numbers (one per pose in {key}), got {got}"
+                )
+            rows = [
+                r._numbers(doc, here + (i,), row, 6, "(α0 … α5)") for i, row in enumerate(value)
+            ]
             parameters[pname] = tuple(tuple(row) for row in rows)
         else:
             if value not in BASES:
-                raise doc.error(here, f"expected one of {', '.join(BASES)}, got {r._describe(value)}")
+                raise doc.error(
+                    here, f"expected one of {', '.join(BASES)}, got {r._describe(value)}"
+                )
             parameters[pname] = value
     return CurveFile(poses, space, samples, parameters)
 
@@ -129,7 +146,9 @@ def format_option(f):
     )(f)
 
 
-def write_motion(motion, samples, fmt, output, duration, start_time, frame_id, child_frame_id) -> None:
+def write_motion(
+    motion, samples, fmt, output, duration, start_time, frame_id, child_frame_id
+) -> None:
     """Sample ``motion`` at ``samples`` equally spaced t in [0, 1] and write it like ``interpolate``."""
     import numpy as np
 
@@ -138,7 +157,9 @@ def write_motion(motion, samples, fmt, output, duration, start_time, frame_id, c
 
     fmt = options.format_from(fmt, output)
     if fmt == "mcap" and output == "-" and sys.stdout.isatty():
-        raise click.UsageError("MCAP is binary: write it with -o FILE or into a pipe, not to a terminal")
+        raise click.UsageError(
+            "MCAP is binary: write it with -o FILE or into a pipe, not to a terminal"
+        )
     ts = np.linspace(0.0, 1.0, samples)
     with atomic_output(output) as stream:
         write_samples(
@@ -155,19 +176,42 @@ def write_motion(motion, samples, fmt, output, duration, start_time, frame_id, c
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=click.File("rb"))
 @space_option
-@click.option("--m", "m", type=options.Vector(4, "m0, m1, m2, m3"),
-              help="matrix: the vector m of μ_[m], e.g. 1,0,0,0.5  [default: the sum of the control quaternions]")
-@click.option("--weights", type=NumberList(), help="Positive weights, one per control pose, e.g. 1,2,2,1 (a rational curve).")
-@click.option("--alpha", "alphas", type=options.Vector(6, "α0 … α5"), multiple=True,
-              help="matrix: fiber coordinates α of a control pose in the kernel basis; repeat once per control pose, in order.")
-@click.option("--basis", type=click.Choice(BASES), help="matrix: the kernel basis of --alpha (default paper, eq. 13).")
-@click.option("--offsets", type=NumberList(), help="study: κ-fiber offsets s, one per control pose (h + s ε p).")
+@click.option(
+    "--m",
+    "m",
+    type=options.Vector(4, "m0, m1, m2, m3"),
+    help="matrix: the vector m of μ_[m], e.g. 1,0,0,0.5  [default: the sum of the control quaternions]",
+)
+@click.option(
+    "--weights",
+    type=NumberList(),
+    help="Positive weights, one per control pose, e.g. 1,2,2,1 (a rational curve).",
+)
+@click.option(
+    "--alpha",
+    "alphas",
+    type=options.Vector(6, "α0 … α5"),
+    multiple=True,
+    help="matrix: fiber coordinates α of a control pose in the kernel basis; repeat once per control pose, in order.",
+)
+@click.option(
+    "--basis",
+    type=click.Choice(BASES),
+    help="matrix: the kernel basis of --alpha (default paper, eq. 13).",
+)
+@click.option(
+    "--offsets",
+    type=NumberList(),
+    help="study: κ-fiber offsets s, one per control pose (h + s ε p).",
+)
 @options.samples_option
 @format_option
 @options.output_option
 @options.timing_options
 @options.frame_options
-def command(poses, space, samples, fmt, output, duration, start_time, frame_id, child_frame_id, **parameters):
+def command(
+    poses, space, samples, fmt, output, duration, start_time, frame_id, child_frame_id, **parameters
+):
     """Sample the Bézier motion of the control poses in POSES (a file, or - for stdin).
 
     POSES is JSON or YAML with a list `controls` of at least two poses, in any pose form of
@@ -197,4 +241,13 @@ def command(poses, space, samples, fmt, output, duration, start_time, frame_id, 
     given["alphas"] = given["alphas"] or None
     merged = options.merge_parameters(curve.parameters, given)
     motion = bezier_motion(curve.poses, space or curve.space or "matrix", **merged)
-    write_motion(motion, samples or curve.samples or 101, fmt, output, duration, start_time, frame_id, child_frame_id)
+    write_motion(
+        motion,
+        samples or curve.samples or 101,
+        fmt,
+        output,
+        duration,
+        start_time,
+        frame_id,
+        child_frame_id,
+    )

@@ -5,14 +5,18 @@ from __future__ import annotations
 import click
 
 from . import CONTEXT_SETTINGS, options
-from .bezier import read_curve_file, space_option, format_option, write_motion
+from .bezier import format_option, read_curve_file, space_option, write_motion
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=click.File("rb"))
 @space_option
-@click.option("--m", "m", type=options.Vector(4, "m0, m1, m2, m3"),
-              help="matrix: the vector m of μ_[m], one for all segments  [default: the sum of the poses' quaternions]")
+@click.option(
+    "--m",
+    "m",
+    type=options.Vector(4, "m0, m1, m2, m3"),
+    help="matrix: the vector m of μ_[m], one for all segments  [default: the sum of the poses' quaternions]",
+)
 @options.samples_option
 @format_option
 @options.output_option
@@ -45,4 +49,13 @@ def command(poses, space, m, samples, fmt, output, duration, start_time, frame_i
     curve = read_curve_file(poses, "poses")
     merged = options.merge_parameters(curve.parameters, {"m": m})
     motion = spline_motion(curve.poses, space or curve.space or "matrix", **merged)
-    write_motion(motion, samples or curve.samples or 101, fmt, output, duration, start_time, frame_id, child_frame_id)
+    write_motion(
+        motion,
+        samples or curve.samples or 101,
+        fmt,
+        output,
+        duration,
+        start_time,
+        frame_id,
+        child_frame_id,
+    )
