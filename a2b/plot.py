@@ -106,7 +106,9 @@ def write_figure(figure, fh, fmt: str, *, dpi: float | None = None) -> None:
     """
     if fmt not in FORMATS.values():
         raise ParameterError(f"unknown figure format {fmt!r}; expected png, svg or pdf")
-    metadata = {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[fmt]
+    metadata = {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[
+        fmt
+    ]
     matplotlib = require_matplotlib()
     with matplotlib.rc_context({"svg.hashsalt": "a2b"}):
         figure.savefig(fh, format=fmt, dpi=dpi, metadata=metadata)
@@ -147,13 +149,17 @@ def _param_text(value) -> str:
 
 
 def _as_tracks(start, end, motions, samples: int, instants: int) -> list[_Track]:
-    from .api import MODES, motion as make_motion
+    from .api import MODES
+    from .api import motion as make_motion
     from .motions.base import Motion
     from .poses import check_matrices
 
-    if isinstance(motions, (str, Motion)) or callable(getattr(motions, "matrices", None)):
-        motions = [motions]
-    elif isinstance(motions, tuple) and len(motions) == 2 and isinstance(motions[0], str):
+    one_pair = isinstance(motions, tuple) and len(motions) == 2 and isinstance(motions[0], str)
+    if (
+        one_pair
+        or isinstance(motions, (str, Motion))
+        or callable(getattr(motions, "matrices", None))
+    ):
         motions = [motions]
     ts = np.linspace(0.0, 1.0, samples)
     t_inst = np.linspace(0.0, 1.0, instants)
@@ -200,7 +206,9 @@ def _as_tracks(start, end, motions, samples: int, instants: int) -> list[_Track]
                 raise ParameterError(
                     f"the samples of {label!r} must have shape (N, 4, 4) with N ≥ 2, got {mats.shape}"
                 )
-            picks = np.round(np.linspace(0, mats.shape[0] - 1, min(instants, mats.shape[0]))).astype(int)
+            picks = np.round(
+                np.linspace(0, mats.shape[0] - 1, min(instants, mats.shape[0]))
+            ).astype(int)
             inst = mats[picks]
         colour = MODE_COLOURS.get(mode) if mode else None
         if colour is None or any(t.colour == colour for t in tracks):
@@ -283,7 +291,9 @@ def closed_form_z(motion, omega) -> np.ndarray | None:
     return None
 
 
-def family_members(motion, kind: str | None = None) -> tuple[str, list[tuple[float, object]], float]:
+def family_members(
+    motion, kind: str | None = None
+) -> tuple[str, list[tuple[float, object]], float]:
     """The one-parameter family of motions through A and B that ``motion`` belongs to.
 
     Parameters
@@ -331,7 +341,12 @@ def family_members(motion, kind: str | None = None) -> tuple[str, list[tuple[flo
         step = 0.25 * scale / abs(math.tan(motion.phi_eff / 4))
         chosen = motion.delta
         members = [
-            (chosen + k * step, make_motion(start, end, "darboux", delta=chosen + k * step, long_way=motion.long_way))
+            (
+                chosen + k * step,
+                make_motion(
+                    start, end, "darboux", delta=chosen + k * step, long_way=motion.long_way
+                ),
+            )
             for k in ks
         ]
         return "δ", members, chosen
@@ -343,7 +358,12 @@ def family_members(motion, kind: str | None = None) -> tuple[str, list[tuple[flo
     if kind == "ab":
         chosen = motion.psi_b / motion.psi_a
         members = [
-            (chosen * 2.0**k, make_motion(start, end, "cubic", m=motion.m, a=a, b=motion.psi_a * chosen * 2.0**k - 1.0))
+            (
+                chosen * 2.0**k,
+                make_motion(
+                    start, end, "cubic", m=motion.m, a=a, b=motion.psi_a * chosen * 2.0**k - 1.0
+                ),
+            )
             for k in ks
         ]
         return "(1+b)/(1+a)", members, chosen
@@ -355,7 +375,9 @@ def family_members(motion, kind: str | None = None) -> tuple[str, list[tuple[flo
     for k in ks:
         m = np.array(motion.m, dtype=float)
         m[3] = m0 * (ratio * 2.0**k - c) / s
-        members.append((m[3] / m0, make_motion(start, end, "cubic", m=m, a=a, b=motion.psi_b - 1.0)))
+        members.append(
+            (m[3] / m0, make_motion(start, end, "cubic", m=m, a=a, b=motion.psi_b - 1.0))
+        )
     return "m3/m0", members, m3 / m0
 
 
@@ -464,7 +486,9 @@ def _draw_frame(ax, pose: np.ndarray, length: float, colours, gid: str, **style)
     """The axes of one pose as three arrows; returns their origin and tips (4, 3)."""
     origin = pose[:3, 3]
     for j, name in enumerate("xyz"):
-        arrow = ax.quiver(*origin, *(length * pose[:3, j]), color=colours[j], arrow_length_ratio=0.22, **style)
+        arrow = ax.quiver(
+            *origin, *(length * pose[:3, j]), color=colours[j], arrow_length_ratio=0.22, **style
+        )
         arrow.set_gid(f"{gid}:{name}")
     return np.vstack([origin, origin + length * pose[:3, :3].T])
 
@@ -479,8 +503,17 @@ def _draw_frames(ax, track: _Track, ends, length: float, single: bool) -> list:
         ):
             continue  # drawn once, as A or B
         colours = AXIS_COLOURS if single else (track.colour,) * 3
-        drawn.append(_draw_frame(ax, pose, length, colours, f"frame:{track.label}:{i}",
-                                 linewidth=1.3, alpha=1.0 if single else 0.8))
+        drawn.append(
+            _draw_frame(
+                ax,
+                pose,
+                length,
+                colours,
+                f"frame:{track.label}:{i}",
+                linewidth=1.3,
+                alpha=1.0 if single else 0.8,
+            )
+        )
     return drawn
 
 
@@ -644,7 +677,9 @@ def plot_motions(
         world = np.einsum("nij,kj->kni", track.mats[:, :3, :3], body) + track.mats[None, :, :3, 3]
         for k, path in enumerate(world):
             if single:
-                colour = AXIS_COLOURS[k] if default_points else _OTHER_COLOURS[k % len(_OTHER_COLOURS)]
+                colour = (
+                    AXIS_COLOURS[k] if default_points else _OTHER_COLOURS[k % len(_OTHER_COLOURS)]
+                )
                 style = "-"
             else:
                 colour, style = track.colour, styles[k % len(styles)]
@@ -652,9 +687,20 @@ def plot_motions(
             line.set_gid(f"trajectory:{track.label}:{k}")
             traj_pts.append(path)
     for pose, name in ((a, "A"), (b, "B")):
-        frame_pts.append(_draw_frame(ax_frames, pose, axis_length, AXIS_COLOURS, f"frame:{name}", linewidth=2.4))
-        traj_pts.append(_draw_frame(ax_traj, pose, axis_length, AXIS_COLOURS, f"end-frame:{name}",
-                                    linewidth=1.2, alpha=0.6))
+        frame_pts.append(
+            _draw_frame(ax_frames, pose, axis_length, AXIS_COLOURS, f"frame:{name}", linewidth=2.4)
+        )
+        traj_pts.append(
+            _draw_frame(
+                ax_traj,
+                pose,
+                axis_length,
+                AXIS_COLOURS,
+                f"end-frame:{name}",
+                linewidth=1.2,
+                alpha=0.6,
+            )
+        )
     for ax, pts in ((ax_frames, frame_pts), (ax_traj, traj_pts)):
         lo, hi = _set_equal_3d(ax, np.concatenate(pts), length_label)
         axis_seg = _screw_axis_segment(frame, lo, hi)
@@ -663,30 +709,54 @@ def plot_motions(
             line.set_gid("screw-axis")
         for pose, name, colour in ((a, "A", A_COLOUR), (b, "B", B_COLOUR)):
             ax.scatter(*pose[:3, 3, None], color=colour, s=28, depthshade=False, zorder=5)
-            ax.text(*pose[:3, 3], f"  {name}", color=colour, fontsize=13, fontweight="bold",
-                    ha="left", va="top", zorder=6)
+            ax.text(
+                *pose[:3, 3],
+                f"  {name}",
+                color=colour,
+                fontsize=13,
+                fontweight="bold",
+                ha="left",
+                va="top",
+                zorder=6,
+            )
         ax.view_init(elev=22, azim=-58)
     ax_frames.set_title(f"Moving frame at {int(instants)} instants", fontsize=11)
     ax_traj.set_title("Trajectories of body points", fontsize=11)
-    legend_axis = [Line2D([], [], color=AXIS_COLOURS[j], label=f"{n} axis") for j, n in enumerate("xyz")]
+    legend_axis = [
+        Line2D([], [], color=AXIS_COLOURS[j], label=f"{n} axis") for j, n in enumerate("xyz")
+    ]
     legend_axis.append(Line2D([], [], color="0.45", linestyle=(0, (6, 3)), label="screw axis"))
     ax_frames.legend(handles=legend_axis, loc="upper left", fontsize=8, frameon=False)
     if single:
-        handles = [Line2D([], [], color=line.get_color(), label=name)
-                   for line, name in zip(ax_traj.get_lines(), point_names)]
+        handles = [
+            Line2D([], [], color=line.get_color(), label=name)
+            for line, name in zip(ax_traj.get_lines(), point_names)
+        ]
     else:
-        handles = [Line2D([], [], color="0.2", linestyle=styles[k % len(styles)], label=name)
-                   for k, name in enumerate(point_names)]
+        handles = [
+            Line2D([], [], color="0.2", linestyle=styles[k % len(styles)], label=name)
+            for k, name in enumerate(point_names)
+        ]
     if default_points:
-        points_title = None if axis_length == 1 else f"axes drawn {_format_number(axis_length)} long"
+        points_title = (
+            None if axis_length == 1 else f"axes drawn {_format_number(axis_length)} long"
+        )
     else:
         points_title = "body point"
-    ax_traj.legend(handles=handles, loc="upper left", fontsize=8, frameon=False,
-                   title=points_title, title_fontsize=8)
+    ax_traj.legend(
+        handles=handles,
+        loc="upper left",
+        fontsize=8,
+        frameon=False,
+        title=points_title,
+        title_fontsize=8,
+    )
 
     # Panel 3: the transmission curve in canonical coordinates.
     if ax_trans is not None:
-        _draw_transmission(ax_trans, frame, tracks, in_group, family, angle_unit, length_label, single)
+        _draw_transmission(
+            ax_trans, frame, tracks, in_group, family, angle_unit, length_label, single
+        )
 
     # Title and legend.
     angles = f"φ = {_angle_text(frame.phi, angle_unit)}, d = {_format_number(frame.d)}"
@@ -694,23 +764,47 @@ def plot_motions(
         if single:
             track = tracks[0]
             what = f"{track.label} motion" if track.mode else track.label
-            extra = essential_parameters(track.motion, angle_unit) if track.motion is not None else ""
-            title = f"{what}: {extra}   (A to B: {angles})" if extra else f"{what}   (A to B: {angles})"
+            extra = (
+                essential_parameters(track.motion, angle_unit) if track.motion is not None else ""
+            )
+            title = (
+                f"{what}: {extra}   (A to B: {angles})" if extra else f"{what}   (A to B: {angles})"
+            )
         else:
             title = f"{', '.join(t.label for t in tracks)} from A to B   ({angles})"
     fig.suptitle(title, fontsize=13)
     if not has_transmission:
-        fig.text(0.5, 0.01, "no transmission curve: the motion is not in the cylinder group of A and B "
-                 "(rotations about and translations along their screw axis)",
-                 ha="center", fontsize=9, color="0.3")
+        fig.text(
+            0.5,
+            0.01,
+            "no transmission curve: the motion is not in the cylinder group of A and B "
+            "(rotations about and translations along their screw axis)",
+            ha="center",
+            fontsize=9,
+            color="0.3",
+        )
     if not single:
         handles = []
         for track in tracks:
-            extra = essential_parameters(track.motion, angle_unit) if track.motion is not None else ""
-            handles.append(Line2D([], [], color=track.colour, linewidth=2.5,
-                                  label=f"{track.label} ({extra})" if extra else track.label))
-        fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 3),
-                   fontsize=10, frameon=False)
+            extra = (
+                essential_parameters(track.motion, angle_unit) if track.motion is not None else ""
+            )
+            handles.append(
+                Line2D(
+                    [],
+                    [],
+                    color=track.colour,
+                    linewidth=2.5,
+                    label=f"{track.label} ({extra})" if extra else track.label,
+                )
+            )
+        fig.legend(
+            handles=handles,
+            loc="outside lower center",
+            ncol=min(len(handles), 3),
+            fontsize=10,
+            frameon=False,
+        )
     return fig
 
 
@@ -743,42 +837,95 @@ def _draw_transmission(ax, frame, tracks, in_group, family, angle_unit, length_l
                 kind = None if kind in ("ab", "m") else kind
             elif kind == "delta":
                 kind = None
-            name, members, chosen = family_members(motion, kind)
+            name, members, _chosen = family_members(motion, kind)
             for j, (value, member) in enumerate(members):
                 zf = closed_form_z(member, dense)
                 zf = np.where((zf >= bound[0]) & (zf <= bound[1]), zf, np.nan)
-                (line,) = ax.plot(scale(dense), zf, color=track.colour if not single else "0.55",
-                                  alpha=0.35 if not single else 0.8, linewidth=0.9)
+                (line,) = ax.plot(
+                    scale(dense),
+                    zf,
+                    color=track.colour if not single else "0.55",
+                    alpha=0.35 if not single else 0.8,
+                    linewidth=0.9,
+                )
                 line.set_gid(f"family:{track.label}:{j}")
             values = [v for v, _ in members]
-            handles.append(Line2D([], [], color=track.colour if not single else "0.55", linewidth=0.9,
-                                  label=f"{track.label if not single else 'family'}: {name} from "
-                                        f"{_format_number(min(values))} to {_format_number(max(values))}"))
+            handles.append(
+                Line2D(
+                    [],
+                    [],
+                    color=track.colour if not single else "0.55",
+                    linewidth=0.9,
+                    label=f"{track.label if not single else 'family'}: {name} from "
+                    f"{_format_number(min(values))} to {_format_number(max(values))}",
+                )
+            )
         if cf is not None:
             cf = np.where((cf >= bound[0]) & (cf <= bound[1]), cf, np.nan)
-            (line,) = ax.plot(scale(dense), cf, color=track.colour, linewidth=2.4 if family else 1.8,
-                              zorder=3)
+            (line,) = ax.plot(
+                scale(dense), cf, color=track.colour, linewidth=2.4 if family else 1.8, zorder=3
+            )
             line.set_gid(f"transmission-closed-form:{track.label}")
             form = {"darboux": "sine", "cubic": "tangent", "screw": "line"}[motion.mode]
-            handles.append(Line2D([], [], color=track.colour, linewidth=1.8,
-                                  label=f"{track.label}: closed form ({form})"
-                                  + (", chosen" if family and motion.mode != "screw" else "")))
-        (line,) = ax.plot(scale(omega), z, linestyle="none", marker="o", markersize=3.2,
-                          color=track.colour, markeredgecolor="white", markeredgewidth=0.4, zorder=4)
+            handles.append(
+                Line2D(
+                    [],
+                    [],
+                    color=track.colour,
+                    linewidth=1.8,
+                    label=f"{track.label}: closed form ({form})"
+                    + (", chosen" if family and motion.mode != "screw" else ""),
+                )
+            )
+        (line,) = ax.plot(
+            scale(omega),
+            z,
+            linestyle="none",
+            marker="o",
+            markersize=3.2,
+            color=track.colour,
+            markeredgecolor="white",
+            markeredgewidth=0.4,
+            zorder=4,
+        )
         line.set_gid(f"transmission-samples:{track.label}")
-    handles.append(Line2D([], [], linestyle="none", marker="o", markersize=4, color="0.3",
-                          label=f"samples of the motion{'s' if len(curves) > 1 else ''}"))
+    handles.append(
+        Line2D(
+            [],
+            [],
+            linestyle="none",
+            marker="o",
+            markersize=4,
+            color="0.3",
+            label=f"samples of the motion{'s' if len(curves) > 1 else ''}",
+        )
+    )
     ax.plot([0.0], [0.0], marker="o", markersize=7, color=A_COLOUR, zorder=5)
-    ax.annotate("A", (0.0, 0.0), xytext=(-10, 6), textcoords="offset points", color=A_COLOUR,
-                fontsize=13, fontweight="bold", ha="right")
+    ax.annotate(
+        "A",
+        (0.0, 0.0),
+        xytext=(-10, 6),
+        textcoords="offset points",
+        color=A_COLOUR,
+        fontsize=13,
+        fontweight="bold",
+        ha="right",
+    )
     shown = []
     for omega_b, z_b in ends:
         if any(abs(omega_b - o) < 1e-9 and abs(z_b - zz) < 1e-9 for o, zz in shown):
             continue
         shown.append((omega_b, z_b))
         ax.plot([scale(omega_b)], [z_b], marker="o", markersize=7, color=B_COLOUR, zorder=5)
-        ax.annotate("B", (scale(omega_b), z_b), xytext=(8, -14), textcoords="offset points",
-                    color=B_COLOUR, fontsize=13, fontweight="bold")
+        ax.annotate(
+            "B",
+            (scale(omega_b), z_b),
+            xytext=(8, -14),
+            textcoords="offset points",
+            color=B_COLOUR,
+            fontsize=13,
+            fontweight="bold",
+        )
     unit = "°" if angle_unit == "deg" else "rad"
     ax.set_xlabel(f"ω, rotation about the screw axis [{unit}]")
     ax.set_ylabel(f"z, translation along the screw axis{length_label}")
@@ -788,8 +935,9 @@ def _draw_transmission(ax, frame, tracks, in_group, family, angle_unit, length_l
     ax.axvline(0.0, color="0.6", linewidth=0.6)
     ax.legend(handles=handles, fontsize=8, loc="best", frameon=True, framealpha=0.85)
     if notes:
-        ax.text(0.01, -0.16, "\n".join(notes), transform=ax.transAxes, fontsize=8, color="0.3",
-                va="top")
+        ax.text(
+            0.01, -0.16, "\n".join(notes), transform=ax.transAxes, fontsize=8, color="0.3", va="top"
+        )
 
 
 __all__ = [

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -31,7 +32,7 @@ from .conftest import pose_about_axis, random_pose
 pytest.importorskip("matplotlib")
 
 SAMPLES = 9
-SMALL = dict(samples=SAMPLES, instants=4, figsize=(6.0, 2.4))
+SMALL = {"samples": SAMPLES, "instants": 4, "figsize": (6.0, 2.4)}
 MAGIC = {"png": b"\x89PNG\r\n\x1a\n", "pdf": b"%PDF-"}
 MODES = ("darboux", "cubic", "screw")
 
@@ -91,7 +92,11 @@ def test_every_mode_renders(poses, tmp_path, mode, fmt):
 @pytest.mark.parametrize("fmt", ["png", "svg", "pdf"])
 def test_compare_and_family_render(poses, tmp_path, fmt):
     render(plot_motions(*poses, list(MODES), **SMALL), tmp_path / f"compare.{fmt}", fmt)
-    render(plot_motions(*poses, ["darboux", "cubic"], family=True, **SMALL), tmp_path / f"family.{fmt}", fmt)
+    render(
+        plot_motions(*poses, ["darboux", "cubic"], family=True, **SMALL),
+        tmp_path / f"family.{fmt}",
+        fmt,
+    )
 
 
 def test_svg_carries_the_gids(poses, tmp_path):
@@ -105,9 +110,7 @@ def test_same_figure_same_bytes(poses, tmp_path):
     assert first == second
 
 
-@pytest.mark.parametrize(
-    "name, fmt", [("a.png", "png"), ("b.SVG", "svg"), ("dir.x/c.pdf", "pdf")]
-)
+@pytest.mark.parametrize("name, fmt", [("a.png", "png"), ("b.SVG", "svg"), ("dir.x/c.pdf", "pdf")])
 def test_figure_format_by_suffix(name, fmt):
     assert figure_format(name) == fmt
 
@@ -156,17 +159,20 @@ def test_frames_at_the_instants(poses, mode):
         name = {0: "A", 3: "B"}.get(i, f"{mode}:{i}")
         for j, axis in enumerate("xyz"):
             (arrow,) = gids[f"frame:{name}:{axis}"]
-            # Line3DCollection keeps its 3D segments (the shaft from tip to tail, then the two head strokes) only
-            # in this private attribute; get_segments() holds the 2D projection after drawing.
+            # Line3DCollection keeps its 3D segments (the shaft from tip to tail, then the
+            # two head strokes) only in this private attribute; get_segments() holds the 2D
+            # projection after drawing.
             tip, tail = np.asarray(arrow._segments3d)[0]
-            np.testing.assert_allclose([tail, tip], [pose[:3, 3], pose[:3, 3] + pose[:3, j]], atol=1e-12)
+            np.testing.assert_allclose(
+                [tail, tip], [pose[:3, 3], pose[:3, 3] + pose[:3, j]], atol=1e-12
+            )
 
 
 @pytest.mark.parametrize("unit", ["deg", "rad"])
 @pytest.mark.parametrize("mode", MODES)
 def test_transmission_samples_are_the_engines(poses, mode, unit):
     start, end = poses
-    motion, ts, mats = engine(start, end, mode)
+    motion, _ts, mats = engine(start, end, mode)
     fig = plot_motions(start, end, mode, angle_unit=unit, **SMALL)
     omega, z = motion.frame.transmission(mats)
     x, y = line(fig, f"transmission-samples:{mode}").get_data()
@@ -189,7 +195,9 @@ def test_darboux_closed_form_is_the_sine(poses):
         np.testing.assert_allclose(y, sine, atol=1e-12)
         # It passes through the samples, and the samples lie on it (Theorem 1).
         omega, z = motion.frame.transmission(motion.matrices(np.linspace(0, 1, SAMPLES)))
-        np.testing.assert_allclose(z, info["z0"] + info["lam"] * np.sin(omega + info["kappa"]), atol=1e-12)
+        np.testing.assert_allclose(
+            z, info["z0"] + info["lam"] * np.sin(omega + info["kappa"]), atol=1e-12
+        )
         assert x.min() < 0 < motion.frame.phi < x.max()
 
 
@@ -197,7 +205,9 @@ def test_darboux_long_way_closed_form(poses):
     start, end = poses
     motion = a2b.motion(start, end, "darboux", long_way=True, delta=-0.3)
     info = motion.describe()
-    fig = plot_motions(start, end, ("darboux", {"long_way": True, "delta": -0.3}), angle_unit="rad", **SMALL)
+    fig = plot_motions(
+        start, end, ("darboux", {"long_way": True, "delta": -0.3}), angle_unit="rad", **SMALL
+    )
     x, y = line(fig, "transmission-closed-form:darboux").get_data()
     np.testing.assert_allclose(y, info["z0"] + info["lam"] * np.sin(x + info["kappa"]), atol=1e-12)
     xs, _ = line(fig, "transmission-samples:darboux").get_data()
@@ -216,7 +226,9 @@ def _t_of_omega(motion, omega):
     return (lo + hi) / 2
 
 
-@pytest.mark.parametrize("params", [{}, {"a": 0.5, "b": -0.25}, {"m": [1.0, 0.2, -0.1, 0.3], "b": 1.5}])
+@pytest.mark.parametrize(
+    "params", [{}, {"a": 0.5, "b": -0.25}, {"m": [1.0, 0.2, -0.1, 0.3], "b": 1.5}]
+)
 def test_cubic_closed_form_is_eq_17_and_18(poses, params):
     start, end = poses
     motion = a2b.motion(start, end, "cubic", **params)
@@ -258,12 +270,14 @@ def test_compare_overlays_the_modes(poses):
     assert "δ = 0" in legend[0] and "m0:m3" in legend[1] and "pitch" in legend[2]
 
 
-@pytest.mark.parametrize("mode, kind, count", [("darboux", True, 7), ("cubic", True, 7), ("cubic", "m", 7)])
+@pytest.mark.parametrize(
+    "mode, kind, count", [("darboux", True, 7), ("cubic", True, 7), ("cubic", "m", 7)]
+)
 def test_family_through_a_and_b(poses, mode, kind, count):
     start, end = poses
     motion = a2b.motion(start, end, mode)
     fig = plot_motions(start, end, mode, family=kind, angle_unit="rad", **SMALL)
-    name, members, chosen = family_members(motion, None if kind is True else kind)
+    _name, members, chosen = family_members(motion, None if kind is True else kind)
     assert len(members) == count and members[count // 2][0] == pytest.approx(chosen)
     ends = np.array([0.0, motion.frame.phi])
     for j, (_, member) in enumerate(members):
@@ -277,9 +291,12 @@ def test_family_through_a_and_b(poses, mode, kind, count):
         np.testing.assert_allclose(closed_form_z(member, ends), [0.0, motion.frame.d], atol=1e-9)
     # The chosen member is the highlighted closed form, drawn on top.
     x, y = line(fig, f"family:{mode}:{count // 2}").get_data()
-    xc, yc = line(fig, f"transmission-closed-form:{mode}").get_data()
+    _xc, yc = line(fig, f"transmission-closed-form:{mode}").get_data()
     np.testing.assert_allclose(yc, y, atol=1e-12)
-    assert line(fig, f"transmission-closed-form:{mode}").get_linewidth() > 2 * line(fig, f"family:{mode}:0").get_linewidth()
+    assert (
+        line(fig, f"transmission-closed-form:{mode}").get_linewidth()
+        > 2 * line(fig, f"family:{mode}:0").get_linewidth()
+    )
 
 
 def test_family_of_darboux_varies_delta(poses):
@@ -384,7 +401,9 @@ def test_pure_translation_and_identical_poses():
     x, y = line(fig, "transmission-samples:darboux").get_data()
     np.testing.assert_allclose(x, 0.0, atol=1e-12)
     np.testing.assert_allclose(y, np.linspace(0, math.sqrt(5.25), SAMPLES), atol=1e-12)
-    assert not any(g.startswith(("family:", "transmission-closed-form:")) for g in lines_by_gid(fig))
+    assert not any(
+        g.startswith(("family:", "transmission-closed-form:")) for g in lines_by_gid(fig)
+    )
     fig = plot_motions(np.eye(4), np.eye(4), list(MODES), **SMALL)
     assert len(fig.axes) == 3
 
@@ -405,11 +424,11 @@ def test_large_scene_scales_the_axes(poses):
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        (dict(angle_unit="grad"), "angle unit"),
-        (dict(points=[[1.0, 2.0]]), r"shape \(K, 3\)"),
-        (dict(samples=1), "samples must be an integer"),
-        (dict(family="x"), "family must be"),
-        (dict(axis_length=-1.0), "axis_length"),
+        ({"angle_unit": "grad"}, "angle unit"),
+        ({"points": [[1.0, 2.0]]}, r"shape \(K, 3\)"),
+        ({"samples": 1}, "samples must be an integer"),
+        ({"family": "x"}, "family must be"),
+        ({"axis_length": -1.0}, "axis_length"),
     ],
 )
 def test_invalid_arguments(poses, kwargs, match):
@@ -435,3 +454,172 @@ def test_import_does_not_load_matplotlib():
     code = "import sys, a2b.plot; print('matplotlib' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+# -- the command ----------------------------------------------------------------------------
+
+SAMPLES_DIR = Path(__file__).resolve().parent.parent / "samples"
+QUARTER = str(SAMPLES_DIR / "quarter-turn.yaml")
+
+
+@pytest.fixture
+def calls(monkeypatch):
+    """Record the arguments the command passes to plot_motions, and keep the figures small."""
+    import a2b.plot
+
+    recorded = []
+    original = a2b.plot.plot_motions
+
+    def spy(*args, **kwargs):
+        recorded.append((args, kwargs))
+        return original(*args, **{**kwargs, "figsize": (6.0, 2.4), "instants": 4})
+
+    monkeypatch.setattr(a2b.plot, "plot_motions", spy)
+    return recorded
+
+
+def run(*args):
+    from click.testing import CliRunner
+
+    from a2b.cli import cli
+
+    return CliRunner().invoke(cli, ["plot", *args])
+
+
+@pytest.mark.parametrize("fmt", ["png", "svg", "pdf"])
+def test_command_writes_the_format_of_the_suffix(tmp_path, calls, fmt):
+    out = tmp_path / f"turn.{fmt}"
+    result = run(QUARTER, "--samples", "5", "-o", str(out))
+    assert (result.exit_code, result.output) == (0, "")
+    data = out.read_bytes()
+    assert data.startswith(MAGIC[fmt]) if fmt != "svg" else b"<svg" in data[:2000]
+    ((args, kwargs),) = calls
+    assert args[2] == [("darboux", {})] and kwargs["samples"] == 5 and kwargs["family"] is False
+
+
+def test_command_compare_gives_each_mode_its_parameters(tmp_path, calls):
+    out = tmp_path / "compare.png"
+    result = run(
+        QUARTER,
+        "--compare",
+        "darboux,cubic,screw",
+        "--delta",
+        "0.3",
+        "--b",
+        "1",
+        "--samples",
+        "5",
+        "--family",
+        "--angle-unit",
+        "rad",
+        "--length-unit",
+        "m",
+        "-o",
+        str(out),
+    )
+    assert (result.exit_code, result.output) == (0, "")
+    assert out.read_bytes().startswith(MAGIC["png"])
+    ((args, kwargs),) = calls
+    assert args[2] == [("darboux", {"delta": 0.3}), ("cubic", {"b": 1.0}), ("screw", {})]
+    assert (
+        kwargs["family"] is True and kwargs["angle_unit"] == "rad" and kwargs["length_unit"] == "m"
+    )
+
+
+def test_command_points_and_family_of(tmp_path, calls):
+    out = tmp_path / "family.svg"
+    result = run(
+        QUARTER,
+        "--mode",
+        "cubic",
+        "--family-of",
+        "m",
+        "--points",
+        "0,0,0; 1,2,3",
+        "--samples",
+        "5",
+        "-o",
+        str(out),
+    )
+    assert (result.exit_code, result.output) == (0, "")
+    ((args, kwargs),) = calls
+    assert args[2] == [("cubic", {})] and kwargs["family"] == "m"
+    assert kwargs["points"] == ((0.0, 0.0, 0.0), (1.0, 2.0, 3.0))
+
+
+@pytest.mark.parametrize(
+    "args, code, message",
+    [
+        (
+            ["-o", "turn.jpg"],
+            1,
+            (
+                "Error: cannot tell the figure format from 'turn.jpg' (suffix '.jpg'); "
+                "use a file name ending in .png, .svg or .pdf\n"
+            ),
+        ),
+        (
+            ["--compare", "cubic,screw", "--delta", "1", "-o", "x.png"],
+            1,
+            "Error: --delta applies to none of the compared modes cubic, screw\n",
+        ),
+        (
+            ["--mode", "screw", "--family", "-o", "x.png"],
+            1,
+            "Error: a family of transmission curves needs a darboux or cubic motion\n",
+        ),
+        (
+            ["--mode", "screw", "--compare", "darboux,cubic", "-o", "x.png"],
+            2,
+            "give --mode or --compare, not both",
+        ),
+        (
+            ["--compare", "darboux,helix", "-o", "x.png"],
+            2,
+            "expected modes from darboux, cubic, screw",
+        ),
+        (
+            ["--points", "1,2", "-o", "x.png"],
+            2,
+            "expected 3 comma-separated numbers (x, y, z), got 2",
+        ),
+        (
+            ["--mode", "cubic", "--delta", "1", "-o", "x.png"],
+            1,
+            "Error: mode cubic does not take delta",
+        ),
+    ],
+)
+def test_command_errors(tmp_path, monkeypatch, args, code, message):
+    monkeypatch.chdir(tmp_path)
+    Path("x.png").write_bytes(b"old")
+    result = run(QUARTER, *args)
+    assert result.exit_code == code
+    assert message in result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+    assert Path("x.png").read_bytes() == b"old"  # an existing output is left alone
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.png"]  # and no temporary file stays
+
+
+def test_command_without_matplotlib(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    result = run(QUARTER, "-o", str(tmp_path / "x.png"))
+    assert (result.exit_code, result.output) == (
+        1,
+        "Error: plotting needs matplotlib, which is not installed: pip install 'a2b[plot]'\n",
+    )
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_command_help_does_not_load_matplotlib():
+    code = (
+        "import sys\n"
+        "from a2b.cli import cli\n"
+        "try:\n"
+        "    cli.main(['plot', '-h'], prog_name='a2b')\n"
+        "except SystemExit:\n"
+        "    pass\n"
+        "print('matplotlib' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert "Example:" in out.stdout and out.stdout.strip().endswith("False")

@@ -37,7 +37,9 @@ class PointList(click.ParamType):
         if isinstance(value, tuple):
             return value
         vector = options.Vector(3, "x, y, z")
-        points = tuple(vector.convert(part, param, ctx) for part in str(value).split(";") if part.strip())
+        points = tuple(
+            vector.convert(part, param, ctx) for part in str(value).split(";") if part.strip()
+        )
         if not points:
             self.fail("expected at least one point x,y,z", param, ctx)
         return points
@@ -80,7 +82,11 @@ class PointList(click.ParamType):
     show_default=True,
     help="Unit of the rotation angle ω in the transmission curve and of angles in the title.",
 )
-@click.option("--length-unit", metavar="NAME", help="Name of the poses' length unit for the axis labels, e.g. m.")
+@click.option(
+    "--length-unit",
+    metavar="NAME",
+    help="Name of the poses' length unit for the axis labels, e.g. m.",
+)
 @click.option(
     "--samples",
     type=click.IntRange(min=2),
@@ -88,7 +94,19 @@ class PointList(click.ParamType):
     show_default=True,
     help="Samples per motion, t evenly spaced in [0, 1].",
 )
-def command(poses, output, mode, compare, family, family_of, points, angle_unit, length_unit, samples, **parameters):
+def command(
+    poses,
+    output,
+    mode,
+    compare,
+    family,
+    family_of,
+    points,
+    angle_unit,
+    length_unit,
+    samples,
+    **parameters,
+):
     """Draw the motion between the start and end pose in POSES (a file, or - for stdin).
 
     Three panels, as in the paper's figures: the moving frame at 8 instants (axes x, y, z in
@@ -99,7 +117,7 @@ def command(poses, output, mode, compare, family, family_of, points, angle_unit,
     transmission curve. The suffix of -o chooses PNG, SVG or PDF. Needs matplotlib:
     pip install 'a2b[plot]'.
 
-    With --compare, the motion parameters apply to the modes that take them.
+    With --compare, each motion parameter applies to the modes that take it.
 
     \b
     Example:
@@ -116,16 +134,21 @@ def command(poses, output, mode, compare, family, family_of, points, angle_unit,
     fmt = figure_format(output)
     if compare and mode:
         raise click.UsageError("give --mode or --compare, not both")
-    job = read_poses(poses)
-    parameters = options.merge_parameters(job.parameters, parameters)
     if compare:
-        unused = sorted(k for k in parameters if not any(k in PARAMETERS[m] for m in compare))
+        given = [k for k, v in parameters.items() if v is not None]
+        unused = sorted(k for k in given if not any(k in PARAMETERS[m] for m in compare))
         if unused:
             raise ParameterError(
                 f"{', '.join('--' + k.replace('_', '-') for k in unused)} applies to none of the "
                 f"compared modes {', '.join(compare)}"
             )
-        motions = [(m, {k: v for k, v in parameters.items() if k in PARAMETERS[m]}) for m in compare]
+    job = read_poses(poses)
+    parameters = options.merge_parameters(job.parameters, parameters, mode)
+    if compare:
+        # Each mode takes the parameters meant for it (from the file or the command line).
+        motions = [
+            (m, {k: v for k, v in parameters.items() if k in PARAMETERS[m]}) for m in compare
+        ]
     else:
         motions = [(mode or job.mode or "darboux", parameters)]
     figure = plot_motions(
