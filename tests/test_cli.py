@@ -1,0 +1,496 @@
+"""The command line as a user meets it, through click's CliRunner.
+
+Every output format is read back with its reader and compared with ``a2b.interpolate`` (or
+the motion's own quaternions) bit for bit. Seeded random poses throughout.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import a2b
+from a2b.cli import COMMANDS, cli
+from a2b.io import readers
+from a2b.poses import matrices_from_quat_trans, quat_trans_from_matrices
+
+from .conftest import random_pose
+
+
+def run(*args, input=None):
+    return CliRunner().invoke(cli, [str(a) for a in args], input=input, catch_exceptions=False, prog_name="a2b")
+
+
+def pose_json(matrix):
+    """A pose mapping in quaternion form, with repr-exact numbers."""
+    quat, trans = quat_trans_from_matrices(matrix)
+    return {"quaternion": quat.tolist(), "translation": trans.tolist()}
+
+
+def write_poses(path, start, end, **extra):
+    """A poses file with repr-exact numbers; returns the matrices a2b reads from it."""
+    data = {"start": pose_json(start), "end": pose_json(end), **extra}
+    path.write_text(json.dumps(data))
+    with open(path, "rb") as f:
+        job = readers.read_poses(f)
+    return job.start, job.end
+
+
+@pytest.fixture
+def poses(tmp_path, rng):
+    start, end = random_pose(rng), random_pose(rng)
+    path = tmp_path / "poses.json"
+    a, b = write_poses(path, start, end)
+    return path, a, b
+
+
+# -- help, version ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", list(COMMANDS))
+def test_every_command_has_h_and_an_example(name):
+    result = run(name, "-h")
+    assert result.exit_code == 0
+    assert result.output.startswith(f"Usage: a2b {name}")
+    assert "Example:" in result.output
+
+
+def test_group_help_lists_every_command_and_completion():
+    result = run("-h")
+    assert result.exit_code == 0
+    for name in COMMANDS:
+        assert name in result.output
+    assert "_A2B_COMPLETE=bash_source a2b" in result.output
+
+
+def test_version():
+    result = run("--version")
+    assert result.exit_code == 0
+    assert result.output == f"a2b {a2b.__version__}\n"
+
+
+def test_unknown_command_and_option_are_usage_errors(poses):
+    path, _, _ = poses
+    assert run("interpolat").exit_code == 2
+    result = run("interpolate", path, "--samplez", "3")
+    assert result.exit_code == 2
+    assert "--samplez" in result.output and "Usage: a2b interpolate" in result.output
+    assert run("interpolate", path, "--m", "1,2,3").exit_code == 2
+    assert run("interpolate", path, "--delta", "nan").exit_code == 2
+    assert run("interpolate", path, "--samples", "0").exit_code == 2
+    assert run("interpolate", path, "--branch", "2").exit_code == 2
+
+
+# -- interpolate: formats read back ----------------------------------------------------------
+
+
+@pytest.mark.parametrize("mode", ["darboux", "cubic", "screw"])
+def test_csv_round_trip(poses, tmp_path, mode):
+    path, a, b = poses
+    out = tmp_path / "out.csv"
+    result = run("interpolate", path, "--mode", mode, "--samples", 33, "-o", out)
+    assert result.exit_code == 0, result.output
+    with open(out, "rb") as f:
+        t, quat, trans = readers.read_csv(f)
+    ts = np.linspace(0, 1, 33)
+    want_quat, want_trans = a2b.motion(a, b, mode).quat_trans(ts)
+    assert np.array_equal(t, ts)
+    assert np.array_equal(quat, want_quat)
+    assert np.array_equal(trans, want_trans)
+    assert np.allclose(matrices_from_quat_trans(quat, trans), a2b.interpolate(a, b, ts, mode), atol=1e-12)
+
+
+def test_csv_is_the_default_on_stdout(poses):
+    path, a, b = poses
+    result = run("interpolate", path, "--samples", 3)
+    assert result.exit_code == 0
+    lines = result.output.splitlines()
+    assert lines[0] == "t,tx,ty,tz,qw,qx,qy,qz"
+    assert len(lines) == 4
+    quat, trans = a2b.motion(a, b).quat_trans([0.0, 0.5, 1.0])
+    assert lines[2] == ",".join(repr(float(v)) for v in [0.5, *trans[1], *quat[1]])
+
+
+def test_matrix_round_trip(poses, tmp_path):
+    path, a, b = poses
+    out = tmp_path / "out.csv"
+    assert run("interpolate", path, "--format", "matrix", "--samples", 17, "-o", out).exit_code == 0
+    assert out.read_text().splitlines()[0] == "t,r11,r12,r13,tx,r21,r22,r23,ty,r31,r32,r33,tz"
+    with open(out, "rb") as f:
+        t, mats = readers.read_matrix_csv(f)
+    assert np.array_equal(t, np.linspace(0, 1, 17))
+    assert np.array_equal(mats, a2b.interpolate(a, b, t))
+
+
+def test_study_round_trip(poses, tmp_path):
+    path, a, b = poses
+    out = tmp_path / "out.csv"
+    assert run("interpolate", path, "--format", "study", "--samples", 9, "-o", out, "--delta", 0.3).exit_code == 0
+    with open(out, "rb") as f:
+        t, study = readers.read_study_csv(f)
+    assert np.array_equal(study, a2b.motion(a, b, delta=0.3).study(t))
+
+
+def test_tum_round_trip(poses, tmp_path):
+    path, a, b = poses
+    out = tmp_path / "out.tum"
+    result = run("interpolate", path, "--samples", 11, "-o", out, "--duration", 2.5, "--start-time", 100)
+    assert result.exit_code == 0
+    text = out.read_text().splitlines()
+    assert text[0].startswith("#")
+    assert len(text[1].split(" ")) == 8
+    with open(out, "rb") as f:
+        time, quat, trans = readers.read_tum(f)
+    ts = np.linspace(0, 1, 11)
+    want_quat, want_trans = a2b.motion(a, b).quat_trans(ts)
+    assert np.array_equal(time, ts * 2.5 + 100)
+    assert np.array_equal(quat, want_quat)
+    assert np.array_equal(trans, want_trans)
+
+
+def test_kitti_round_trip(poses, tmp_path):
+    path, a, b = poses
+    out = tmp_path / "out.txt"
+    assert run("interpolate", path, "--format", "kitti", "--samples", 12, "-o", out).exit_code == 0
+    lines = out.read_text().splitlines()
+    assert len(lines) == 12 and all(len(line.split(" ")) == 12 for line in lines)
+    with open(out, "rb") as f:
+        mats = readers.read_kitti(f)
+    assert np.array_equal(mats, a2b.interpolate(a, b, np.linspace(0, 1, 12)))
+
+
+def test_mcap_round_trip(poses, tmp_path):
+    path, a, b = poses
+    out = tmp_path / "out.mcap"  # the suffix chooses the format
+    result = run("interpolate", path, "--samples", 21, "-o", out, "--duration", 3, "--start-time", 5)
+    assert result.exit_code == 0
+    ts = np.linspace(0, 1, 21)
+    want_quat, want_trans = a2b.motion(a, b).quat_trans(ts)
+    for topic in ("/a2b/pose", "/tf"):
+        with open(out, "rb") as f:
+            time, quat, trans = readers.read_mcap(f, topic)
+        assert np.allclose(time, ts * 3 + 5, atol=1e-9, rtol=0)
+        assert np.array_equal(quat, want_quat)
+        assert np.array_equal(trans, want_trans)
+
+
+def test_mcap_frame_ids_and_indexes(poses, tmp_path):
+    from mcap.reader import make_reader
+
+    path, _, _ = poses
+    out = tmp_path / "out.mcap"
+    args = ("interpolate", path, "--samples", 4, "-o", out, "--frame-id", "map", "--child-frame-id", "tool")
+    assert run(*args).exit_code == 0
+    with open(out, "rb") as f:
+        reader = make_reader(f)
+        summary = reader.get_summary()
+        messages = [(c.topic, json.loads(m.data)) for _, c, m in reader.iter_messages()]
+    assert summary.chunk_indexes and not summary.attachment_indexes and not summary.metadata_indexes
+    assert {s.name for s in summary.schemas.values()} == {"foxglove.PoseInFrame", "foxglove.FrameTransform"}
+    assert {s.encoding for s in summary.schemas.values()} == {"jsonschema"}
+    assert {c.message_encoding for c in summary.channels.values()} == {"json"}
+    assert summary.statistics.message_count == 8
+    poses_ = [m for topic, m in messages if topic == "/a2b/pose"]
+    tfs = [m for topic, m in messages if topic == "/tf"]
+    assert len(poses_) == len(tfs) == 4
+    assert poses_[0]["frame_id"] == "map"
+    assert tfs[0]["parent_frame_id"] == "map" and tfs[0]["child_frame_id"] == "tool"
+    assert tfs[-1]["timestamp"] == {"sec": 1, "nsec": 0}
+
+
+def test_mcap_negative_time_is_an_error(poses, tmp_path):
+    path, _, _ = poses
+    out = tmp_path / "out.mcap"
+    result = run("interpolate", path, "-o", out, "--start-time", -0.5)
+    assert result.exit_code == 1
+    assert "must not be negative" in result.output
+    assert not out.exists()
+
+
+def test_parameters_from_file_and_command_line(tmp_path, rng):
+    a, b = random_pose(rng), random_pose(rng)
+    path = tmp_path / "p.json"
+    a, b = write_poses(path, a, b, parameters={"delta": 0.4})
+    out = tmp_path / "o.csv"
+    ts = np.linspace(0, 1, 5)
+
+    def matrices():
+        with open(out, "rb") as f:
+            _, mats = readers.read_matrix_csv(f)
+        return mats
+
+    assert run("interpolate", path, "--samples", 5, "--format", "matrix", "-o", out).exit_code == 0
+    assert np.array_equal(matrices(), a2b.interpolate(a, b, ts, delta=0.4))
+    # the command line overrides the file, also across parameters that choose the same thing
+    assert run("interpolate", path, "--samples", 5, "--format", "matrix", "-o", out, "--delta", -0.2).exit_code == 0
+    assert np.array_equal(matrices(), a2b.interpolate(a, b, ts, delta=-0.2))
+    assert run("interpolate", path, "--samples", 5, "--format", "matrix", "-o", out, "--pitch-start", 0.1).exit_code == 0
+    assert np.array_equal(matrices(), a2b.interpolate(a, b, ts, pitch_start=0.1))
+    # --mode drops the file's parameters of other modes
+    assert run("interpolate", path, "--samples", 5, "--format", "matrix", "-o", out, "--mode", "screw").exit_code == 0
+    assert np.array_equal(matrices(), a2b.interpolate(a, b, ts, "screw"))
+
+
+def test_cubic_vector_options(poses, tmp_path):
+    path, a, b = poses
+    out = tmp_path / "o.csv"
+    quat, _ = quat_trans_from_matrices(a)
+    m = (1.0, 0.5, -0.25, 0.75)
+    args = ("--mode", "cubic", "--m", "1,0.5,-0.25,0.75", "--a", 0.1, "--b", -0.2, "--frame", "canonical")
+    result = run("interpolate", path, "--samples", 7, "--format", "matrix", "-o", out, *args)
+    if result.exit_code == 1:  # this m may be orthogonal to a pose in canonical coordinates
+        pytest.skip(result.output)
+    assert result.exit_code == 0, result.output
+    with open(out, "rb") as f:
+        t, mats = readers.read_matrix_csv(f)
+    assert np.array_equal(mats, a2b.interpolate(a, b, t, "cubic", m=m, a=0.1, b=-0.2, frame="canonical"))
+
+
+def test_through_option_reads_a_pose_file(tmp_path):
+    half = np.eye(4)
+    half[:3, :3] = [[0, -1, 0], [1, 0, 0], [0, 0, 1]]
+    half[2, 3] = 1.0
+    path = tmp_path / "p.json"
+    a, b = write_poses(path, np.eye(4), half)
+    third = a2b.interpolate(a, b, [0.3], delta=0.25)[0]
+    through = tmp_path / "c.json"
+    through.write_text(json.dumps({"matrix": third.tolist()}))
+    out = tmp_path / "o.csv"
+    assert run("interpolate", path, "--through", through, "--format", "matrix", "--samples", 5, "-o", out).exit_code == 0
+    with open(out, "rb") as f:
+        t, mats = readers.read_matrix_csv(f)
+    assert np.allclose(mats, a2b.interpolate(a, b, t, delta=0.25), atol=1e-9)
+
+
+def test_stdin(poses):
+    path, a, b = poses
+    result = run("interpolate", "-", "--samples", 2, input=path.read_bytes())
+    assert result.exit_code == 0
+    assert result.output.splitlines()[2].startswith("1.0,")
+
+
+def test_a2b_error_is_one_line_exit_1(tmp_path):
+    path = tmp_path / "p.yaml"
+    path.write_text("start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [1, 0, 0, 0], translation: [0, 0, 1]}\n")
+    out = tmp_path / "o.csv"
+    result = CliRunner().invoke(cli, ["interpolate", str(path), "--lam", "0.1", "-o", str(out)])
+    assert result.exit_code == 1
+    assert result.output.count("\n") == 1 and result.output.startswith("Error: ")
+    assert "Traceback" not in result.output
+    assert not out.exists()
+
+
+def test_a_bug_keeps_its_traceback(poses, monkeypatch):
+    path, _, _ = poses
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("a bug")
+
+    monkeypatch.setattr(a2b, "motion", broken)
+    result = CliRunner().invoke(cli, ["interpolate", str(path)])
+    assert result.exit_code == 1
+    assert isinstance(result.exception, RuntimeError)
+
+
+def test_failed_run_keeps_the_old_file(poses, tmp_path):
+    path, _, _ = poses
+    out = tmp_path / "o.csv"
+    out.write_text("precious\n")
+    result = run("interpolate", path, "-o", out, "--mode", "screw", "--delta", 1)
+    assert result.exit_code == 1
+    assert out.read_text() == "precious\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["o.csv", "poses.json"]
+
+
+def test_output_into_missing_directory(poses, tmp_path):
+    path, _, _ = poses
+    result = run("interpolate", path, "-o", tmp_path / "nowhere" / "o.csv")
+    assert result.exit_code == 1
+    assert "cannot write" in result.output
+
+
+# -- describe ---------------------------------------------------------------------------------
+
+
+def test_describe_json_has_the_keys_of_a2b_describe(poses):
+    path, a, b = poses
+    for mode in ("darboux", "cubic", "screw"):
+        result = run("describe", path, "--mode", mode, "--json")
+        assert result.exit_code == 0, result.output
+        got = json.loads(result.output)
+        want = a2b.describe(a, b, mode)
+        assert set(got) == set(want)
+        assert got["phi"] == want["phi"] and got["choices"] == want["choices"]
+
+
+def test_describe_human(tmp_path):
+    path = tmp_path / "p.yaml"
+    path.write_text(
+        "start: {quaternion: [1, 0, 0, 0]}\n"
+        "end: {quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [0, 0, 1]}\n"
+    )
+    result = run("describe", path, "--lam", 1.5, "--branch", -1)
+    assert result.exit_code == 0
+    for text in ("φ", "λ, transmission curve amplitude", "1.5", "pitch at the start", "singular t"):
+        assert text in result.output
+
+
+# -- fiber ------------------------------------------------------------------------------------
+
+
+@pytest.fixture
+def pose_file(tmp_path, rng):
+    path = tmp_path / "pose.json"
+    pose = random_pose(rng)
+    path.write_text(json.dumps({"matrix": pose.tolist()}))
+    with open(path, "rb") as f:
+        return path, readers.read_pose(f)
+
+
+def test_fiber_kappa_json(pose_file):
+    path, pose = pose_file
+    result = run("fiber", path, "--s", 0, "--s", 0.5, "--s", -2, "--json")
+    assert result.exit_code == 0
+    got = json.loads(result.output)
+    assert got["map"] == "kappa"
+    assert len(got["points"]) == 3 and all(len(p) == 8 for p in got["points"])
+    assert max(got["residuals"]) < 1e-12
+    assert got["s"] == [0.0, 0.5, -2.0]
+
+
+def test_fiber_mu_json(pose_file):
+    path, pose = pose_file
+    result = run("fiber", path, "--map", "mu", "--m", "1,0.3,-0.2,0.5", "--alpha", "0,0,0,0,0,0", "--alpha", "1,2,0,0,0,0.5", "--json")
+    assert result.exit_code == 0, result.output
+    got = json.loads(result.output)
+    assert got["basis_name"] == "paper" and not got["paper_basis_degenerate"]
+    assert len(got["basis"]) == 6 and all(len(f) == 10 for f in got["basis"])
+    assert len(got["points"]) == 2 and all(len(p) == 13 for p in got["points"])
+    assert max(got["residuals"]) < 1e-9
+
+
+def test_fiber_mu_says_when_the_paper_basis_degenerates(pose_file):
+    path, _ = pose_file
+    result = run("fiber", path, "--map", "mu", "--m", "1,0,0,0.5")
+    assert result.exit_code == 0
+    assert "degenerates" in result.output and "RREF" in result.output
+    got = json.loads(run("fiber", path, "--map", "mu", "--m", "1,0,0,0.5", "--json").output)
+    assert got["paper_basis_degenerate"] and got["basis_name"] == "rref"
+    result = run("fiber", path, "--map", "mu", "--m", "1,0,0,0.5", "--basis", "paper")
+    assert result.exit_code == 1 and "degenerates" in result.output
+
+
+def test_fiber_human_table(pose_file):
+    path, _ = pose_file
+    result = run("fiber", path)
+    assert result.exit_code == 0
+    assert "maps back" in result.output and "εp" in result.output
+
+
+def test_fiber_usage_errors(pose_file):
+    path, _ = pose_file
+    assert run("fiber", path, "--map", "mu").exit_code == 2
+    assert run("fiber", path, "--alpha", "0,0,0,0,0,0").exit_code == 2
+    assert run("fiber", path, "--map", "mu", "--m", "1,0,0,0", "--s", "1").exit_code == 2
+
+
+# -- batch ------------------------------------------------------------------------------------
+
+
+def _jobs(rng, n):
+    jobs = []
+    for i in range(n):
+        a, b = random_pose(rng), random_pose(rng)
+        job = {"start": pose_json(a), "end": pose_json(b), "samples": int(rng.integers(2, 6))}
+        if i % 3 == 1:
+            job["mode"] = "screw"
+        if i % 3 == 2:
+            job["parameters"] = {"delta": float(rng.normal())}
+            job["name"] = f"job {i}, offset"
+        jobs.append(job)
+    return jobs
+
+
+def _check_batch(jobs, out):
+    with open(out, "rb") as f:
+        names, values = readers.read_batch_csv(f)
+    row = 0
+    for i, job in enumerate(jobs):
+        start = readers._pose(readers._Document("x", None, lambda p: None), (), job["start"])
+        end = readers._pose(readers._Document("x", None, lambda p: None), (), job["end"])
+        ts = np.linspace(0, 1, job["samples"])
+        quat, trans = a2b.motion(start, end, job.get("mode", "darboux"), **job.get("parameters", {})).quat_trans(ts)
+        n = len(ts)
+        assert names[row : row + n] == [job.get("name", str(i))] * n
+        assert np.array_equal(values[row : row + n, 0], ts)
+        assert np.array_equal(values[row : row + n, 1:4], trans)
+        assert np.array_equal(values[row : row + n, 4:8], quat)
+        row += n
+    assert row == len(names)
+
+
+@pytest.mark.parametrize("suffix", [".yaml", ".json", ".jsonl"])
+def test_batch_more_jobs_than_one_chunk(tmp_path, rng, suffix):
+    jobs = _jobs(rng, 8)
+    path = tmp_path / f"jobs{suffix}"
+    if suffix == ".jsonl":
+        path.write_text("\n".join(json.dumps(j) for j in jobs) + "\n")
+    else:
+        path.write_text(json.dumps(jobs))
+    out = tmp_path / "out.csv"
+    result = run("batch", path, "--chunk-size", 3, "-o", out)
+    assert result.exit_code == 0, result.output
+    assert result.output == ""  # no progress bar when stderr is not a terminal
+    assert out.read_text().splitlines()[0] == "job,t,tx,ty,tz,qw,qx,qy,qz"
+    _check_batch(jobs, out)
+
+
+def test_batch_streams_in_bounded_chunks(rng):
+    from a2b.cli.batch import batch_chunks
+    from a2b.io.readers import Job
+
+    consumed = []
+
+    def jobs():
+        for i in range(10):
+            consumed.append(i)
+            yield Job(random_pose(rng), random_pose(rng), samples=3)
+
+    chunks = batch_chunks(jobs(), "darboux", 101, "quat_trans", chunk_size=4)
+    first = next(chunks)
+    assert len(consumed) == 4 and len(first.t) == 12
+    assert [len(c.t) for c in chunks] == [12, 6]
+
+
+def test_batch_error_names_the_job_and_leaves_no_file(tmp_path, rng):
+    jobs = _jobs(rng, 5)
+    jobs[3]["parameters"] = {"lam": 1e-6}
+    jobs[3]["mode"] = "darboux"
+    path = tmp_path / "jobs.json"
+    path.write_text(json.dumps(jobs))
+    out = tmp_path / "out.csv"
+    result = run("batch", path, "--chunk-size", 2, "-o", out)
+    assert result.exit_code == 1
+    assert "job 3" in result.output
+    assert not out.exists()
+    assert [p.name for p in tmp_path.iterdir()] == ["jobs.json"]
+
+
+def test_batch_sample_file():
+    result = run("batch", "samples/jobs.yaml", "--format", "study")
+    assert result.exit_code == 0
+    lines = result.output.splitlines()
+    assert lines[0] == "job,t,p0,p1,p2,p3,q0,q1,q2,q3"
+    assert {line.split(",")[0] for line in lines[1:]} == {"lift", "lift-offset", "lift-cubic", "slide"}
+
+
+@pytest.mark.parametrize("sample", ["quarter-turn", "half-turn", "translation", "canonical"])
+def test_sample_files_run(sample):
+    result = run("interpolate", f"samples/{sample}.yaml", "--samples", 5)
+    assert result.exit_code == 0, result.output
+    rows = [list(map(float, line.split(","))) for line in result.output.splitlines()[1:]]
+    assert len(rows) == 5 and all(math.isfinite(v) for row in rows for v in row)

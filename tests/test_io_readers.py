@@ -1,0 +1,151 @@
+"""Pose files in: every malformed-input class is one line naming the file, key, line and column.
+
+Each case runs the real command with ``-o``, and checks the exit status, the message and that
+no output file (nor a temporary one) is left behind.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from a2b.cli import cli
+from a2b.errors import InputFileError
+from a2b.io import readers
+
+IDENTITY = "{quaternion: [1, 0, 0, 0]}"
+QUARTER = "{quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [1, 0, 0.5]}"
+
+# (file name, content, expected fragments of the message: file:line:col, key, problem)
+MALFORMED = [
+    ("dup.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nstart: {IDENTITY}\n", ["dup.yaml:3:1", "duplicate key 'start'"]),
+    ("dup.json", '{"start": {"quaternion": [1, 0, 0, 0]},\n  "end": {"quaternion": [1, 0, 0, 0],\n   "quaternion": [1, 0, 0, 0]}}',
+     ["dup.json:3:4", "duplicate key 'quaternion'"]),
+    ("unknown.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nparamters: {{delta: 1}}\n",
+     ["unknown.yaml:3:1", "paramters", "did you mean 'parameters'"]),
+    ("unknown-pose.yaml", f"start: {{quaternion: [1, 0, 0, 0], translaton: [0, 0, 0]}}\nend: {QUARTER}\n",
+     ["unknown-pose.yaml:1:35", "start.translaton", "unknown key"]),
+    ("length.yaml", f"start: {IDENTITY}\nend:\n  quaternion: [1, 0, 0]\n",
+     ["length.yaml:3:3", "end.quaternion", "expected 4 numbers (w, x, y, z), got 3"]),
+    ("matrix.json", '{"start": {"matrix": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]}, "end": {"study": [1,0,0,0,0,0,0,0]}}',
+     ["matrix.json:1:12", "start.matrix", "expected 4 rows of 4 numbers, got 3 rows"]),
+    ("study.yaml", f"start: {IDENTITY}\nend: {{study: [1, 0, 0, 0, 0, 0, 0]}}\n",
+     ["study.yaml:2:7", "end.study", "expected 8 numbers"]),
+    ("string.yaml", f"start: {IDENTITY}\nend: {{quaternion: [1, 0, zero, 0]}}\n",
+     ["string.yaml:2:26", "end.quaternion[2]", "expected a number, got the string 'zero'"]),
+    ("bool.json", '{"start": {"quaternion": [1, 0, 0, 0]},\n "end": {"quaternion": {"w": 1, "x": 0, "y": true, "z": 0}}}',
+     ["bool.json:2:", "end.quaternion.y", "got the boolean true"]),
+    ("nan.json", '{"start": {"quaternion": [1, 0, 0, 0]},\n "end": {"quaternion": [1, 0, 0, 0], "translation": [0, NaN, 0]}}',
+     ["nan.json:2:", "end.translation[1]", "NaN is not allowed"]),
+    ("inf.yaml", f"start: {IDENTITY}\nend: {{quaternion: [1, 0, 0, 0], translation: [.inf, 0, 0]}}\n",
+     ["inf.yaml:2:", "end.translation[0]", "must be finite"]),
+    ("nan-param.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nparameters:\n  delta: .nan\n",
+     ["nan-param.yaml:4:3", "parameters.delta", "must be finite"]),
+    ("nostart.yaml", f"end: {QUARTER}\n", ["nostart.yaml:1:1", "missing 'start'"]),
+    ("noend.json", '{"start": {"quaternion": [1, 0, 0, 0]}}', ["noend.json:1:1", "missing 'end'"]),
+    ("twoforms.yaml", f"start: {{quaternion: [1, 0, 0, 0], study: [1, 0, 0, 0, 0, 0, 0, 0]}}\nend: {QUARTER}\n",
+     ["twoforms.yaml:1:1", "start", "exactly one of"]),
+    ("mode.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nmode: darbouks\n", ["mode.yaml:3:1", "mode", "expected one of darboux"]),
+    ("samples.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nsamples: 2.5\n", ["samples.yaml:3:1", "samples", "positive whole number"]),
+    ("branch.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nparameters: {{lam: 2, branch: 0}}\n",
+     ["branch.yaml:3:22", "parameters.branch", "+1 or -1"]),
+    ("vector.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nparameters: {{m: [1, 0, 0]}}\n",
+     ["vector.yaml:3:14", "parameters.m", "expected 4 numbers"]),
+    ("rotation.yaml", f"start: {{matrix: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 2, 0], [0, 0, 0, 1]]}}\nend: {QUARTER}\n",
+     ["rotation.yaml:1:9", "start.matrix", "not orthogonal"]),
+    ("offquadric.yaml", f"start: {IDENTITY}\nend: {{study: [1, 0, 0, 0, 1, 0, 0, 0]}}\n",
+     ["offquadric.yaml:2:7", "end.study", "Study condition", "kappa: true"]),
+    ("syntax.yaml", "start: [1, 0\nend: {}\n", ["syntax.yaml:", "invalid YAML"]),
+    ("syntax.json", '{"start": {"quaternion": [1, 0, 0, 0]},, "end": 1}', ["syntax.json:1:40", "invalid JSON"]),
+    ("empty.yaml", "", ["empty.yaml: the file is empty"]),
+    ("list.yaml", "- 1\n- 2\n", ["list.yaml:1:1", "expected a mapping with start and end, got a list of 2"]),
+]
+
+
+@pytest.mark.parametrize("name, content, fragments", MALFORMED, ids=[m[0] for m in MALFORMED])
+def test_malformed_input(tmp_path, name, content, fragments):
+    path = tmp_path / name
+    path.write_text(content)
+    out = tmp_path / "out.csv"
+    result = CliRunner().invoke(cli, ["interpolate", str(path), "-o", str(out)])
+    assert result.exit_code == 1, result.output
+    message = result.output
+    assert message.startswith("Error: ") and message.count("\n") == 1, message
+    assert "Traceback" not in message
+    for fragment in fragments:
+        assert fragment in message, (fragment, message)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name]
+
+
+def test_missing_file_is_a_usage_error(tmp_path):
+    result = CliRunner().invoke(cli, ["interpolate", str(tmp_path / "nope.yaml")])
+    assert result.exit_code == 2
+    assert "nope.yaml" in result.output
+
+
+def test_every_pose_form_reads_the_same_pose():
+    q = [0.5, 0.5, -0.5, 0.5]
+    t = [1.0, -2.0, 0.25]
+    forms = [
+        {"quaternion": q, "translation": t},
+        {"quaternion": dict(zip("wxyz", q)), "translation": dict(zip("xyz", t))},
+        {"quaternion_xyzw": q[1:] + q[:1], "translation": t},
+    ]
+    mats = []
+    for form in forms:
+        mats.append(readers.read_pose(io.BytesIO(json.dumps(form).encode()), "p.json"))
+    from a2b.poses import paper_from_robotics, study_from_matrices
+
+    m = mats[0]
+    mats.append(readers.read_pose(io.BytesIO(json.dumps({"matrix": m.tolist()}).encode()), "p.json"))
+    paper = {"matrix": paper_from_robotics(m).tolist(), "layout": "paper"}
+    mats.append(readers.read_pose(io.BytesIO(json.dumps(paper).encode()), "p.json"))
+    h = study_from_matrices(m)
+    mats.append(readers.read_pose(io.BytesIO(json.dumps({"study": (3 * h).tolist()}).encode()), "p.json"))
+    off = h.copy()
+    off[4:] += 0.7 * h[:4]  # another point of the κ-fiber: off the Study quadric
+    mats.append(readers.read_pose(io.BytesIO(json.dumps({"study": off.tolist(), "kappa": True}).encode()), "p.json"))
+    for other in mats[1:]:
+        assert np.allclose(other, m, atol=1e-14)
+
+
+def test_yaml_reads_exponents_and_json_reads_tabs():
+    text = "quaternion: [1e0, 0, 0, 0]\ntranslation: [1e-3, 2E+2, -.5e1]\n"
+    m = readers.read_pose(io.BytesIO(text.encode()), "p.yaml")
+    assert m[:3, 3].tolist() == [0.001, 200.0, -5.0]
+    text = '{\n\t"quaternion": [1, 0, 0, 0],\n\t"translation": [1, 2, 3]\n}'
+    m = readers.read_pose(io.BytesIO(text.encode()), "p.json")
+    assert m[:3, 3].tolist() == [1.0, 2.0, 3.0]
+
+
+def test_content_detection_without_suffix():
+    yaml_text = b"quaternion: [1, 0, 0, 0]\n"
+    json_text = b'{"quaternion": [1, 0, 0, 0], "translation": [0, 0, 1]}'
+    flow_yaml = b"{quaternion: [1, 0, 0, 0], translation: [0, 0, 2]}"
+    assert readers.read_pose(io.BytesIO(yaml_text), "<stdin>")[2, 3] == 0.0
+    assert readers.read_pose(io.BytesIO(json_text), "<stdin>")[2, 3] == 1.0
+    assert readers.read_pose(io.BytesIO(flow_yaml), "<stdin>")[2, 3] == 2.0
+
+
+def test_jobs_errors_name_the_job_and_line(tmp_path):
+    good = {"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}
+    bad = {"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0]}}
+    text = "\n".join(json.dumps(j) for j in (good, good, bad)) + "\n"
+    jobs = readers.read_jobs(io.BytesIO(text.encode()), "jobs.jsonl")
+    assert jobs.count is None
+    it = iter(jobs)
+    next(it), next(it)
+    with pytest.raises(InputFileError, match=r"^jobs\.jsonl:3:49: job 2: end\.quaternion: expected 4 numbers"):
+        next(it)
+    yaml_text = "- start: {quaternion: [1, 0, 0, 0]}\n  end: {quaternion: [1, 0, 0, 0]}\n- start: {}\n"
+    jobs = readers.read_jobs(io.BytesIO(yaml_text.encode()), "jobs.yaml")
+    assert jobs.count == 2
+    with pytest.raises(InputFileError, match=r"^jobs\.yaml:3:3: job 1: missing 'end'"):
+        list(jobs)
+    jobs = readers.read_jobs(io.BytesIO(b'{"start": 1}'), "jobs.json")
+    with pytest.raises(InputFileError, match="expected a list of jobs"):
+        list(jobs)
