@@ -146,6 +146,5 @@ def test_jobs_errors_name_the_job_and_line(tmp_path):
     assert jobs.count == 2
     with pytest.raises(InputFileError, match=r"^jobs\.yaml:3:3: job 1: missing 'end'"):
         list(jobs)
-    jobs = readers.read_jobs(io.BytesIO(b'{"start": 1}'), "jobs.json")
-    with pytest.raises(InputFileError, match="expected a list of jobs"):
-        list(jobs)
+    with pytest.raises(InputFileError, match=r"^jobs\.json:1:1: expected a list of jobs, got a mapping"):
+        readers.read_jobs(io.BytesIO(b'{"start": 1}'), "jobs.json")
