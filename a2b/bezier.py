@@ -278,6 +278,25 @@ def consistent_signs(vectors: np.ndarray) -> tuple[np.ndarray, list[int]]:
     return out, flipped
 
 
+def _nearest_hull_point(points: np.ndarray, iterations: int = 2000) -> np.ndarray:
+    """The point of the convex hull of ``points (k, d)`` nearest to the origin (approximately).
+
+    Its direction ``u`` maximises ``min_i u·points_i`` over unit vectors (when that is
+    positive). Frank–Wolfe with exact line search (Gilbert's algorithm), stopped when the
+    duality gap ``|x|² − min_i x·points_i`` is below ``1e-3 |x|²``.
+    """
+    x = points.mean(axis=0)
+    for _ in range(iterations):
+        dots = points @ x
+        j = int(np.argmin(dots))
+        xx = float(x @ x)
+        if xx == 0.0 or xx - dots[j] <= 1e-3 * xx:
+            break
+        step = points[j] - x
+        x = x + min(1.0, (xx - dots[j]) / float(step @ step)) * step
+    return x
+
+
 def default_m(quat_wxyz) -> np.ndarray:
     """The default ``m``: the sum of the poses' unit quaternions, with consistent signs.
 
@@ -287,19 +306,44 @@ def default_m(quat_wxyz) -> np.ndarray:
     normalised, for the same reason: the paper's kernel basis (eq. 13) is quartic in ``m``, so
     fiber coefficients mean the same as in the cubic mode only for the same ``m``.
 
+    μ_m takes every quaternion in the half-space ``m·p > 0``, so a pose with ``m·p_i ≤ 0``
+    would be approached the long way round. If the sum leaves such a pose (three or more
+    poses spread unevenly), the default is instead the unit vector that maximises
+    ``min_i m·p_i``: the direction of the point of the quaternions' convex hull nearest to
+    the origin.
+
     Raises
     ------
     ParameterError
-        If the sum vanishes (the poses' rotations cancel out); then give ``m``.
+        If no ``m`` has ``m·p_i > 0`` for every pose: the quaternions, with consistent signs,
+        do not lie in one open half-space (the rotations add up to about a full turn or
+        more). Then give ``m``, or build the curve in Study space.
     """
     quats, _ = consistent_signs(np.asarray(quat_wxyz, dtype=float))
     m = quats.sum(axis=0)
-    if float(np.linalg.norm(m)) <= 1e-12 * quats.shape[0]:
+    if np.all(quats @ m > 1e-9 * float(np.linalg.norm(m))):
+        return m
+    nearest = _nearest_hull_point(quats)
+    norm = float(np.linalg.norm(nearest))
+    margin = float(np.min(quats @ nearest)) / norm if norm > 0 else 0.0
+    if margin <= 1e-6:
         raise ParameterError(
-            "the default m, the sum of the poses' quaternions with consistent signs, vanishes "
-            f"(|m| = {float(np.linalg.norm(m)):.3g}); give m explicitly"
+            "no default m: the poses' quaternions, with consistent signs, do not lie in one "
+            f"open half-space (best min m·p_i = {margin:.3g} for |m| = 1), so μ_[m] would take "
+            "some of them the long way round; give m, or use space study"
         )
-    return m
+    return nearest / norm
+
+
+def _default_m_choice(m: np.ndarray, quats: np.ndarray, what: str) -> str:
+    if abs(float(np.linalg.norm(m)) - 1.0) < 1e-12 and not np.allclose(
+        m, consistent_signs(quats)[0].sum(0)
+    ):
+        return (
+            f"m defaults to the unit vector maximising min m·p_i over the {what}, because their "
+            "sum (with consistent signs) left a pose with m·p_i ≤ 0"
+        )
+    return f"m defaults to the sum of the {what} with consistent signs"
 
 
 # -- the motion ---------------------------------------------------------------------------------
@@ -480,12 +524,15 @@ class BezierMotion:
 
 
 def _matrix_rotation_weights(m: np.ndarray, quats: np.ndarray, label, choices: list) -> np.ndarray:
-    dots = np.array([check_not_orthogonal(m, quats[i], label(i)) for i in range(quats.shape[0])])
-    if np.any(dots < 0.0):
-        which = ", ".join(str(i + 1) for i in np.nonzero(dots < 0.0)[0])
+    """``4 m·p_i`` with the signs of the ``p_i`` made consistent along the poses; checks ``m``."""
+    chain, _ = consistent_signs(quats)
+    dots = np.array([check_not_orthogonal(m, chain[i], label(i)) for i in range(chain.shape[0])])
+    if np.any(dots < 0.0) and np.any(dots > 0.0):
+        which = ", ".join(str(i + 1) for i in np.nonzero(dots * dots[0] < 0.0)[0])
         choices.append(
-            f"m·p < 0 for pose(s) {which}: μ_m takes their quaternions with the opposite sign, "
-            "so the rotation between neighbours may go the long way round"
+            f"m·p_i has the opposite sign for pose(s) {which} (quaternion signs consistent along "
+            "the poses): μ_m takes their quaternions with the other sign, so the motion turns the "
+            "long way round next to them"
         )
     return 4.0 * dots
 
@@ -521,7 +568,7 @@ def bezier_motion(
             raise ParameterError(f"unknown kernel basis {basis!r}; expected one of {BASES}")
         if m is None:
             m_arr = default_m(quats)
-            choices.append("m defaults to the sum of the control quaternions with consistent signs")
+            choices.append(_default_m_choice(m_arr, quats, "control quaternions"))
         else:
             m_arr = check_m(m)
         rot_w = _matrix_rotation_weights(m_arr, quats, label, choices)
@@ -644,7 +691,7 @@ def spline_motion(poses, space: str = "matrix", *, m=None) -> BezierMotion:
     if space == "matrix":
         if m is None:
             m_arr = default_m(quats)
-            choices.append("m defaults to the sum of the poses' quaternions with consistent signs")
+            choices.append(_default_m_choice(m_arr, quats, "poses' quaternions"))
         else:
             m_arr = check_m(m)
         _matrix_rotation_weights(m_arr, quats, label, choices)
