@@ -25,7 +25,10 @@ the curve there, and map every point of it to a pose.
     taken in the half-space ``m·p > 0`` (so the sign of a control's quaternion never matters;
     ``m`` decides which way round), and the translation is a rational Bézier curve of the
     translations with weights ``w_i ψ_i``. The fiber coefficients ``α_i`` act only through
-    ``ψ_i``. With two controls this is the cubic mode with ``frame="given"``.
+    ``ψ_i``. With two controls this is the cubic mode with ``frame="given"``. Since
+    ``m·p(t) = 4 Σ_i B_i^n(t) w_i (m·p_i)² > 0`` on ``[0, 1]``, a Bézier curve in matrix space
+    never passes through ``p = 0`` there; only ``x0 = 0`` can break it. The default ``m`` is
+    :func:`default_m`.
 
 ``space="study"``
     A control pose becomes its unit Study vector ``h_i`` (``|p_i| = 1``), with signs made
