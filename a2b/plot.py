@@ -485,10 +485,9 @@ def _set_equal_3d(ax, points: np.ndarray, length_label: str) -> tuple[np.ndarray
 def _draw_frame(ax, pose: np.ndarray, length: float, colours, gid: str, **style) -> np.ndarray:
     """The axes of one pose as three arrows; returns their origin and tips (4, 3)."""
     origin = pose[:3, 3]
+    style = {"arrow_length_ratio": 0.22, **style}
     for j, name in enumerate("xyz"):
-        arrow = ax.quiver(
-            *origin, *(length * pose[:3, j]), color=colours[j], arrow_length_ratio=0.22, **style
-        )
+        arrow = ax.quiver(*origin, *(length * pose[:3, j]), color=colours[j], **style)
         arrow.set_gid(f"{gid}:{name}")
     return np.vstack([origin, origin + length * pose[:3, :3].T])
 
@@ -502,18 +501,21 @@ def _draw_frames(ax, track: _Track, ends, length: float, single: bool) -> list:
             i == last and np.allclose(pose, ends[1], atol=1e-9)
         ):
             continue  # drawn once, as A or B
-        colours = AXIS_COLOURS if single else (track.colour,) * 3
-        drawn.append(
-            _draw_frame(
-                ax,
-                pose,
-                length,
-                colours,
-                f"frame:{track.label}:{i}",
-                linewidth=1.3,
-                alpha=1.0 if single else 0.8,
-            )
+        # Several motions: one colour each, and no arrow heads, which would clutter the view.
+        style = (
+            {"linewidth": 1.3}
+            if single
+            else {"linewidth": 1.1, "alpha": 0.85, "arrow_length_ratio": 0.0}
         )
+        colours = AXIS_COLOURS if single else (track.colour,) * 3
+        drawn.append(_draw_frame(ax, pose, length, colours, f"frame:{track.label}:{i}", **style))
+    (path,) = ax.plot(
+        *track.mats[:, :3, 3].T,
+        color="0.35" if single else track.colour,
+        linewidth=1.0,
+        alpha=0.8,
+    )
+    path.set_gid(f"origin:{track.label}")
     return drawn
 
 
