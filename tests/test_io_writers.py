@@ -1,0 +1,124 @@
+"""Writers and their readers in pairs, and the repr-exact float formatter behind them."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import pytest
+
+from a2b.io import readers, writers
+from a2b.io.floatrepr import format_rows
+
+
+def _reprs(values, sep=","):
+    return "".join(sep.join(repr(float(v)) for v in row) + "\n" for row in values)
+
+
+def test_format_rows_is_repr_for_special_values():
+    values = np.array(
+        [[0.0, -0.0, 1.0, -1.0, 0.1, 0.5, 1e16, 1e15, 1e-4, 1e-5, 123.456, np.nan, np.inf, -np.inf,
+          5e-324, 2.2250738585072014e-308, 1.7976931348623157e308, 1e300, -1e-300,
+          9.999999999999999e15, 0.30000000000000004, 1e22, 1 / 3, 2 / 3, 100.0, 1234567890123456.8]]
+    )
+    assert format_rows(values).decode() == _reprs(values)
+
+
+@pytest.mark.parametrize("scale", [0, 3, 30, 200])
+def test_format_rows_is_repr_for_random_values(rng, scale):
+    values = rng.standard_normal((3000, 8)) * 10.0 ** rng.integers(-scale, scale + 1, (3000, 8))
+    assert format_rows(values).decode() == _reprs(values)
+
+
+def test_format_rows_reads_back_every_bit_pattern(rng):
+    bits = rng.integers(0, 2**63, 40000, dtype=np.int64) * rng.choice([-1, 1], 40000)
+    values = bits.view(np.float64).reshape(-1, 8)
+    text = format_rows(values).decode()
+    back = np.array([float(v) for v in text.replace("\n", ",").split(",")[:-1]]).reshape(values.shape)
+    same = (back.view(np.int64) == values.view(np.int64)) | (np.isnan(back) & np.isnan(values))
+    assert same.all()
+
+
+def test_format_rows_separator_and_prefix():
+    values = np.array([[0.25, -3.0], [1e-7, 2.0]])
+    assert format_rows(values, sep=" ") == b"0.25 -3.0\n1e-07 2.0\n"
+    assert format_rows(values, prefix=["a", "b"]) == b"a,0.25,-3.0\nb,1e-07,2.0\n"
+    assert format_rows(np.empty((0, 3))) == b""
+
+
+def _chunks(rng, n, size):
+    quat = rng.normal(size=(n, 4))
+    quat /= np.linalg.norm(quat, axis=1, keepdims=True)
+    trans = rng.normal(size=(n, 3))
+    mats = np.zeros((n, 4, 4))
+    mats[:, :3, :] = rng.normal(size=(n, 3, 4))
+    mats[:, 3, 3] = 1.0
+    study = rng.normal(size=(n, 8))
+    t = np.linspace(0, 1, n)
+    return [
+        writers.Chunk(t[i : i + size], quat[i : i + size], trans[i : i + size], mats[i : i + size], study[i : i + size])
+        for i in range(0, n, size)
+    ], (t, quat, trans, mats, study)
+
+
+@pytest.mark.parametrize("fmt", ["csv", "matrix", "study", "tum", "kitti", "mcap"])
+def test_writer_reader_pairs(rng, fmt):
+    chunks, (t, quat, trans, mats, study) = _chunks(rng, 25, 7)
+    stream = io.BytesIO()
+    writers.write_samples(stream, fmt, chunks, duration=2.0, start_time=3.0)
+    stream.seek(0)
+    if fmt == "csv":
+        got_t, got_q, got_tr = readers.read_csv(stream)
+        assert np.array_equal(got_t, t) and np.array_equal(got_q, quat) and np.array_equal(got_tr, trans)
+    elif fmt == "matrix":
+        got_t, got_m = readers.read_matrix_csv(stream)
+        assert np.array_equal(got_t, t) and np.array_equal(got_m, mats)
+    elif fmt == "study":
+        got_t, got_s = readers.read_study_csv(stream)
+        assert np.array_equal(got_t, t) and np.array_equal(got_s, study)
+    elif fmt == "tum":
+        got_time, got_q, got_tr = readers.read_tum(stream)
+        assert np.array_equal(got_time, 2.0 * t + 3.0)
+        assert np.array_equal(got_q, quat) and np.array_equal(got_tr, trans)
+    elif fmt == "kitti":
+        assert np.array_equal(readers.read_kitti(stream), mats)
+    else:
+        got_time, got_q, got_tr = readers.read_mcap(stream)
+        assert np.allclose(got_time, 2.0 * t + 3.0, atol=1e-9, rtol=0)
+        assert np.array_equal(got_q, quat) and np.array_equal(got_tr, trans)
+
+
+def test_batch_csv_quotes_job_names(rng):
+    chunks, (t, quat, trans, _, _) = _chunks(rng, 4, 4)
+    chunks[0].job = ["plain", 'with "quotes"', "with, comma", "plain"]
+    stream = io.BytesIO()
+    writers.write_batch_csv(stream, chunks)
+    stream.seek(0)
+    names, values = readers.read_batch_csv(stream)
+    assert names == chunks[0].job
+    assert np.array_equal(values[:, 0], t) and np.array_equal(values[:, 4:], quat)
+
+
+def test_mcap_writer_needs_no_seek(rng):
+    class PipeLike(io.RawIOBase):
+        def __init__(self):
+            self.data = bytearray()
+
+        def writable(self):
+            return True
+
+        def write(self, b):
+            self.data += b
+            return len(b)
+
+        def seekable(self):
+            return False
+
+        def tell(self):
+            raise OSError("illegal seek")
+
+    pipe = PipeLike()
+    chunks, _ = _chunks(rng, 10, 4)
+    writers.write_mcap(pipe, chunks)
+    got_time, got_q, _ = readers.read_mcap(io.BytesIO(bytes(pipe.data)))
+    assert len(got_time) == 10
