@@ -15,7 +15,7 @@ from .errors import A2bError
 
 __version__ = "0.1.0"
 
-__all__ = ["A2bError", "__version__", "interpolate", "describe", "motion"]
+__all__ = ["A2bError", "__version__", "interpolate", "describe", "motion", "bezier", "spline"]
 
 
 def __getattr__(name):  # lazy: keep `import a2b` (and so `a2b --version`) light
@@ -23,4 +23,8 @@ def __getattr__(name):  # lazy: keep `import a2b` (and so `a2b --version`) light
         from . import api
 
         return getattr(api, name)
+    if name in ("bezier", "spline"):
+        from .motions import bezier
+
+        return getattr(bezier, name)
     raise AttributeError(f"module 'a2b' has no attribute {name!r}")

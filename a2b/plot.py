@@ -170,7 +170,7 @@ def _as_tracks(start, end, motions, samples: int, instants: int) -> list[_Track]
             entry = (entry, {})
         if isinstance(entry, Motion):
             mode, obj, params, label = entry.mode, entry, {}, entry.mode
-        elif callable(getattr(entry, "matrices", None)):  # e.g. an a2b.bezier.BezierMotion
+        elif callable(getattr(entry, "matrices", None)):  # e.g. an a2b.motions.bezier.BezierMotion
             label = getattr(entry, "kind", None) or type(entry).__name__
             mode, obj, params = None, entry, {}
         elif isinstance(entry, tuple) and len(entry) == 2 and isinstance(entry[0], str):
@@ -565,7 +565,7 @@ def plot_motions(
         * a pair ``(mode, parameters)``, the parameters of :func:`a2b.motion` as a dict;
         * a :class:`a2b.motions.base.Motion` made by :func:`a2b.motion`;
         * any other object with a ``matrices(ts)`` method, such as an
-          :class:`a2b.bezier.BezierMotion`, labelled by its ``kind`` attribute;
+          :class:`a2b.motions.bezier.BezierMotion`, labelled by its ``kind`` attribute;
         * a pair ``(label, sampler)``: any callable taking ``ts`` of shape ``(N,)`` in
           ``[0, 1]`` and returning robotics matrices ``(N, 4, 4)`` (for instance a Bézier
           motion through several control poses);

@@ -10,7 +10,7 @@ import pytest
 from click.testing import CliRunner
 
 import a2b
-from a2b.bezier import (
+from a2b.motions.bezier import (
     SINGULAR_TOL,
     bezier,
     bezier_motion,

@@ -234,7 +234,7 @@ def command(
       a2b bezier samples/planar-bezier.yaml --space study --format tum -o planar.tum
       a2b bezier samples/planar-bezier.yaml --weights 1,2,2,1 --format mcap -o planar.mcap
     """
-    from ..bezier import bezier_motion
+    from ..motions.bezier import bezier_motion
 
     curve = read_curve_file(poses, "controls")
     given = dict(parameters)

@@ -44,7 +44,7 @@ def command(poses, space, m, samples, fmt, output, duration, start_time, frame_i
       a2b spline samples/spline.yaml --space study --format tum -o spline.tum
       a2b spline samples/spline.yaml --format mcap -o spline.mcap
     """
-    from ..bezier import spline_motion
+    from ..motions.bezier import spline_motion
 
     curve = read_curve_file(poses, "poses")
     merged = options.merge_parameters(curve.parameters, {"m": m})

@@ -73,8 +73,8 @@ import numbers
 
 import numpy as np
 
-from .errors import ParameterError, PoseError, SingularMotionError
-from .extended import (
+from ..errors import ParameterError, PoseError, SingularMotionError
+from ..extended import (
     BASES,
     check_m,
     check_not_orthogonal,
@@ -82,9 +82,9 @@ from .extended import (
     mu_fiber_points,
     mu_prime_matrix,
 )
-from .motions._rational import bern_mul, bernstein_basis
-from .poses import check_matrices, quat_trans_from_matrices, study_from_matrices
-from .study import kappa_fiber_points, rotation_numerators, translation_numerators
+from ._rational import bern_mul, bernstein_basis
+from ..poses import check_matrices, quat_trans_from_matrices, study_from_matrices
+from ..study import kappa_fiber_points, rotation_numerators, translation_numerators
 
 __all__ = [
     "SINGULAR_TOL",
@@ -497,7 +497,7 @@ class BezierMotion:
 
     def study(self, ts) -> np.ndarray:
         """Unit Study parameters ``(..., 8)`` (``|p| = 1``, ``q = −½ t p``) of the samples."""
-        from .poses import study_from_quat_trans
+        from ..poses import study_from_quat_trans
 
         quat, trans = self.quat_trans(ts)
         return study_from_quat_trans(quat, trans)
@@ -665,7 +665,7 @@ def bezier(control_poses, ts, space: str = "matrix", **parameters) -> np.ndarray
     Examples
     --------
     >>> import numpy as np
-    >>> from a2b.bezier import bezier
+    >>> from a2b import bezier
     >>> turn = np.eye(4); turn[:2, :2] = [[0, -1], [1, 0]]; turn[0, 3] = 2.0
     >>> bezier([np.eye(4), turn], [0.0, 0.5, 1.0]).shape
     (3, 4, 4)
