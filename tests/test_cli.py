@@ -238,7 +238,6 @@ def test_parameters_from_file_and_command_line(tmp_path, rng):
 def test_cubic_vector_options(poses, tmp_path):
     path, a, b = poses
     out = tmp_path / "o.csv"
-    quat, _ = quat_trans_from_matrices(a)
     m = (1.0, 0.5, -0.25, 0.75)
     args = ("--mode", "cubic", "--m", "1,0.5,-0.25,0.75", "--a", 0.1, "--b", -0.2, "--frame", "canonical")
     result = run("interpolate", path, "--samples", 7, "--format", "matrix", "-o", out, *args)
@@ -267,7 +266,7 @@ def test_through_option_reads_a_pose_file(tmp_path):
 
 
 def test_stdin(poses):
-    path, a, b = poses
+    path, _, _ = poses
     result = run("interpolate", "-", "--samples", 2, input=path.read_bytes())
     assert result.exit_code == 0
     assert result.output.splitlines()[2].startswith("1.0,")
@@ -352,7 +351,7 @@ def pose_file(tmp_path, rng):
 
 
 def test_fiber_kappa_json(pose_file):
-    path, pose = pose_file
+    path, _ = pose_file
     result = run("fiber", path, "--s", 0, "--s", 0.5, "--s", -2, "--json")
     assert result.exit_code == 0
     got = json.loads(result.output)
@@ -363,7 +362,7 @@ def test_fiber_kappa_json(pose_file):
 
 
 def test_fiber_mu_json(pose_file):
-    path, pose = pose_file
+    path, _ = pose_file
     result = run("fiber", path, "--map", "mu", "--m", "1,0.3,-0.2,0.5", "--alpha", "0,0,0,0,0,0", "--alpha", "1,2,0,0,0,0.5", "--json")
     assert result.exit_code == 0, result.output
     got = json.loads(result.output)

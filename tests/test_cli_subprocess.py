@@ -109,13 +109,13 @@ def test_sigterm_leaves_no_file(tmp_path):
 def test_error_exit_codes_in_a_real_process(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("start: {quaternion: [1, 0, 0]}\nend: {quaternion: [1, 0, 0, 0]}\n")
-    result = subprocess.run(a2b_cmd("interpolate", bad), capture_output=True, timeout=60)
+    result = subprocess.run(a2b_cmd("interpolate", bad), capture_output=True, timeout=60, check=False)
     assert result.returncode == 1
     assert result.stdout == b""
     assert result.stderr.decode().splitlines() == [
         f"Error: {bad}:1:9: start.quaternion: expected 4 numbers (w, x, y, z), got 3"
     ]
-    result = subprocess.run(a2b_cmd("interpolate", bad, "--format", "png"), capture_output=True, timeout=60)
+    result = subprocess.run(a2b_cmd("interpolate", bad, "--format", "png"), capture_output=True, timeout=60, check=False)
     assert result.returncode == 2
 
 
@@ -132,7 +132,7 @@ def test_help_and_version_import_nothing_heavy(args):
         "heavy = [m for m in ('numpy', 'rich', 'yaml', 'mcap', 'a2b.api', 'a2b.poses') if m in sys.modules]\n"
         "print(heavy, file=sys.stderr)\n"
     )
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, timeout=60, text=True)
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, timeout=60, text=True, check=False)
     assert result.stderr.strip() == "[]"
 
 
@@ -160,5 +160,5 @@ def test_entry_point_installed():
     exe = which("a2b")
     if exe is None:
         pytest.skip("a2b is not installed as a script")
-    result = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=60, env={**os.environ})
+    result = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=60, env={**os.environ}, check=False)
     assert result.returncode == 0 and result.stdout.startswith("a2b ")

@@ -89,7 +89,7 @@ def test_writer_reader_pairs(rng, fmt):
 
 
 def test_batch_csv_quotes_job_names(rng):
-    chunks, (t, quat, trans, _, _) = _chunks(rng, 4, 4)
+    chunks, (t, quat, _, _, _) = _chunks(rng, 4, 4)
     chunks[0].job = ["plain", 'with "quotes"', "with, comma", "plain"]
     stream = io.BytesIO()
     writers.write_batch_csv(stream, chunks)
@@ -120,5 +120,5 @@ def test_mcap_writer_needs_no_seek(rng):
     pipe = PipeLike()
     chunks, _ = _chunks(rng, 10, 4)
     writers.write_mcap(pipe, chunks)
-    got_time, got_q, _ = readers.read_mcap(io.BytesIO(bytes(pipe.data)))
+    got_time, _, _ = readers.read_mcap(io.BytesIO(bytes(pipe.data)))
     assert len(got_time) == 10

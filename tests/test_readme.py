@@ -14,7 +14,7 @@ README = (Path(__file__).resolve().parent.parent / "README.md").read_text()
 
 
 def test_the_two_opening_commands_come_first():
-    blocks = re.findall(r"```sh\n(.*?)```", README, re.S)
+    blocks = re.findall(r"```sh\n(.*?)```", README, re.DOTALL)
     assert blocks[0].strip() == "pip install . && a2b interpolate samples/quarter-turn.yaml"
     assert blocks[1].strip() == 'pip install ".[test]" && pytest'
 

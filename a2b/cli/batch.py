@@ -120,6 +120,6 @@ def command(jobs, mode, samples, fmt, chunk_size, output):
         advance = None
         if progress is not None:
             task = progress.add_task("jobs", total=job_list.count)
-            advance = lambda n: progress.advance(task, n)  # noqa: E731
+            advance = lambda n: progress.advance(task, n)
         chunks = batch_chunks(job_list, mode, samples, REPRESENTATION[fmt], chunk_size, advance)
         write_batch_csv(stream, chunks, fmt)

@@ -32,7 +32,12 @@ def fiber(pose, kind: str, s=(), m=None, alphas=(), basis: str = "auto") -> dict
     """
     import numpy as np
 
-    from ..extended import kernel_basis, matrices_from_model_points, mu_fiber_points, paper_basis_degenerate
+    from ..extended import (
+        kernel_basis,
+        matrices_from_model_points,
+        mu_fiber_points,
+        paper_basis_degenerate,
+    )
     from ..poses import matrices_from_study, study_from_matrices
     from ..study import kappa_fiber_direction, kappa_fiber_points
 

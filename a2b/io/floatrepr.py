@@ -23,6 +23,7 @@ cannot decide) is formatted with ``repr`` itself (zeros by a table), so the outp
 from __future__ import annotations
 
 from fractions import Fraction
+from itertools import pairwise
 
 import numpy as np
 
@@ -148,7 +149,7 @@ def _render(cells: np.ndarray, rows: np.ndarray, neg: np.ndarray, d: np.ndarray,
     sign = np.where(neg[order], np.uint8(ord("-")), np.uint8(0))[:, None]
     out = np.zeros((len(order), _WIDTH), dtype=np.uint8)
     bounds = np.concatenate([[0], np.flatnonzero(np.diff(e)) + 1, [len(e)]])
-    for lo, hi in zip(bounds[:-1], bounds[1:]):
+    for lo, hi in pairwise(bounds):
         ex = int(e[lo])
         g = chars[lo:hi]
         n = hi - lo
@@ -162,7 +163,7 @@ def _render(cells: np.ndarray, rows: np.ndarray, neg: np.ndarray, d: np.ndarray,
             lead = np.frombuffer(b"0." + b"0" * (-ex - 1), dtype=np.uint8)
             block = np.hstack([sign[lo:hi], np.broadcast_to(lead, (n, len(lead))), g])
         else:
-            tail = np.frombuffer(("e%+03d" % ex).encode(), dtype=np.uint8)
+            tail = np.frombuffer(f"e{ex:+03d}".encode(), dtype=np.uint8)
             block = np.hstack(
                 [
                     sign[lo:hi],

@@ -32,9 +32,10 @@ import io
 import json
 import math
 import re
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from json.decoder import scanstring
-from typing import IO, Any, Callable, Iterator
+from typing import IO, Any
 
 import numpy as np
 
@@ -43,16 +44,16 @@ from ..errors import A2bError, InputFileError
 __all__ = [
     "Job",
     "Jobs",
+    "read_batch_csv",
+    "read_csv",
+    "read_jobs",
+    "read_kitti",
+    "read_matrix_csv",
+    "read_mcap",
     "read_pose",
     "read_poses",
-    "read_jobs",
-    "read_csv",
-    "read_matrix_csv",
     "read_study_csv",
     "read_tum",
-    "read_kitti",
-    "read_mcap",
-    "read_batch_csv",
 ]
 
 MODES = ("darboux", "cubic", "screw")

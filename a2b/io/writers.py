@@ -22,8 +22,9 @@ In ``tum`` and ``mcap`` the time of sample ``t`` is ``t · duration + start_time
 from __future__ import annotations
 
 import json
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
-from typing import IO, Iterable, Iterator
+from typing import IO
 
 import numpy as np
 
@@ -32,18 +33,18 @@ from .floatrepr import format_rows
 from .readers import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER
 
 __all__ = [
-    "Chunk",
     "FORMATS",
     "REPRESENTATION",
+    "Chunk",
     "sample_chunks",
+    "write_batch_csv",
     "write_csv",
+    "write_kitti",
     "write_matrix_csv",
+    "write_mcap",
+    "write_samples",
     "write_study_csv",
     "write_tum",
-    "write_kitti",
-    "write_mcap",
-    "write_batch_csv",
-    "write_samples",
 ]
 
 #: Samples per chunk: about 10 MB of text for ``csv``.
@@ -113,7 +114,7 @@ def _rows(fmt: str, chunk: Chunk) -> np.ndarray:
 def _write_table(stream: IO, fmt: str, header: str | None, chunks: Iterable[Chunk], sep: str = ",") -> None:
     if header is not None:
         stream.write(header.encode() + b"\n")
-    for chunk in chunks:
+    for chunk in chunks:  # noqa: FURB122 - one write per chunk, as it is sampled
         stream.write(format_rows(_rows(fmt, chunk), sep=sep))
 
 
@@ -166,7 +167,7 @@ def write_batch_csv(stream: IO, chunks: Iterable[Chunk], fmt: str = "csv") -> No
     """
     header = {"csv": CSV_HEADER, "matrix": MATRIX_HEADER, "study": STUDY_HEADER}[fmt]
     stream.write(b"job," + header.encode() + b"\n")
-    for chunk in chunks:
+    for chunk in chunks:  # noqa: FURB122 - one write per chunk, as it is sampled
         stream.write(format_rows(_rows(fmt, chunk), prefix=[_csv_field(j) for j in chunk.job]))
 
 
