@@ -60,6 +60,11 @@ def line(fig, gid):
     return artist
 
 
+def suptitle(fig):
+    """The figure's title (``Figure.get_suptitle`` is new in matplotlib 3.8)."""
+    return fig.get_suptitle() if hasattr(fig, "get_suptitle") else fig._suptitle.get_text()
+
+
 def render(fig, path, fmt):
     with open(path, "wb") as fh:
         write_figure(fig, fh, fmt, dpi=40)
@@ -325,14 +330,14 @@ def test_equal_aspect_and_labels(poses):
         assert ax.get_xlabel() == "x [mm]"
     assert fig.axes[2].get_ylabel().endswith("[mm]")
     assert fig.axes[2].get_xlabel().endswith("[°]")
-    title = fig.get_suptitle()
+    title = suptitle(fig)
     assert title.startswith("darboux motion: δ = 0") and "φ = " in title
 
 
 def test_title_states_essential_parameters(poses):
-    cubic = plot_motions(*poses, ("cubic", {"a": 0.5}), **SMALL).get_suptitle()
+    cubic = suptitle(plot_motions(*poses, ("cubic", {"a": 0.5}), **SMALL))
     assert cubic.startswith("cubic motion: m0:m3 = ") and "a = 0.5, b = 0" in cubic
-    screw = plot_motions(*poses, "screw", angle_unit="rad", **SMALL).get_suptitle()
+    screw = suptitle(plot_motions(*poses, "screw", angle_unit="rad", **SMALL))
     assert screw.startswith("screw motion: pitch = ") and " rad" in screw
 
 
@@ -355,7 +360,7 @@ def test_sampler_in_the_cylinder_group(poses):
     np.testing.assert_allclose(np.radians(x), omega, atol=1e-12)
     np.testing.assert_allclose(y, z, atol=1e-12)
     assert "transmission-closed-form:mine" not in lines_by_gid(fig)
-    assert fig.get_suptitle().startswith("mine ")
+    assert suptitle(fig).startswith("mine ")
 
 
 def test_samples_outside_the_cylinder_group_have_no_transmission_panel(poses):
@@ -376,7 +381,7 @@ def test_samples_outside_the_cylinder_group_have_no_transmission_panel(poses):
 
 
 def test_bezier_motion(rng):
-    from a2b.bezier import bezier_motion
+    from a2b.motions.bezier import bezier_motion
 
     controls = [random_pose(rng) for _ in range(4)]
     motion = bezier_motion(controls)
