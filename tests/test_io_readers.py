@@ -148,3 +148,13 @@ def test_jobs_errors_name_the_job_and_line(tmp_path):
         list(jobs)
     with pytest.raises(InputFileError, match=r"^jobs\.json:1:1: expected a list of jobs, got a mapping"):
         readers.read_jobs(io.BytesIO(b'{"start": 1}'), "jobs.json")
+
+
+def test_a_poses_file_where_one_pose_belongs_and_back(tmp_path):
+    runner = CliRunner()
+    result = runner.invoke(cli, ["fiber", "samples/quarter-turn.yaml"])
+    assert result.exit_code == 1 and "expected one pose, got start and end poses" in result.output
+    result = runner.invoke(cli, ["interpolate", "samples/pose.yaml"])
+    assert result.exit_code == 1 and "this is one pose, but start and end poses are needed" in result.output
+    result = runner.invoke(cli, ["batch", "samples/quarter-turn.yaml"])
+    assert result.exit_code == 1 and "expected a list of jobs, got a mapping" in result.output

@@ -444,6 +444,8 @@ def _pose(doc: _Document, path: Path, v) -> np.ndarray:
     from ..poses import check_matrices, matrices_from_quat_trans, matrices_from_study
 
     pose = _mapping(doc, path, v, "a pose mapping (matrix, quaternion, quaternion_xyzw or study)")
+    if "start" in pose or "end" in pose:
+        raise doc.error(path, "expected one pose, got start and end poses (a poses file); give a file with one pose")
     _check_keys(doc, path, pose, POSE_KEYS, "a pose")
     forms = [k for k in POSE_FORMS if k in pose]
     if len(forms) != 1:
@@ -537,6 +539,8 @@ def _parameters(doc: _Document, path: Path, v) -> dict:
 
 def _job(doc: _Document, path: Path, v, allowed: tuple) -> Job:
     job = _mapping(doc, path, v, "a mapping with start and end")
+    if any(k in job for k in POSE_FORMS) and "start" not in job and "end" not in job:
+        raise doc.error(path, "this is one pose, but start and end poses are needed (see a2b interpolate -h)")
     _check_keys(doc, path, job, allowed, "a poses file" if allowed is POSES_KEYS else "a job")
     for key in ("start", "end"):
         if key not in job:
@@ -629,7 +633,8 @@ def read_jobs(stream: IO, name: str | None = None) -> Jobs:
     rest = _read_text(stream, name)
     doc = _parse(text_start + rest, name, kind)
     if not isinstance(doc.data, list):
-        raise doc.error((), f"expected a list of jobs, got {_describe(doc.data)}")
+        hint = " (one motion: a2b interpolate)" if isinstance(doc.data, dict) else ""
+        raise doc.error((), f"expected a list of jobs, got {_describe(doc.data)}{hint}")
     data = doc.data
 
     def jobs() -> Iterator[Job]:
