@@ -138,13 +138,14 @@ def _render(cells: np.ndarray, rows: np.ndarray, neg: np.ndarray, d: np.ndarray,
     pairs = np.empty((d.shape[0], 9), dtype=np.uint16)  # base-100 digits as two characters
     rest = d
     for i in range(8, -1, -1):
-        rest, low = np.divmod(rest, 100)
-        pairs[:, i] = _PAIRS[low]
+        quotient = rest // 100  # a scalar divisor takes numpy's fast path; divmod does not
+        pairs[:, i] = _PAIRS[rest - 100 * quotient]
+        rest = quotient
     chars = pairs.view(np.uint8)[:, 1:]  # (n, 17): drop the leading pad digit
     nonzero = chars != _ZERO
     ndig = 17 - np.argmax(nonzero[:, ::-1], axis=1)  # significant digits
     chars *= np.arange(17)[None, :] < ndig[:, None]  # blank trailing zeros
-    order = np.argsort(e, kind="stable")
+    order = np.argsort(e.astype(np.int16), kind="stable")  # a radix sort for 16-bit keys
     e, chars, ndig = e[order], chars[order], ndig[order]
     sign = np.where(neg[order], np.uint8(ord("-")), np.uint8(0))[:, None]
     out = np.zeros((len(order), _WIDTH), dtype=np.uint8)
