@@ -270,8 +270,15 @@ class DarbouxMotion(Motion):
         )
 
     def transmission(self, omega: np.ndarray) -> np.ndarray:
-        """The closed-form ``z(ω)`` in canonical coordinates (``MATH.md``)."""
+        """The closed-form ``z(ω)`` in canonical coordinates (``MATH.md``).
+
+        Raises
+        ------
+        ParameterError
+            For a pure translation (φ = 0), where z is no function of ω.
+        """
         phi, d, delta = self.phi_eff, self.frame.d, self.delta
+        _require_rotation(phi if self.frame.phi > 0 else 0.0, "the transmission curve z(ω)")
         half = math.sin(phi / 2)
         return d / 2 + ((d / 2) * np.sin(omega - phi / 2) - delta * (np.cos(omega - phi / 2) - math.cos(phi / 2))) / half
 
