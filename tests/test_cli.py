@@ -493,3 +493,18 @@ def test_sample_files_run(sample):
     assert result.exit_code == 0, result.output
     rows = [list(map(float, line.split(","))) for line in result.output.splitlines()[1:]]
     assert len(rows) == 5 and all(math.isfinite(v) for row in rows for v in row)
+
+
+def test_batch_progress_bar_only_on_a_terminal(monkeypatch):
+    import sys
+
+    from a2b.cli.batch import _progress
+
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: False, raising=False)
+    with _progress(3) as progress:
+        assert progress is None
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
+    with _progress(3) as progress:
+        assert progress is not None
+        task = progress.add_task("jobs", total=3)
+        progress.advance(task, 3)

@@ -162,3 +162,12 @@ def test_entry_point_installed():
         pytest.skip("a2b is not installed as a script")
     result = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=60, env={**os.environ}, check=False)
     assert result.returncode == 0 and result.stdout.startswith("a2b ")
+
+
+def test_shell_completion_of_commands_and_formats():
+    env = {**os.environ, "_A2B_COMPLETE": "bash_complete", "COMP_WORDS": "a2b inter", "COMP_CWORD": "1"}
+    result = subprocess.run(A2B, capture_output=True, text=True, env=env, timeout=60, check=False)
+    assert result.stdout.split() == ["plain,interpolate"]
+    env.update(COMP_WORDS="a2b interpolate x --format ", COMP_CWORD="4")
+    result = subprocess.run(A2B, capture_output=True, text=True, env=env, timeout=60, check=False)
+    assert result.stdout.split() == [f"plain,{f}" for f in ("csv", "matrix", "study", "tum", "kitti", "mcap")]
