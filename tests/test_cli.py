@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,6 +20,8 @@ from a2b.io import readers
 from a2b.poses import matrices_from_quat_trans, quat_trans_from_matrices
 
 from .conftest import random_pose
+
+SAMPLES = Path(__file__).resolve().parent.parent / "samples"
 
 
 def run(*args, input=None):
@@ -480,7 +483,7 @@ def test_batch_error_names_the_job_and_leaves_no_file(tmp_path, rng):
 
 
 def test_batch_sample_file():
-    result = run("batch", "samples/jobs.yaml", "--format", "study")
+    result = run("batch", SAMPLES / "jobs.yaml", "--format", "study")
     assert result.exit_code == 0
     lines = result.output.splitlines()
     assert lines[0] == "job,t,p0,p1,p2,p3,q0,q1,q2,q3"
@@ -489,7 +492,7 @@ def test_batch_sample_file():
 
 @pytest.mark.parametrize("sample", ["quarter-turn", "half-turn", "translation", "canonical"])
 def test_sample_files_run(sample):
-    result = run("interpolate", f"samples/{sample}.yaml", "--samples", 5)
+    result = run("interpolate", SAMPLES / f"{sample}.yaml", "--samples", 5)
     assert result.exit_code == 0, result.output
     rows = [list(map(float, line.split(","))) for line in result.output.splitlines()[1:]]
     assert len(rows) == 5 and all(math.isfinite(v) for row in rows for v in row)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import io
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -64,6 +65,8 @@ MALFORMED = [
     ("empty.yaml", "", ["empty.yaml: the file is empty"]),
     ("list.yaml", "- 1\n- 2\n", ["list.yaml:1:1", "expected a mapping with start and end, got a list of 2"]),
 ]
+
+SAMPLES = Path(__file__).resolve().parent.parent / "samples"
 
 
 @pytest.mark.parametrize("name, content, fragments", MALFORMED, ids=[m[0] for m in MALFORMED])
@@ -152,9 +155,9 @@ def test_jobs_errors_name_the_job_and_line(tmp_path):
 
 def test_a_poses_file_where_one_pose_belongs_and_back(tmp_path):
     runner = CliRunner()
-    result = runner.invoke(cli, ["fiber", "samples/quarter-turn.yaml"])
+    result = runner.invoke(cli, ["fiber", str(SAMPLES / "quarter-turn.yaml")])
     assert result.exit_code == 1 and "expected one pose, got start and end poses" in result.output
-    result = runner.invoke(cli, ["interpolate", "samples/pose.yaml"])
+    result = runner.invoke(cli, ["interpolate", str(SAMPLES / "pose.yaml")])
     assert result.exit_code == 1 and "this is one pose, but start and end poses are needed" in result.output
-    result = runner.invoke(cli, ["batch", "samples/quarter-turn.yaml"])
+    result = runner.invoke(cli, ["batch", str(SAMPLES / "quarter-turn.yaml")])
     assert result.exit_code == 1 and "expected a list of jobs, got a mapping" in result.output
