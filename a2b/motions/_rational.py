@@ -22,18 +22,50 @@ ROT_COLS = (0, 1, 2, 4, 5, 6, 8, 9, 10)
 TRANS_COLS = (3, 7, 11)
 
 
+#: At most this many samples per block in :func:`evaluate_table` and
+#: :func:`evaluate_translations`: 8192 rows of 16 doubles are 1 MiB, which stays in L2 cache.
+SAMPLE_BLOCK = 8192
+#: Fewer multiply-adds than this per BLAS product: OpenBLAS then runs it on one thread (it starts
+#: a second one from 2¹⁹), and a second thread stalls whenever the other core is busy.
+BLAS_ONE_THREAD = 2**18
+
+
 def bernstein_basis(ts: np.ndarray, degree: int) -> np.ndarray:
-    """Bernstein polynomials ``C(n, i) (1−t)^(n−i) t^i``, shape ``(len(ts), degree + 1)``."""
-    t = np.asarray(ts, dtype=float)
-    u = 1.0 - t
+    """Bernstein polynomials ``C(n, i) (1−t)^(n−i) t^i``, shape ``(len(ts), degree + 1)``.
+
+    The result is a transposed view of one ``(degree + 1, len(ts))`` array, so that each basis
+    function is contiguous in memory: the layout :func:`evaluate_table` reads fastest. Every
+    value is computed with the same operations, in the same order, as the textbook products
+    ``u·u``, ``2u·t``, ``t·t`` (degree 2) and ``u²·u``, ``3u²·t``, ``3u·t²``, ``t²·t``
+    (degree 3), ``u = 1 − t``.
+    """
+    shape = np.shape(ts)
+    t = np.atleast_1d(np.asarray(ts, dtype=float))
+    out = np.empty((degree + 1,) + t.shape)
     if degree == 1:
-        return np.stack([u, t], axis=-1)
-    if degree == 2:
-        return np.stack([u * u, 2.0 * u * t, t * t], axis=-1)
-    if degree == 3:
-        uu, tt = u * u, t * t
-        return np.stack([uu * u, 3.0 * uu * t, 3.0 * u * tt, tt * t], axis=-1)
-    return np.stack([comb(degree, i) * u ** (degree - i) * t**i for i in range(degree + 1)], axis=-1)
+        np.subtract(1.0, t, out=out[0])
+        out[1] = t
+    elif degree == 2:
+        u = np.subtract(1.0, t, out=out[0])
+        np.multiply(u, 2.0, out=out[1])
+        out[1] *= t
+        np.multiply(u, u, out=out[0])
+        np.multiply(t, t, out=out[2])
+    elif degree == 3:
+        u = np.subtract(1.0, t, out=out[0])
+        tt = np.multiply(t, t, out=out[3])
+        np.multiply(u, 3.0, out=out[2])
+        out[2] *= tt
+        uu = np.multiply(u, u, out=out[1])
+        np.multiply(uu, u, out=out[0])
+        uu *= 3.0
+        uu *= t
+        tt *= t
+    else:
+        u = 1.0 - t
+        for i in range(degree + 1):
+            out[i] = comb(degree, i) * u ** (degree - i) * t**i
+    return np.moveaxis(out, 0, -1).reshape(shape + (degree + 1,))
 
 
 def bern_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -85,25 +117,84 @@ def make_table(rot, rot_den, trans, trans_den) -> np.ndarray:
 
 
 def evaluate_table(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
-    """Robotics matrices ``(N, 4, 4)`` from a basis ``(N, k)`` and a table ``(k, 14)``."""
-    values = basis @ table
-    n = values.shape[0]
+    """Robotics matrices ``(N, 4, 4)`` from a basis ``(N, k)`` and a table ``(k, 14)``.
+
+    Entry ``j`` of a sample is ``Σ_i (b_i / d) c_ij``, with ``d`` the denominator of that
+    entry: the basis is divided by the denominator first, so that one product
+    ``[b / d_rot, b / d_trans, 1] @ E`` with an extended ``(2k + 1, 16)`` table per block of
+    samples writes finished rows of 16 straight into the output, the bottom row
+    ``(0, 0, 0, 1)`` included (the constant basis function 1 times the coefficient 1). Darboux
+    and screw motions share one denominator and need only ``(k + 1, 16)``.
+
+    Each entry ``x_j`` is within about ``k + 2`` units in the last place of the exact value of
+    the table, relative to the size ``(Σ_i |b_i c_ij| + |x_j| Σ_i |b_i d_i|) / |d|`` of its
+    terms (``Σ_i |b_i c_ij| / |d| + |x_j|`` for ``t ∈ [0, 1]``, where no terms of ``d`` cancel).
+    """
+    basis = np.asarray(basis, dtype=float)
+    table = np.asarray(table, dtype=float)
+    n, k = basis.shape
     out = np.empty((n, 4, 4))
-    scale = np.empty((n, 12))
-    inv_rot = 1.0 / values[:, 12]
-    inv_trans = 1.0 / values[:, 13]
-    scale[:, ROT_COLS] = inv_rot[:, None]
-    scale[:, TRANS_COLS] = inv_trans[:, None]
-    out[:, :3, :] = (values[:, :12] * scale).reshape(n, 3, 4)
-    out[:, 3, :3] = 0.0
-    out[:, 3, 3] = 1.0
+    shared = bool(np.array_equal(table[:, 12], table[:, 13]))
+    dens = 1 if shared else 2
+    extended = np.zeros((dens * k + 1, 16))
+    if shared:
+        extended[:k, :12] = table[:, :12]
+    else:
+        extended[:k, ROT_COLS] = table[:, ROT_COLS]
+        extended[k : 2 * k, TRANS_COLS] = table[:, TRANS_COLS]
+    extended[-1, 15] = 1.0
+    if not _scaled_products(basis, table[:, 12 : 12 + dens], extended, out.reshape(n, 16), True):
+        # 0 · ∞ spread NaN into the bottom row of samples with a vanishing denominator
+        out[:, 3, :3] = 0.0
+        out[:, 3, 3] = 1.0
     return out
 
 
 def evaluate_translations(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
-    """Translations ``(N, 3)`` from a basis ``(N, k)`` and a table ``(k, 14)``."""
-    values = basis @ table[:, list(TRANS_COLS) + [13]]
-    return values[:, :3] / values[:, 3:]
+    """Translations ``(N, 3)`` from a basis ``(N, k)`` and a table ``(k, 14)``.
+
+    As in :func:`evaluate_table`: ``Σ_i (b_i / d) c_ij`` per block of samples, written straight
+    into the output.
+    """
+    basis = np.asarray(basis, dtype=float)
+    table = np.asarray(table, dtype=float)
+    out = np.empty((basis.shape[0], 3))
+    _scaled_products(basis, table[:, 13:14], table[:, TRANS_COLS], out, False)
+    return out
+
+
+def _scaled_products(basis, denominators, coefficients, out, constant) -> bool:
+    """``out = [b / d_1, …, b / d_m, (1)] @ coefficients``, block by block of samples.
+
+    ``basis`` is ``(N, k)``, ``denominators`` ``(k, m)`` and ``coefficients`` ``(m k, w)``, or
+    ``(m k + 1, w)`` with ``constant`` (a last basis function 1). Each block of samples is
+    divided and multiplied while it is in cache, and each BLAS product is small enough to run
+    on one thread. Returns whether every ``1 / d`` was finite.
+    """
+    n, k = basis.shape
+    m = denominators.shape[1]
+    rows = min(SAMPLE_BLOCK, max(256, BLAS_ONE_THREAD // coefficients.size))
+    columns = basis.T
+    den_rows = np.ascontiguousarray(denominators.T)
+    coefficients = np.ascontiguousarray(coefficients)
+    width = min(n, rows)
+    inverse = np.empty((m, width))
+    scaled = np.empty((m * k + constant, width))
+    if constant:
+        scaled[-1] = 1.0
+    total = 0.0
+    for start in range(0, n, rows):
+        stop = min(start + rows, n)
+        size = stop - start
+        block = columns[:, start:stop]
+        inv = inverse[:, :size]
+        np.matmul(den_rows, block, out=inv)
+        np.divide(1.0, inv, out=inv)
+        total += float(np.add.reduce(inv, axis=None))
+        for j in range(m):
+            np.multiply(block, inv[j], out=scaled[j * k : (j + 1) * k, :size])
+        np.matmul(scaled[:, :size].T, coefficients, out=out[start:stop])
+    return bool(np.isfinite(total))
 
 
 def linear_root(v0: float, v1: float) -> float | None:

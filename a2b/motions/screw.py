@@ -50,16 +50,29 @@ class ScrewMotion(Motion):
         self.table = make_table(rot, [1.0, 0.0, 0.0, 0.0], trans, [1.0, 0.0, 0.0, 0.0])
 
     def _basis(self, ts):
-        angle = ts * self.frame.phi
-        half = np.sin(0.5 * angle)
-        return np.stack([np.ones_like(ts), ts, np.sin(angle), 2.0 * half * half], axis=-1)
+        # rows (1, t, sin tφ, 2 sin²(tφ/2)) of one array, returned transposed, as bernstein_basis
+        t = np.asarray(ts, dtype=float)
+        out = np.empty((4,) + t.shape)
+        out[0] = 1.0
+        out[1] = t
+        angle = np.multiply(t, self.frame.phi, out=out[2])
+        vers = np.multiply(angle, 0.5, out=out[3])
+        np.sin(vers, out=vers)
+        np.multiply(vers, vers, out=vers)
+        vers *= 2.0
+        np.sin(angle, out=angle)
+        return np.moveaxis(out, 0, -1)
 
     def _quats(self, ts):
-        half = 0.5 * ts * self.frame.phi
-        rel = np.empty(ts.shape + (4,))
-        rel[..., 0] = np.cos(half)
-        rel[..., 1:] = np.sin(half)[..., None] * self.frame.axis_direction
-        return quat_mul(rel, self.frame.p_start)
+        # exp(tφ/2 u) pA = cos(tφ/2) pA + sin(tφ/2) (u pA): one (N, 2) @ (2, 4) product
+        t = np.asarray(ts, dtype=float)
+        half = np.empty((2,) + t.shape)
+        np.multiply(t, 0.5 * self.frame.phi, out=half[1])
+        np.cos(half[1], out=half[0])
+        np.sin(half[1], out=half[1])
+        p_a = self.frame.p_start
+        u_p_a = quat_mul(np.concatenate([[0.0], self.frame.axis_direction]), p_a)
+        return np.moveaxis(half, 0, -1) @ np.stack([p_a, u_p_a])
 
     def _describe(self):
         phi, d = self.frame.phi, self.frame.d

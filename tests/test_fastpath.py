@@ -1,0 +1,238 @@
+"""The sampling fast path against a straightforward, exact evaluation of the same tables.
+
+``evaluate_table`` and ``evaluate_translations`` divide the basis by the denominators first and
+write block after block straight into the output. Here every entry is recomputed as
+``Σ_i b_i c_ij / Σ_i b_i d_i`` in exact rational arithmetic (``fractions.Fraction``) and then
+rounded once, and the fast path must agree to 1e-15 relative to the size of the terms it sums
+(see ``exact_entries``).
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from math import comb
+
+import numpy as np
+import pytest
+
+import a2b
+from a2b.errors import A2bError
+from a2b.motions import _rational
+from a2b.motions._rational import (
+    ROT_COLS,
+    TRANS_COLS,
+    bernstein_basis,
+    evaluate_table,
+    evaluate_translations,
+)
+from a2b.study import quat_mul
+
+from .conftest import random_pose
+
+RTOL = 1e-15
+MODES = ("darboux", "cubic", "cubic-given", "screw")
+
+
+def random_motion(rng, mode):
+    """A motion of ``mode`` between random poses with random parameters (retried until valid)."""
+    for _ in range(100):
+        start, end = random_pose(rng, 2.0), random_pose(rng, 2.0)
+        if mode == "darboux":
+            params = {"delta": rng.normal(), "long_way": bool(rng.random() < 0.3)}
+        elif mode == "cubic":
+            params = {"a": 0.5 * rng.normal(), "b": 0.5 * rng.normal()}
+        elif mode == "cubic-given":
+            params = {
+                "frame": "given",
+                "m": rng.normal(size=4),
+                "a": 0.5 * rng.normal(),
+                "b": 0.5 * rng.normal(),
+            }
+        else:
+            params = {}
+        try:
+            return a2b.motion(start, end, mode.split("-")[0], **params)
+        except A2bError:
+            continue
+    raise AssertionError(f"no valid random {mode} motion in 100 tries")
+
+
+def random_ts(rng, count, lo=0.0, hi=1.0):
+    return np.concatenate([[0.0, 1.0], rng.uniform(lo, hi, count - 2)])
+
+
+def exact_entries(basis, table, columns, den_column):
+    """``x_j = Σ b_i c_ij / Σ b_i d_i`` for each sample and column, computed exactly, rounded once.
+
+    Also returns the size ``(Σ |b_i c_ij| + |x_j| Σ |b_i d_i|) / |Σ b_i d_i|`` of the terms that
+    make up ``x_j``, for the tolerance: rounding errors scale with it, not with ``|x_j|``. For
+    ``t ∈ [0, 1]`` the denominators' terms do not cancel and it is ``Σ |b_i c_ij| / |d| + |x_j|``.
+    """
+    n, k = basis.shape
+    values = np.empty((n, len(columns)))
+    sizes = np.empty((n, len(columns)))
+    for s in range(n):
+        b = [Fraction(float(x)) for x in basis[s]]
+        den_terms = [b[i] * Fraction(float(table[i, den_column])) for i in range(k)]
+        den = sum(den_terms)
+        den_size = sum(abs(x) for x in den_terms)
+        for col, j in enumerate(columns):
+            terms = [b[i] * Fraction(float(table[i, j])) for i in range(k)]
+            value = sum(terms) / den
+            values[s, col] = float(value)
+            sizes[s, col] = float((sum(abs(x) for x in terms) + abs(value) * den_size) / abs(den))
+    return values, sizes
+
+
+def assert_matches_exact(fast, basis, table, rows=None):
+    """The fast ``(N, 4, 4)`` matrices against the exact entries (for the given sample rows)."""
+    rows = np.arange(len(basis)) if rows is None else rows
+    rot, rot_size = exact_entries(basis[rows], table, ROT_COLS, 12)
+    trans, trans_size = exact_entries(basis[rows], table, TRANS_COLS, 13)
+    flat = fast[rows].reshape(len(rows), 16)
+    assert np.all(np.abs(flat[:, ROT_COLS] - rot) <= RTOL * rot_size)
+    assert np.all(np.abs(flat[:, TRANS_COLS] - trans) <= RTOL * trans_size)
+    assert np.array_equal(fast[rows, 3], np.broadcast_to([0.0, 0.0, 0.0, 1.0], (len(rows), 4)))
+    assert not np.signbit(fast[rows, 3]).any()  # +0, never −0, in the bottom row
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_matrices_match_exact_evaluation_of_the_table(rng, mode):
+    for _ in range(6):
+        motion = random_motion(rng, mode)
+        ts = random_ts(rng, 40)
+        assert_matches_exact(motion.matrices(ts), motion._basis(ts), motion.table)
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_translations_match_exact_evaluation_of_the_table(rng, mode):
+    for _ in range(6):
+        motion = random_motion(rng, mode)
+        ts = random_ts(rng, 40)
+        basis = motion._basis(ts)
+        trans, size = exact_entries(basis, motion.table, TRANS_COLS, 13)
+        fast = evaluate_translations(basis, motion.table)
+        assert np.all(np.abs(fast - trans) <= RTOL * size)
+        _, fast_trans = motion.quat_trans(ts)
+        np.testing.assert_array_equal(fast_trans, fast)
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_extrapolated_samples_match_exact_evaluation(rng, mode):
+    motion = random_motion(rng, mode)
+    ts = random_ts(rng, 30, -0.5, 1.5)
+    basis = motion._basis(ts)
+    assert_matches_exact(evaluate_table(basis, motion.table), basis, motion.table)
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_many_blocks_and_a_partial_last_block(rng, mode):
+    """Indexing across blocks: rows at every block boundary, checked exactly."""
+    motion = random_motion(rng, mode)
+    n = 3 * _rational.SAMPLE_BLOCK + 123
+    ts = np.sort(rng.uniform(0.0, 1.0, n))
+    fast = motion.matrices(ts)
+    edges = np.arange(0, n, 256)
+    rows = np.unique(np.concatenate([edges, edges - 1, edges + 1, [n - 1], rng.integers(0, n, 50)]))
+    rows = rows[(rows >= 0) & (rows < n)]
+    assert_matches_exact(fast, motion._basis(ts), motion.table, rows)
+
+
+def test_end_poses_are_the_first_and_last_coefficients(rng):
+    for mode in MODES:
+        motion = random_motion(rng, mode)
+        ends = motion.matrices([0.0, 1.0])
+        np.testing.assert_allclose(
+            ends[0], motion.start, rtol=0, atol=4e-15 * np.abs(motion.start).max()
+        )
+        np.testing.assert_allclose(
+            ends[1], motion.end, rtol=0, atol=4e-15 * np.abs(motion.end).max()
+        )
+
+
+def test_zero_and_one_sample(rng):
+    motion = random_motion(rng, "cubic")
+    assert motion.matrices([]).shape == (0, 4, 4)
+    assert motion.quat_trans([])[1].shape == (0, 3)
+    # not bit for bit: BLAS kernels may round a lone row differently from a full tile
+    np.testing.assert_allclose(
+        motion.matrices([0.3])[0], motion.matrices([0.1, 0.3])[1], rtol=0, atol=1e-14
+    )
+
+
+def test_result_does_not_depend_on_the_memory_layout_of_the_basis(rng):
+    for mode in MODES:
+        motion = random_motion(rng, mode)
+        basis = motion._basis(random_ts(rng, 500))
+        c_order = np.ascontiguousarray(basis)
+        assert basis.flags.f_contiguous and c_order.flags.c_contiguous
+        np.testing.assert_allclose(
+            evaluate_table(c_order, motion.table),
+            evaluate_table(basis, motion.table),
+            rtol=0,
+            atol=1e-14,
+        )
+
+
+def test_a_vanishing_denominator_keeps_the_bottom_row_and_the_other_samples():
+    table = np.zeros((3, 14))
+    table[:, ROT_COLS] = np.arange(27.0).reshape(3, 9)
+    table[:, TRANS_COLS] = [[1.0, 2.0, 3.0], [0.5, 0.5, 0.5], [-1.0, 0.0, 1.0]]
+    table[:, 12] = table[:, 13] = [1.0, 0.0, -1.0]  # (1 − t)² − t² = 1 − 2t vanishes at t = ½
+    ts = np.array([0.0, 0.25, 0.5, 0.75, 1.0])
+    basis = bernstein_basis(ts, 2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = evaluate_table(basis, table)
+    np.testing.assert_array_equal(out[:, 3], np.broadcast_to([0.0, 0.0, 0.0, 1.0], (5, 4)))
+    assert not np.isfinite(out[2, :3]).any()
+    finite = [0, 1, 3, 4]
+    assert_matches_exact(out, basis, table, np.array(finite))
+
+
+# --------------------------------------------------------------------------------------------
+# the bases
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("degree", [1, 2, 3, 4, 6])
+def test_bernstein_basis_is_the_textbook_formula(rng, degree):
+    ts = np.concatenate([[0.0, 1.0, 0.5], rng.uniform(-1.0, 2.0, 200)])
+    u = 1.0 - ts
+    textbook = np.stack(
+        [comb(degree, i) * u ** (degree - i) * ts**i for i in range(degree + 1)], axis=-1
+    )
+    np.testing.assert_allclose(bernstein_basis(ts, degree), textbook, rtol=RTOL, atol=0)
+    # the same products in the same order as a direct np.stack, bit for bit
+    if degree == 2:
+        direct = np.stack([u * u, 2.0 * u * ts, ts * ts], axis=-1)
+        np.testing.assert_array_equal(bernstein_basis(ts, 2), direct)
+    if degree == 3:
+        uu, tt = u * u, ts * ts
+        direct = np.stack([uu * u, 3.0 * uu * ts, 3.0 * u * tt, tt * ts], axis=-1)
+        np.testing.assert_array_equal(bernstein_basis(ts, 3), direct)
+
+
+def test_bernstein_basis_for_0_1_and_3_leading_dimensions(rng):
+    ts = rng.uniform(0.0, 1.0, size=(2, 3, 4))
+    flat = bernstein_basis(ts.ravel(), 3)
+    assert bernstein_basis(ts, 3).shape == (2, 3, 4, 4)
+    np.testing.assert_array_equal(bernstein_basis(ts, 3).reshape(-1, 4), flat)
+    np.testing.assert_array_equal(bernstein_basis(ts[0, 0, 0], 3), flat[0])
+    np.testing.assert_array_equal(bernstein_basis(ts[0, 0, :1], 3), flat[:1])
+
+
+def test_screw_basis_and_quaternions_are_the_textbook_formulas(rng):
+    for _ in range(5):
+        motion = random_motion(rng, "screw")
+        ts = random_ts(rng, 300, -1.0, 2.0)
+        angle = ts * motion.frame.phi
+        half = np.sin(0.5 * angle)
+        textbook = np.stack([np.ones_like(ts), ts, np.sin(angle), 2.0 * half * half], axis=-1)
+        np.testing.assert_array_equal(motion._basis(ts), textbook)
+        half_angle = 0.5 * ts * motion.frame.phi
+        rel = np.empty(ts.shape + (4,))
+        rel[:, 0] = np.cos(half_angle)
+        rel[:, 1:] = np.sin(half_angle)[:, None] * motion.frame.axis_direction
+        np.testing.assert_allclose(
+            motion._quats(ts), quat_mul(rel, motion.frame.p_start), rtol=0, atol=1e-15
+        )
