@@ -156,7 +156,7 @@ def check_study(h: np.ndarray, *, tol: float = STUDY_TOL, on_quadric: bool = Tru
         if worst > tol:
             raise PoseError(
                 f"Study parameters violate the Study condition p·q = 0: residual {worst:.3g} "
-                f"exceeds tolerance {tol:g} (pass kappa=True / --kappa to read them through κ)"
+                f"exceeds tolerance {tol:g}"
             )
     return h
 

@@ -476,8 +476,8 @@ def _pose(doc: _Document, path: Path, v) -> np.ndarray:
                 return matrices_from_study(np.array(h), through_kappa=through)
             except A2bError as e:
                 message = str(e)
-                if "Study condition" in message:  # point to the file's way of saying it
-                    message = message.split(" (pass")[0] + " (add kappa: true to read it through κ)"
+                if "Study condition" in message:  # say how the file reads it through κ instead
+                    message += " (add kappa: true to read it through κ)"
                 raise doc.error(path + ("study",), message) from e
         q = pose[form]
         if form == "quaternion" and isinstance(q, dict):
