@@ -15,7 +15,7 @@ from .errors import A2bError
 
 __version__ = "0.1.0"
 
-__all__ = ["A2bError", "__version__", "interpolate", "describe", "motion", "bezier", "spline"]
+__all__ = ["A2bError", "__version__", "interpolate", "describe", "motion", "bezier", "spline", "fiber"]
 
 
 def __getattr__(name):  # lazy: keep `import a2b` (and so `a2b --version`) light
@@ -23,6 +23,10 @@ def __getattr__(name):  # lazy: keep `import a2b` (and so `a2b --version`) light
         from . import api
 
         return getattr(api, name)
+    if name == "fiber":
+        from .fibers import fiber
+
+        return fiber
     if name in ("bezier", "spline"):
         from .motions import bezier
 

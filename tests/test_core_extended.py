@@ -139,3 +139,21 @@ def test_points_at_infinity_and_in_the_base_locus_are_errors(rng):
     kernel_point = np.concatenate([paper_kernel_basis(m)[0], [1, 2, 3]])
     with pytest.raises(PoseError, match="base locus"):
         matrices_from_model_points(kernel_point, m)
+
+
+def test_fiber_api_for_both_maps_and_the_degenerate_basis(rng):
+    import a2b
+
+    pose = random_pose(rng, 3)
+    kappa_fiber = a2b.fiber(pose, "kappa", s=[-2.0, 0.0, 5.0])
+    assert len(kappa_fiber["points"]) == 3 and all(len(p) == 8 for p in kappa_fiber["points"])
+    assert max(kappa_fiber["residuals"]) < 1e-12
+    mu_fiber = a2b.fiber(pose, "mu", m=[1, 0, 0, 0.5], alphas=rng.normal(size=(4, 6)))
+    assert all(len(p) == 13 for p in mu_fiber["points"])
+    assert max(mu_fiber["residuals"]) < 1e-12
+    assert mu_fiber["paper_basis_degenerate"] and mu_fiber["basis_name"] == "rref"
+    assert any("degenerates" in c for c in mu_fiber["choices"])
+    with pytest.raises(ParameterError, match="degenerates"):
+        a2b.fiber(pose, "mu", m=[1, 0, 0, 0.5], basis="paper")
+    with pytest.raises(ParameterError, match="needs m"):
+        a2b.fiber(pose, "mu")

@@ -7,68 +7,6 @@ import click
 from . import CONTEXT_SETTINGS, options
 
 
-def fiber(pose, kind: str, s=(), m=None, alphas=(), basis: str = "auto") -> dict:
-    """The fiber of ``pose`` under κ or μ_[m], as plain data (what ``--json`` prints).
-
-    Parameters
-    ----------
-    pose : ndarray, shape (4, 4)
-        Robotics layout.
-    kind : {"kappa", "mu"}
-    s : sequence of float
-        κ: the points ``h + s ε p`` (erratum 1 of MATH.md).
-    m : sequence of 4 floats
-        μ: the vector m of μ_[m].
-    alphas : sequence of 6-tuples
-        μ: the points ``(1, R) + Σ α_l f_l`` with translation block ``ψ t`` (eq. 15).
-    basis : {"auto", "paper", "rref"}
-        μ: the kernel basis of ``M_m``; ``auto`` is the paper's unless it degenerates.
-
-    Returns
-    -------
-    dict
-        ``map, pose, basis_name, basis, points, residuals`` and, for μ, ``m, alphas,
-        paper_basis_degenerate``. ``residuals[i]`` is ``max |map(point_i) − pose|``.
-    """
-    import numpy as np
-
-    from ..extended import (
-        kernel_basis,
-        matrices_from_model_points,
-        mu_fiber_points,
-        paper_basis_degenerate,
-    )
-    from ..poses import matrices_from_study, study_from_matrices
-    from ..study import kappa_fiber_direction, kappa_fiber_points
-
-    pose = np.asarray(pose, dtype=float)
-    out = {"map": kind, "pose": pose.tolist()}
-    if kind == "kappa":
-        h = study_from_matrices(pose)
-        points = kappa_fiber_points(h, np.asarray(s, dtype=float))
-        back = matrices_from_study(points, through_kappa=True)
-        out.update(
-            basis_name="h, εp: the fiber is the line h ∨ εp without εp",
-            basis=[h.tolist(), kappa_fiber_direction(h).tolist()],
-            s=[float(v) for v in s],
-        )
-    else:
-        m = np.asarray(m, dtype=float)
-        base, name = kernel_basis(m, basis)
-        points = mu_fiber_points(pose, m, np.asarray(alphas, dtype=float).reshape(-1, 6), basis=name)
-        back = matrices_from_model_points(points, m)
-        out.update(
-            m=m.tolist(),
-            paper_basis_degenerate=bool(paper_basis_degenerate(m)),
-            basis_name=name,
-            basis=base.tolist(),
-            alphas=[list(a) for a in alphas],
-        )
-    out["points"] = points.tolist()
-    out["residuals"] = np.max(np.abs(back - pose), axis=(-2, -1)).tolist()
-    return out
-
-
 def _fmt(values) -> str:
     return ", ".join(f"{v:.6g}" for v in values)
 
@@ -166,6 +104,8 @@ def command(pose, kind, s, m, alphas, basis, as_json):
         s = (-1.0, 0.0, 1.0)
     if not alphas:
         alphas = [tuple(0.0 for _ in range(6))] + [tuple(float(i == j) for i in range(6)) for j in range(6)]
+    from ..fibers import fiber
+
     result = fiber(read_pose(pose), kind, s=s, m=m, alphas=alphas, basis=basis)
     if as_json:
         click.echo(json.dumps(result, indent=2))
