@@ -219,7 +219,7 @@ class DarbouxMotion(Motion):
         h_b = -frame.h_end if self.long_way else frame.h_end
         if self.long_way:
             self.choices.append("long way round: flipped the sign of hB")
-        s_a, s_b = -self.delta / 2, self.delta / 2
+        s_a, s_b = 0.0 - self.delta / 2, self.delta / 2  # 0.0 − x avoids printing −0
         p_a, q_a = h_a[:4], h_a[4:] + s_a * h_a[:4]
         p_b, q_b = h_b[:4], h_b[4:] + s_b * h_b[:4]
         self.fiber_offsets = (s_a, s_b)
