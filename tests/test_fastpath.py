@@ -22,6 +22,7 @@ from a2b.motions._rational import (
     ROT_COLS,
     TRANS_COLS,
     bernstein_basis,
+    blocked_product,
     evaluate_table,
     evaluate_translations,
 )
@@ -187,6 +188,18 @@ def test_a_vanishing_denominator_keeps_the_bottom_row_and_the_other_samples():
     assert not np.isfinite(out[2, :3]).any()
     finite = [0, 1, 3, 4]
     assert_matches_exact(out, basis, table, np.array(finite))
+
+
+def test_blocked_product_is_the_matrix_product(rng):
+    for k, w in ((2, 4), (4, 3), (9, 16)):
+        basis = rng.normal(size=(70_001, k))
+        coefficients = rng.normal(size=(k, w))
+        size = np.abs(basis) @ np.abs(coefficients)
+        exact = basis.astype(np.longdouble) @ coefficients.astype(np.longdouble)
+        product = blocked_product(basis, coefficients)
+        assert product.flags.c_contiguous
+        assert np.all(np.abs(product - exact) <= 1e-15 * size)
+    assert blocked_product(np.empty((0, 2)), np.ones((2, 4))).shape == (0, 4)
 
 
 # --------------------------------------------------------------------------------------------

@@ -65,7 +65,7 @@ def bernstein_basis(ts: np.ndarray, degree: int) -> np.ndarray:
         u = 1.0 - t
         for i in range(degree + 1):
             out[i] = comb(degree, i) * u ** (degree - i) * t**i
-    return np.moveaxis(out, 0, -1).reshape(shape + (degree + 1,))
+    return out.T if len(shape) == 1 else np.moveaxis(out, 0, -1).reshape(shape + (degree + 1,))
 
 
 def bern_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -160,6 +160,23 @@ def evaluate_translations(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
     table = np.asarray(table, dtype=float)
     out = np.empty((basis.shape[0], 3))
     _scaled_products(basis, table[:, 13:14], table[:, TRANS_COLS], out, False)
+    return out
+
+
+def blocked_product(basis: np.ndarray, coefficients: np.ndarray) -> np.ndarray:
+    """``basis @ coefficients`` for a basis ``(N, k)`` and coefficients ``(k, w)``, block by block.
+
+    The same product as ``@``, in blocks small enough for one BLAS thread each (see
+    :data:`BLAS_ONE_THREAD`): a single large product with a second thread can take a hundred
+    times longer while another process keeps the second core busy, as in a shell pipeline.
+    """
+    basis = np.asarray(basis, dtype=float)
+    coefficients = np.asarray(coefficients, dtype=float)
+    n = basis.shape[0]
+    out = np.empty((n, coefficients.shape[1]))
+    rows = max(256, BLAS_ONE_THREAD // max(coefficients.size, 1))
+    for start in range(0, n, rows):
+        np.matmul(basis[start : start + rows], coefficients, out=out[start : start + rows])
     return out
 
 

@@ -20,7 +20,7 @@ import numpy as np
 from ..frames import ScrewFrame
 from ..poses import rotations_from_quaternions
 from ..study import quat_mul
-from ._rational import make_table
+from ._rational import blocked_product, make_table
 from .base import Motion
 
 
@@ -61,7 +61,7 @@ class ScrewMotion(Motion):
         np.multiply(vers, vers, out=vers)
         vers *= 2.0
         np.sin(angle, out=angle)
-        return np.moveaxis(out, 0, -1)
+        return out.T if t.ndim == 1 else np.moveaxis(out, 0, -1)
 
     def _quats(self, ts):
         # exp(tφ/2 u) pA = cos(tφ/2) pA + sin(tφ/2) (u pA): one (N, 2) @ (2, 4) product
@@ -72,7 +72,10 @@ class ScrewMotion(Motion):
         np.sin(half[1], out=half[1])
         p_a = self.frame.p_start
         u_p_a = quat_mul(np.concatenate([[0.0], self.frame.axis_direction]), p_a)
-        return np.moveaxis(half, 0, -1) @ np.stack([p_a, u_p_a])
+        half = half.T if t.ndim == 1 else np.moveaxis(half, 0, -1)
+        if half.ndim != 2:
+            return half @ np.stack([p_a, u_p_a])
+        return blocked_product(half, np.stack([p_a, u_p_a]))
 
     def _describe(self):
         phi, d = self.frame.phi, self.frame.d

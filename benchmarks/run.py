@@ -1,0 +1,750 @@
+#!/usr/bin/env python
+"""Every speed target of issue 4 in one run: figures, ratios and whether each target is met.
+
+Usage::
+
+    pip install -e ".[bench]"
+    env -u OPENBLAS_CORETYPE -u OPENBLAS_L2_SIZE python benchmarks/run.py
+    python benchmarks/run.py --quick                  # N = 10^5 and fewer repeats: a smoke run
+    python benchmarks/run.py --only library,startup   # some sections only
+    python benchmarks/run.py --markdown results.md    # also write the tables as Markdown
+
+Sections (each target is a ratio of two figures measured side by side in this one run, with
+repeats interleaved, so that a busy machine slows both sides alike; figures are medians):
+
+``library``
+    ``a2b.interpolate`` to ``(N, 4, 4)`` for darboux, cubic (canonical and given frame) and
+    screw, against pytransform3d's ScLERP path, its slerp + lerp path, scipy's ``Slerp`` + lerp,
+    rational-linkages (one sample at a time) and the plain-NumPy coefficient reference (the
+    Study-vector line as one ``[1, t, t²] @ C`` product and a division).
+``csv``
+    ``a2b interpolate --samples N -o out.csv`` as a whole process, against a separate process
+    running ``numpy.savetxt(fmt="%.17g")`` on the same eight columns; the CSV is read back and
+    compared bit for bit with the library's values.
+``mcap``
+    ``a2b interpolate --samples N --format mcap`` as a whole process (both channels).
+``startup``
+    ``a2b --version`` and ``a2b --help`` against ``python -c "import numpy"``.
+``batch``
+    ``a2b batch`` of 10,000 jobs × 101 samples into CSV: peak resident memory (``wait4``) and
+    rows per second against the ``csv`` section's single-motion rate.
+
+The peers are optional (``pip install ".[bench]"``); a missing one is reported as "not
+installed". The OPENBLAS_* variables of some machines select an older BLAS kernel; unsetting
+them for this one command is fine, and the header reports the kernel that runs. Benchmarks are
+not tests: nothing here fails on a slow machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import gc
+import json
+import os
+import platform
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+import a2b
+from a2b.poses import matrices_from_quat_trans, study_from_matrices
+
+SECTIONS = ("library", "csv", "mcap", "startup", "batch")
+A2B_MODES = [
+    ("darboux", "darboux", {}),
+    ("cubic (canonical)", "cubic", {}),
+    ("cubic (given)", "cubic", {"frame": "given"}),
+    ("screw", "screw", {}),
+]
+
+
+# ------------------------------------------------------------------------------------------
+# reporting
+# ------------------------------------------------------------------------------------------
+
+
+@dataclass
+class Row:
+    """One line of the results table."""
+
+    section: str
+    what: str
+    figure: str
+    ratio: str = ""
+    target: str = ""
+    met: bool | None = None
+
+    def cells(self) -> list[str]:
+        met = {True: "yes", False: "NO", None: ""}[self.met]
+        return [self.section, self.what, self.figure, self.ratio, self.target, met]
+
+
+HEADERS = ["section", "measurement", "figure", "ratio", "target", "met"]
+
+
+def text_table(rows: list[Row]) -> str:
+    cells = [HEADERS] + [r.cells() for r in rows]
+    widths = [max(len(c[i]) for c in cells) for i in range(len(HEADERS))]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(cells[0], widths))]
+    lines.append("  ".join("-" * w for w in widths))
+    lines += ["  ".join(c.ljust(w) for c, w in zip(line, widths)) for line in cells[1:]]
+    return "\n".join(lines)
+
+
+def markdown_table(rows: list[Row]) -> str:
+    lines = ["| " + " | ".join(HEADERS) + " |", "|" + " --- |" * len(HEADERS)]
+    lines += ["| " + " | ".join(c.replace("|", "\\|") for c in r.cells()) + " |" for r in rows]
+    return "\n".join(lines)
+
+
+def rate(count: float, seconds: float) -> str:
+    per_second = count / seconds
+    if per_second >= 1e6:
+        return f"{per_second / 1e6:.2f} M/s"
+    if per_second >= 1e3:
+        return f"{per_second / 1e3:.1f} k/s"
+    return f"{per_second:.0f} /s"
+
+
+def log(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
+
+
+# ------------------------------------------------------------------------------------------
+# the machine
+# ------------------------------------------------------------------------------------------
+
+
+def machine() -> dict[str, str]:
+    """CPU, cores, memory, Python, numpy and its BLAS (threadpoolctl), date, BLAS variables."""
+    cpu = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    memory = ""
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemTotal"):
+                memory = f"{int(line.split()[1]) / 2**20:.1f} GiB"
+    except OSError:
+        pass
+    try:
+        from threadpoolctl import threadpool_info
+
+        blas = "; ".join(
+            f"{i.get('internal_api')} {i.get('version')} kernel {i.get('architecture')}, "
+            f"{i.get('num_threads')} threads"
+            for i in threadpool_info()
+            if i.get("user_api") == "blas"
+        )
+    except ImportError:
+        blas = "threadpoolctl not installed"
+    variables = ", ".join(
+        f"{name}={os.environ[name]}"
+        for name in ("OPENBLAS_CORETYPE", "OPENBLAS_L2_SIZE")
+        if name in os.environ
+    )
+    return {
+        "CPU": cpu,
+        "cores": str(os.cpu_count()),
+        "memory": memory,
+        "Python": platform.python_version(),
+        "numpy": np.__version__,
+        "BLAS": blas or "unknown",
+        "OPENBLAS_* variables": variables or "unset",
+        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "load average (1 min) at start": f"{os.getloadavg()[0]:.2f}",
+    }
+
+
+# ------------------------------------------------------------------------------------------
+# timing
+# ------------------------------------------------------------------------------------------
+
+
+def interleaved(cases: dict[str, Callable[[], object]], repeats: int) -> dict[str, float]:
+    """Median seconds of each case; repeats interleaved, the order rotated every round."""
+    times: dict[str, list[float]] = {name: [] for name in cases}
+    names = list(cases)
+    for round_ in range(repeats):
+        order = names[round_ % len(names) :] + names[: round_ % len(names)]
+        for name in order:
+            gc.collect()
+            start = time.perf_counter()
+            result = cases[name]()
+            times[name].append(time.perf_counter() - start)
+            del result
+    return {name: statistics.median(values) for name, values in times.items()}
+
+
+def run_process(argv: list[str], env: dict | None = None) -> tuple[float, int]:
+    """Wall-clock seconds and peak resident bytes (``wait4``) of one whole process."""
+    with tempfile.TemporaryFile() as err:
+        start = time.perf_counter()
+        proc = subprocess.Popen(
+            argv, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err, env=env
+        )
+        _, status, usage = os.wait4(proc.pid, 0)
+        seconds = time.perf_counter() - start
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        if proc.returncode != 0:
+            err.seek(0)
+            raise RuntimeError(
+                f"{' '.join(argv)} exited {proc.returncode}: {err.read().decode()[-2000:]}"
+            )
+    return seconds, usage.ru_maxrss * 1024
+
+
+def interleaved_processes(
+    commands: dict[str, list[str]], repeats: int
+) -> dict[str, tuple[float, int]]:
+    """Median wall-clock seconds and largest peak RSS of each command, repeats interleaved."""
+    times: dict[str, list[float]] = {name: [] for name in commands}
+    peaks: dict[str, int] = {name: 0 for name in commands}
+    names = list(commands)
+    for round_ in range(repeats):
+        for name in names[round_ % len(names) :] + names[: round_ % len(names)]:
+            seconds, peak = run_process(commands[name])
+            times[name].append(seconds)
+            peaks[name] = max(peaks[name], peak)
+    return {name: (statistics.median(times[name]), peaks[name]) for name in names}
+
+
+def a2b_command() -> list[str] | None:
+    """The installed ``a2b`` console script, as users run it."""
+    exe = shutil.which("a2b")
+    return [exe] if exe else None
+
+
+# ------------------------------------------------------------------------------------------
+# the poses
+# ------------------------------------------------------------------------------------------
+
+
+def test_poses() -> tuple[np.ndarray, np.ndarray]:
+    """Two fixed generic poses: a 2.2 rad turn about a skew axis with a slide."""
+    start = matrices_from_quat_trans([0.9, -0.2, 0.3, 0.25], [0.4, -1.1, 0.7])
+    end = matrices_from_quat_trans([-0.1, 0.6, 0.5, 0.6], [1.9, 0.8, -0.6])
+    return start, end
+
+
+def poses_document(start: np.ndarray, end: np.ndarray) -> dict:
+    return {"start": {"matrix": start.tolist()}, "end": {"matrix": end.tolist()}}
+
+
+# ------------------------------------------------------------------------------------------
+# the plain-NumPy reference and the peers
+# ------------------------------------------------------------------------------------------
+
+
+def _numerators(h: np.ndarray) -> np.ndarray:
+    """The 12 entries of ``[R | t]`` times ``|p|²``, and ``|p|²``, of a Study vector ``(8,)``.
+
+    ``R |p|²`` is quadratic in p; ``t |p|² = −2 vec(q p̃)`` for ``q = −½ t p``.
+    """
+    p0, p1, p2, p3, q0, q1, q2, q3 = h
+    rot = [
+        [p0 * p0 + p1 * p1 - p2 * p2 - p3 * p3, 2 * (p1 * p2 - p0 * p3), 2 * (p1 * p3 + p0 * p2)],
+        [2 * (p1 * p2 + p0 * p3), p0 * p0 - p1 * p1 + p2 * p2 - p3 * p3, 2 * (p2 * p3 - p0 * p1)],
+        [2 * (p1 * p3 - p0 * p2), 2 * (p2 * p3 + p0 * p1), p0 * p0 - p1 * p1 - p2 * p2 + p3 * p3],
+    ]
+    # vec(q p̃) with p̃ = (p0, −p1, −p2, −p3)
+    qp = [
+        -q0 * p1 + q1 * p0 - q2 * p3 + q3 * p2,
+        -q0 * p2 + q1 * p3 + q2 * p0 - q3 * p1,
+        -q0 * p3 - q1 * p2 + q2 * p1 + q3 * p0,
+    ]
+    out = []
+    for i in range(3):
+        out += rot[i] + [-2.0 * qp[i]]
+    return np.array(out + [p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3])
+
+
+def reference_coefficients(start: np.ndarray, end: np.ndarray) -> np.ndarray:
+    """``C`` ``(3, 13)``: monomial coefficients of the 12 numerators and the denominator of the
+    line ``h(t) = (1 − t) hA + t hB`` of unit Study vectors (``pA·pB ≥ 0``), mapped by κ.
+
+    ``F(h)`` is quadratic, so ``F(h(t)) = (1−t)² F(hA) + 2t(1−t) B + t² F(hB)`` with the polar
+    form ``B = (F(hA + hB) − F(hA) − F(hB)) / 2``.
+    """
+    h_a, h_b = study_from_matrices(np.stack([start, end]))
+    if h_a[:4] @ h_b[:4] < 0:
+        h_b = -h_b
+    f_a, f_b = _numerators(h_a), _numerators(h_b)
+    polar = 0.5 * (_numerators(h_a + h_b) - f_a - f_b)
+    return np.stack([f_a, 2.0 * (polar - f_a), f_a - 2.0 * polar + f_b])
+
+
+def reference_matrices(ts: np.ndarray, coefficients: np.ndarray) -> np.ndarray:
+    """The issue's plain-NumPy bar: one ``[1, t, t²] @ C`` product and a division, written
+    into a preallocated ``(N, 4, 4)``."""
+    n = ts.shape[0]
+    powers = np.empty((n, 3))
+    powers[:, 0] = 1.0
+    powers[:, 1] = ts
+    np.multiply(ts, ts, out=powers[:, 2])
+    values = powers @ coefficients
+    out = np.empty((n, 4, 4))
+    np.divide(values[:, :12], values[:, 12:], out=out.reshape(n, 16)[:, :12])
+    out[:, 3, :3] = 0.0
+    out[:, 3, 3] = 1.0
+    return out
+
+
+def peer_cases(start: np.ndarray, end: np.ndarray, ts: np.ndarray) -> dict[str, Callable | str]:
+    """Each peer's path from the two 4x4 poses to ``(N, 4, 4)``, or why it cannot run."""
+    cases: dict[str, Callable | str] = {}
+    n = ts.shape[0]
+    t_a, t_b = start[:3, 3], end[:3, 3]
+
+    try:
+        from pytransform3d.batch_rotations import quaternion_slerp_batch
+        from pytransform3d.rotations import quaternion_from_matrix
+        from pytransform3d.trajectories import (
+            dual_quaternions_from_transforms,
+            dual_quaternions_sclerp,
+            transforms_from_dual_quaternions,
+            transforms_from_pqs,
+        )
+    except ImportError:
+        cases["pytransform3d ScLERP"] = cases["pytransform3d slerp + lerp"] = "not installed"
+    else:
+
+        def pt3d_sclerp():
+            dqs = dual_quaternions_from_transforms(np.stack([start, end]))
+            if dqs[0, :4] @ dqs[1, :4] < 0:
+                dqs[1] = -dqs[1]
+            starts = np.broadcast_to(dqs[0], (n, 8))
+            ends = np.broadcast_to(dqs[1], (n, 8))
+            return transforms_from_dual_quaternions(dual_quaternions_sclerp(starts, ends, ts))
+
+        def pt3d_slerp():
+            q_a = quaternion_from_matrix(start[:3, :3])
+            q_b = quaternion_from_matrix(end[:3, :3])
+            pqs = np.empty((n, 7))
+            pqs[:, 3:] = quaternion_slerp_batch(q_a, q_b, ts, shortest_path=True)
+            np.multiply(ts[:, None], t_b - t_a, out=pqs[:, :3])
+            pqs[:, :3] += t_a
+            # slerp's quaternions are unit already: skip the normalisation (the faster call)
+            return transforms_from_pqs(pqs, normalize_quaternions=False)
+
+        cases["pytransform3d ScLERP"] = pt3d_sclerp
+        cases["pytransform3d slerp + lerp"] = pt3d_slerp
+
+    try:
+        from scipy.spatial.transform import Rotation, Slerp
+    except ImportError:
+        cases["scipy Slerp + lerp"] = "not installed"
+    else:
+
+        def scipy_slerp():
+            slerp = Slerp([0.0, 1.0], Rotation.from_matrix(np.stack([start[:3, :3], end[:3, :3]])))
+            out = np.empty((n, 4, 4))
+            out[:, :3, :3] = slerp(ts).as_matrix()
+            np.multiply(ts[:, None], t_b - t_a, out=out[:, :3, 3])
+            out[:, :3, 3] += t_a
+            out[:, 3, :3] = 0.0
+            out[:, 3, 3] = 1.0
+            return out
+
+        cases["scipy Slerp + lerp"] = scipy_slerp
+
+    coefficients = reference_coefficients(start, end)
+    cases["plain NumPy [1, t, t²] @ C"] = lambda: reference_matrices(ts, coefficients)
+    return cases
+
+
+def rational_linkages_case(start: np.ndarray, end: np.ndarray, ts: np.ndarray) -> Callable | str:
+    """The same Study-vector line as a rational-linkages curve, evaluated one sample at a time."""
+    try:
+        from rational_linkages import RationalCurve, TransfMatrix
+    except ImportError:
+        return "not installed"
+    q_a = np.asarray(TransfMatrix.from_standard(start).matrix2dq(), dtype=float)
+    q_b = np.asarray(TransfMatrix.from_standard(end).matrix2dq(), dtype=float)
+    q_a /= np.linalg.norm(q_a[:4])
+    q_b /= np.linalg.norm(q_b[:4])
+    if q_a[:4] @ q_b[:4] < 0:
+        q_b = -q_b
+    curve = RationalCurve.from_coeffs(np.column_stack([q_b - q_a, q_a]))  # highest degree first
+
+    def sample():
+        return [curve.evaluate_as_matrix(float(t)) for t in ts]
+
+    return sample
+
+
+# ------------------------------------------------------------------------------------------
+# sections
+# ------------------------------------------------------------------------------------------
+
+
+def library_section(n: int, repeats: int, rl_samples: int) -> list[Row]:
+    start, end = test_poses()
+    ts = np.linspace(0.0, 1.0, n)
+    ours = {
+        label: (lambda m=mode, p=p: a2b.interpolate(start, end, ts, m, **p))
+        for label, mode, p in A2B_MODES
+    }
+    peers = peer_cases(start, end, ts)
+    runnable = {name: f for name, f in peers.items() if callable(f)}
+
+    # the same motions: the reference is darboux with δ = 0, ScLERP is the screw motion
+    small = np.linspace(0.0, 1.0, 1001)
+    small_peers = peer_cases(start, end, small)
+    for name, mode in (
+        ("plain NumPy [1, t, t²] @ C", "darboux"),
+        ("pytransform3d ScLERP", "screw"),
+    ):
+        if callable(small_peers.get(name)):
+            difference = np.abs(
+                small_peers[name]() - a2b.interpolate(start, end, small, mode)
+            ).max()
+            log(f"same motion: {name} vs a2b {mode}: max |difference| {difference:.1e}")
+
+    log(f"library: N = {n}, {repeats} interleaved repeats of {len(ours) + len(runnable)} cases")
+    for f in list(ours.values()) + list(runnable.values()):  # warm up: imports, caches
+        f()
+    medians = interleaved({**ours, **runnable}, repeats)
+
+    rows = []
+    for label in ours:
+        rows.append(Row("library", f"a2b.interpolate {label}", rate(n, medians[label])))
+    for name, f in peers.items():
+        rows.append(Row("library", name, rate(n, medians[name]) if callable(f) else f))
+
+    rl = rational_linkages_case(start, end, np.linspace(0.0, 1.0, rl_samples))
+    rl_rate = None
+    if callable(rl):
+        rl()
+        rl_seconds = interleaved({"rl": rl}, max(3, repeats // 2))["rl"]
+        rl_rate = rl_samples / rl_seconds
+        rows.append(
+            Row(
+                "library",
+                f"rational-linkages, one sample at a time ({rl_samples} samples)",
+                rate(rl_samples, rl_seconds),
+            )
+        )
+    else:
+        rows.append(Row("library", "rational-linkages, one sample at a time", rl))
+
+    bars = [
+        ("pytransform3d ScLERP", 25.0),
+        ("pytransform3d slerp + lerp", 3.0),
+        ("plain NumPy [1, t, t²] @ C", 0.9),
+    ]
+    for label in ours:
+        for peer, need in bars:
+            if peer not in medians:
+                rows.append(
+                    Row("library", f"{label} vs {peer}", "", "not measured", f"≥ {need:g}×")
+                )
+                continue
+            ratio = medians[peer] / medians[label]
+            rows.append(
+                Row(
+                    "library",
+                    f"{label} vs {peer}",
+                    "",
+                    f"{ratio:.2f}×",
+                    f"≥ {need:g}×",
+                    ratio >= need,
+                )
+            )
+        if "scipy Slerp + lerp" in medians:
+            rows.append(
+                Row(
+                    "library",
+                    f"{label} vs scipy Slerp + lerp",
+                    "",
+                    f"{medians['scipy Slerp + lerp'] / medians[label]:.1f}×",
+                )
+            )
+        if rl_rate:
+            rows.append(
+                Row(
+                    "library",
+                    f"{label} vs rational-linkages",
+                    "",
+                    f"{n / medians[label] / rl_rate:.0f}×",
+                )
+            )
+    return rows
+
+
+def csv_section(n: int, repeats: int, work: Path, exe: list[str]) -> tuple[list[Row], float | None]:
+    start, end = test_poses()
+    poses = work / "poses.json"
+    poses.write_text(json.dumps(poses_document(start, end)))
+    out_csv, ref_csv, columns = work / "out.csv", work / "savetxt.csv", work / "columns.npy"
+
+    # the eight columns, computed exactly as the command computes them (sample by chunk)
+    motion = a2b.motion(start, end, "darboux")
+    ts = np.linspace(0.0, 1.0, n)
+    try:
+        from a2b.io.writers import sample_chunks
+
+        parts = [(c.t, c.trans, c.quat_wxyz) for c in sample_chunks(motion, ts, "quat_trans")]
+        expected = np.column_stack([np.concatenate([p[i] for p in parts]) for i in range(3)])
+    except ImportError:
+        quat, trans = motion.quat_trans(ts)
+        expected = np.column_stack([ts, trans, quat])
+    np.save(columns, expected)
+
+    savetxt = (
+        "import sys, numpy as np; "
+        "np.savetxt(sys.argv[2], np.load(sys.argv[1]), fmt='%.17g', delimiter=',')"
+    )
+    commands = {
+        "a2b": exe + ["interpolate", str(poses), "--samples", str(n), "-o", str(out_csv)],
+        "savetxt": [sys.executable, "-c", savetxt, str(columns), str(ref_csv)],
+    }
+    log(f"csv: {n} rows, {repeats} interleaved repeats")
+    result = interleaved_processes(commands, repeats)
+    a2b_s, sav_s = result["a2b"][0], result["savetxt"][0]
+
+    # read back with Python's float (correctly rounded) and compare the bits
+    with open(out_csv) as f:
+        header = f.readline().strip()
+        values = np.array([[float(x) for x in line.split(",")] for line in f])
+    exact = values.shape == expected.shape and np.array_equal(
+        values.view(np.int64), expected.view(np.int64)
+    )
+    mismatches = (
+        "shape differs" if values.shape != expected.shape else int((values != expected).sum())
+    )
+    ratio = a2b_s / sav_s
+    rows = [
+        Row(
+            "csv",
+            f"a2b interpolate --samples {n} -o out.csv (whole process)",
+            f"{a2b_s:.2f} s, {rate(n, a2b_s)} rows",
+        ),
+        Row(
+            "csv",
+            "numpy.savetxt(fmt='%.17g'), same 8 columns, separate process",
+            f"{sav_s:.2f} s, {rate(n, sav_s)} rows",
+        ),
+        Row("csv", "a2b time / savetxt time", "", f"{ratio:.3f}", "≤ 0.2", ratio <= 0.2),
+        Row(
+            "csv",
+            f"read back bit for bit ({header})",
+            "all values" if exact else f"{mismatches} differ",
+            "",
+            "all",
+            exact,
+        ),
+    ]
+    out_csv.unlink(missing_ok=True)
+    ref_csv.unlink(missing_ok=True)
+    return rows, n / a2b_s
+
+
+def mcap_section(n: int, repeats: int, work: Path, exe: list[str]) -> list[Row]:
+    start, end = test_poses()
+    poses = work / "poses.json"
+    poses.write_text(json.dumps(poses_document(start, end)))
+    out = work / "out.mcap"
+    command = exe + [
+        "interpolate",
+        str(poses),
+        "--samples",
+        str(n),
+        "--format",
+        "mcap",
+        "-o",
+        str(out),
+    ]
+    log(f"mcap: {n} poses, {repeats} repeats")
+    seconds = interleaved_processes({"mcap": command}, repeats)["mcap"][0]
+    counts = ""
+    try:
+        from mcap.reader import make_reader
+
+        with open(out, "rb") as f:
+            stats = make_reader(f).get_summary().statistics
+        counts = f", {stats.message_count} messages on {stats.channel_count} channels"
+    except Exception as e:  # noqa: BLE001 - a summary we cannot read is reported, not fatal
+        counts = f", summary not read: {e}"
+    size = out.stat().st_size / 2**20
+    out.unlink(missing_ok=True)
+    per_second = n / seconds
+    return [
+        Row(
+            "mcap",
+            f"a2b interpolate --samples {n} --format mcap (whole process{counts}, {size:.0f} MiB)",
+            f"{seconds:.2f} s, {rate(n, seconds)} poses",
+            "",
+            "≥ 250 k/s",
+            per_second >= 250_000,
+        )
+    ]
+
+
+def startup_section(repeats: int, exe: list[str]) -> list[Row]:
+    commands = {
+        "a2b --version": exe + ["--version"],
+        "a2b --help": exe + ["--help"],
+        'python -c "import numpy"': [sys.executable, "-c", "import numpy"],
+    }
+    log(f"startup: {repeats} interleaved repeats")
+    interleaved_processes(commands, 2)  # warm the file cache
+    result = interleaved_processes(commands, repeats)
+    base = result['python -c "import numpy"'][0]
+    rows = [
+        Row("startup", name, f"{seconds * 1e3:.0f} ms") for name, (seconds, _) in result.items()
+    ]
+    for name in ("a2b --version", "a2b --help"):
+        ratio = result[name][0] / base
+        rows.append(
+            Row("startup", f"{name} / import numpy", "", f"{ratio:.2f}", "≤ 1.3", ratio <= 1.3)
+        )
+    return rows
+
+
+def batch_section(
+    jobs: int, samples: int, repeats: int, work: Path, exe: list[str], csv_rate: float | None
+) -> list[Row]:
+    rng = np.random.default_rng(4)
+    path = work / "jobs.jsonl"
+    with open(path, "w") as f:
+        for i in range(jobs):
+            quats, trans = rng.normal(size=(2, 4)), rng.normal(size=(2, 3))
+            job = {
+                "name": f"job{i}",
+                "start": {"quaternion": quats[0].tolist(), "translation": trans[0].tolist()},
+                "end": {"quaternion": quats[1].tolist(), "translation": trans[1].tolist()},
+            }
+            f.write(json.dumps(job) + "\n")
+    out = work / "batch.csv"
+    command = exe + ["batch", str(path), "--samples", str(samples), "-o", str(out)]
+    log(f"batch: {jobs} jobs × {samples} samples, {repeats} repeats")
+    seconds, peak = interleaved_processes({"batch": command}, repeats)["batch"]
+    with open(out, "rb") as f:
+        lines = sum(1 for _ in f)
+    out.unlink(missing_ok=True)
+    rows_out = jobs * samples
+    rows = [
+        Row(
+            "batch",
+            f"a2b batch {jobs} jobs × {samples} samples -o batch.csv ({lines - 1} rows)",
+            f"{seconds:.2f} s, {rate(rows_out, seconds)} rows",
+        ),
+        Row(
+            "batch",
+            "peak resident memory (wait4 ru_maxrss)",
+            f"{peak / 1e6:.0f} MB",
+            "",
+            "≤ 300 MB",
+            peak <= 300e6,
+        ),
+    ]
+    if csv_rate:
+        ratio = rows_out / seconds / csv_rate
+        rows.append(
+            Row(
+                "batch",
+                "rows/s vs single-motion CSV rows/s",
+                "",
+                f"{ratio:.2f}",
+                "≥ 0.8",
+                ratio >= 0.8,
+            )
+        )
+    else:
+        rows.append(
+            Row("batch", "rows/s vs single-motion CSV rows/s", "", "csv section not run", "≥ 0.8")
+        )
+    return rows
+
+
+# ------------------------------------------------------------------------------------------
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "--samples", type=int, default=1_000_000, help="N for library, csv, mcap (default 10^6)"
+    )
+    parser.add_argument(
+        "--repeats", type=int, default=5, help="repeats of in-process timings (default 5)"
+    )
+    parser.add_argument(
+        "--process-repeats",
+        type=int,
+        default=3,
+        help="repeats of whole-process timings (default 3)",
+    )
+    parser.add_argument(
+        "--jobs", type=int, default=10_000, help="jobs in the batch section (default 10,000)"
+    )
+    parser.add_argument("--quick", action="store_true", help="N = 10^5, 1,000 jobs, fewer repeats")
+    parser.add_argument(
+        "--only",
+        default=",".join(SECTIONS),
+        help=f"comma-separated sections of {', '.join(SECTIONS)}",
+    )
+    parser.add_argument(
+        "--markdown", type=Path, help="also write the machine and the table as Markdown here"
+    )
+    args = parser.parse_args(argv)
+    if args.quick:
+        args.samples, args.repeats, args.process_repeats, args.jobs = 100_000, 3, 2, 1_000
+    sections = [s.strip() for s in args.only.split(",") if s.strip()]
+    unknown = set(sections) - set(SECTIONS)
+    if unknown:
+        parser.error(f"unknown sections {', '.join(sorted(unknown))}")
+
+    info = machine()
+    command = " ".join(["python", "benchmarks/run.py"] + (sys.argv[1:] if argv is None else argv))
+    rows: list[Row] = []
+    exe = a2b_command()
+    csv_rate = None
+    with tempfile.TemporaryDirectory(prefix="a2b-bench-") as tmp:
+        work = Path(tmp)
+        for section in sections:
+            if section == "library":
+                rows += library_section(
+                    args.samples, args.repeats, rl_samples=300 if not args.quick else 50
+                )
+                continue
+            if exe is None:
+                rows.append(Row(section, "the a2b command is not installed", "not measured"))
+                continue
+            if section == "csv":
+                new, csv_rate = csv_section(args.samples, args.process_repeats, work, exe)
+                rows += new
+            elif section == "mcap":
+                rows += mcap_section(args.samples, args.process_repeats, work, exe)
+            elif section == "startup":
+                rows += startup_section(max(11, 4 * args.repeats), exe)
+            elif section == "batch":
+                rows += batch_section(args.jobs, 101, args.process_repeats, work, exe, csv_rate)
+    info["load average (1 min) at end"] = f"{os.getloadavg()[0]:.2f}"
+
+    print("\n".join(f"{key}: {value}" for key, value in info.items()))
+    print(f"command: {command}\n")
+    print(text_table(rows))
+    if args.markdown:
+        lines = ["| machine | |", "| --- | --- |"] + [f"| {k} | {v} |" for k, v in info.items()]
+        text = "\n".join(lines) + f"\n\nCommand: `{command}`\n\n" + markdown_table(rows) + "\n"
+        args.markdown.write_text(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
