@@ -38,6 +38,7 @@ not tests: nothing here fails on a slow machine.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import datetime
 import gc
 import json
@@ -224,7 +225,14 @@ def interleaved_processes(
 
 
 def a2b_command() -> list[str] | None:
-    """The installed ``a2b`` console script, as users run it."""
+    """The ``a2b`` console script that pip installed beside this Python, as users run it.
+
+    Found beside ``sys.executable`` first, so that a version manager's shim on PATH (pyenv's is
+    a shell script) does not add its own start-up time.
+    """
+    beside = Path(sys.executable).with_name("a2b")
+    if beside.is_file() and os.access(beside, os.X_OK):
+        return [str(beside)]
     exe = shutil.which("a2b")
     return [exe] if exe else None
 
@@ -701,6 +709,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--markdown", type=Path, help="also write the machine and the table as Markdown here"
     )
+    parser.add_argument(
+        "--blas-threads",
+        type=int,
+        help="limit BLAS threads in the library section (threadpoolctl); default: BLAS's own",
+    )
     args = parser.parse_args(argv)
     if args.quick:
         args.samples, args.repeats, args.process_repeats, args.jobs = 100_000, 3, 2, 1_000
@@ -718,9 +731,15 @@ def main(argv: list[str] | None = None) -> int:
         work = Path(tmp)
         for section in sections:
             if section == "library":
-                rows += library_section(
-                    args.samples, args.repeats, rl_samples=300 if not args.quick else 50
-                )
+                limit = contextlib.nullcontext()
+                if args.blas_threads:
+                    from threadpoolctl import threadpool_limits
+
+                    limit = threadpool_limits(args.blas_threads, user_api="blas")
+                    info["BLAS threads in the library section"] = str(args.blas_threads)
+                with limit:
+                    rl_samples = 50 if args.quick else 300
+                    rows += library_section(args.samples, args.repeats, rl_samples)
                 continue
             if exe is None:
                 rows.append(Row(section, "the a2b command is not installed", "not measured"))
