@@ -51,7 +51,7 @@ MALFORMED = [
     ("twoforms.yaml", f"start: {{quaternion: [1, 0, 0, 0], study: [1, 0, 0, 0, 0, 0, 0, 0]}}\nend: {QUARTER}\n",
      ["twoforms.yaml:1:1", "start", "exactly one of"]),
     ("mode.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nmode: darbouks\n", ["mode.yaml:3:1", "mode", "expected one of darboux"]),
-    ("samples.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nsamples: 2.5\n", ["samples.yaml:3:1", "samples", "positive whole number"]),
+    ("samples.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nsamples: 2.5\n", ["samples.yaml:3:1", "samples", "expected a whole number of samples, at least 2, got 2.5"]),
     ("branch.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nparameters: {{lam: 2, branch: 0}}\n",
      ["branch.yaml:3:22", "parameters.branch", "+1 or -1"]),
     ("vector.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nparameters: {{m: [1, 0, 0]}}\n",

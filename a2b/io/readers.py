@@ -12,7 +12,14 @@ A pose is a mapping with exactly one of these forms::
 ``translation`` defaults to zero. ``kappa: true`` reads a Study vector off the Study quadric
 through the extended map κ. A *poses file* (``a2b interpolate``) is a mapping with ``start``,
 ``end`` and optionally ``mode``, ``samples`` and ``parameters``; a *jobs file* (``a2b batch``) is
-a list of such mappings (each may have a ``name``), or JSON Lines with one per line.
+a list of such mappings (each may have a ``name``), or JSON Lines with one per line; a *pose
+list* (``a2b bezier``, ``a2b spline``) is a mapping with a list of poses under ``controls`` or
+``poses`` and optionally ``space``, ``samples`` and ``parameters``.
+
+YAML is read with the YAML 1.2 core schema: ``1e-3`` is a number; ``1:20``, ``1_000``, ``yes``
+and ``no`` are strings. Numbers must be finite doubles: ``NaN``, ``.inf``, ``1e999`` and
+400-digit integers are errors, as are bytes that are not UTF-8 and nesting deeper than
+:data:`MAX_DEPTH` levels.
 
 Every structural error is an :class:`a2b.errors.InputFileError` whose message starts with
 ``FILE:LINE:COLUMN:`` (where the parser gives a position) and names the key, as in
@@ -28,11 +35,13 @@ Trajectory files
 from __future__ import annotations
 
 import difflib
+import gc
 import io
 import json
 import math
 import re
 from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from json.decoder import scanstring
 from typing import IO, Any
@@ -44,13 +53,16 @@ from ..errors import A2bError, InputFileError
 __all__ = [
     "Job",
     "Jobs",
+    "PoseList",
     "read_batch_csv",
     "read_csv",
     "read_jobs",
     "read_kitti",
     "read_matrix_csv",
     "read_mcap",
+    "read_motion_file",
     "read_pose",
+    "read_pose_list",
     "read_poses",
     "read_study_csv",
     "read_tum",
@@ -82,6 +94,11 @@ PARAMETER_KINDS = {
 
 Path = tuple  # keys (str) and list indexes (int) from the document root
 
+#: The fewest samples: t = 0 and t = 1.
+MIN_SAMPLES = 2
+#: The most samples: beyond 2**53 evenly spaced t in [0, 1] are no longer distinct doubles.
+MAX_SAMPLES = 2**53
+
 
 @dataclass(frozen=True)
 class Job:
@@ -104,10 +121,32 @@ class Job:
 
 
 class _NonFinite:
-    """Stands in for JSON's ``NaN``/``Infinity`` so the error can name the key."""
+    """Stands in for a number that is no finite double, so the error can name the key.
+
+    ``NaN``, ``Infinity``, ``.inf`` and ``.nan`` themselves, and numbers written out that
+    overflow a double (``1e999``, an integer of 400 digits).
+    """
 
     def __init__(self, token: str):
         self.token = token
+
+    def message(self) -> str:
+        token = self.token.strip()
+        if re.fullmatch(r"[-+]?(?:NaN|Infinity|\.(?:inf|Inf|INF|nan|NaN|NAN))", token):
+            return f"{token} is not allowed; numbers must be finite"
+        return f"{_shorten(token)} is too large for a double; numbers must be finite (|x| < 1.8e308)"
+
+
+def _shorten(token: str) -> str:
+    """A long number as its first and last digits and its length."""
+    if len(token) <= 24:
+        return token
+    return f"{token[:12]}…{token[-6:]} ({sum(ch.isdigit() for ch in token)} digits)"
+
+
+#: Deepest nesting of lists and mappings read (a pose file needs 6); deeper input is an error,
+#: never a crash of the C YAML composer, which recurses on the C stack.
+MAX_DEPTH = 100
 
 
 class _Duplicate(Exception):
@@ -124,7 +163,10 @@ class _Document:
     locate: Callable[[Path], tuple[int, int] | None]
 
     def error(self, path: Path, message: str) -> InputFileError:
-        where = self.locate(path) if path is not None else None
+        try:
+            where = self.locate(path) if path is not None else None
+        except RecursionError:
+            where = None
         prefix = f"{self.name}:{where[0]}:{where[1]}" if where else self.name
         key = _format_path(path)
         return InputFileError(f"{prefix}: {key + ': ' if key else ''}{message}")
@@ -141,19 +183,44 @@ def _format_path(path: Path | None) -> str:
     return out
 
 
+@contextmanager
+def _gc_paused() -> Iterator[None]:
+    """Pause the cyclic garbage collector while a parser builds many small containers.
+
+    Parsing allocates hundreds of thousands of lists and dicts that are all alive; each
+    allocation burst triggers a full collection that finds nothing. Pausing it makes a large
+    YAML jobs file read about eight times faster.
+    """
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
 def _line_col(text: str, pos: int) -> tuple[int, int]:
     line = text.count("\n", 0, pos) + 1
     return line, pos - (text.rfind("\n", 0, pos) + 1) + 1
 
 
+def _decode(raw: bytes | str, name: str, first_line: int = 1) -> str:
+    """UTF-8 text (a leading byte-order mark dropped); bytes that are not UTF-8 are an error."""
+    if isinstance(raw, str):
+        return raw
+    try:
+        return raw.decode("utf-8-sig" if first_line == 1 else "utf-8")
+    except UnicodeDecodeError as e:
+        line = raw.count(b"\n", 0, e.start) + first_line
+        column = e.start - (raw.rfind(b"\n", 0, e.start) + 1) + 1
+        raise InputFileError(
+            f"{name}:{line}:{column}: not UTF-8 text (byte 0x{raw[e.start]:02x})"
+        ) from None
+
+
 def _read_text(stream: IO, name: str) -> str:
-    raw = stream.read()
-    if isinstance(raw, bytes):
-        try:
-            raw = raw.decode("utf-8-sig")
-        except UnicodeDecodeError as e:
-            raise InputFileError(f"{name}: not UTF-8 text (byte {e.start})") from e
-    return raw
+    return _decode(stream.read(), name)
 
 
 def _stream_name(stream: IO, name: str | None) -> str:
@@ -187,7 +254,24 @@ def _json_pairs(pairs: list) -> dict:
     return out
 
 
-_JSON = json.JSONDecoder(object_pairs_hook=_json_pairs, parse_constant=_NonFinite)
+def _json_float(token: str):
+    value = float(token)
+    return value if math.isfinite(value) else _NonFinite(token)
+
+
+def _json_int(token: str):
+    try:
+        return int(token)
+    except ValueError:  # more digits than int() converts (sys.get_int_max_str_digits)
+        return _NonFinite(token)
+
+
+_JSON = json.JSONDecoder(
+    object_pairs_hook=_json_pairs,
+    parse_constant=_NonFinite,
+    parse_float=_json_float,
+    parse_int=_json_int,
+)
 _JSON_SKIP = json.JSONDecoder()
 _WS = re.compile(r"[ \t\n\r]*")
 
@@ -272,14 +356,20 @@ def _parse_json(text: str, name: str, first_line: int = 1) -> _Document:
         return line + first_line - 1, col
 
     try:
-        data = _JSON.decode(text)
+        with _gc_paused():
+            data = _JSON.decode(text)
     except _Duplicate as e:
-        dup, _ = _json_find_duplicate(text, 0)
+        try:
+            dup, _ = _json_find_duplicate(text, 0)
+        except RecursionError:
+            dup = None
         line, col = where(dup or 0)
         raise InputFileError(f"{name}:{line}:{col}: duplicate key {e.key!r}") from None
     except json.JSONDecodeError as e:
         line, col = where(e.pos)
         raise InputFileError(f"{name}:{line}:{col}: invalid JSON: {e.msg}") from None
+    except RecursionError:
+        raise InputFileError(f"{name}: invalid JSON: nested too deeply to read") from None
     return _Document(name, data, lambda path: where(_json_locate(text, path)))
 
 
@@ -287,9 +377,30 @@ def _parse_json(text: str, name: str, first_line: int = 1) -> _Document:
 
 _YAML_LOADER = None
 
+#: YAML 1.2 core schema scalars. PyYAML resolves YAML 1.1, where ``1:20`` is the number 80,
+#: ``1_000`` is 1000, ``yes``/``no``/``on``/``off`` are booleans and ``1e-3`` is a string; a
+#: pose file means none of these, so here they are strings, and an error says so.
+_YAML_SCALARS = (
+    ("bool", r"^(?:true|True|TRUE|false|False|FALSE)$", "tTfF"),
+    ("int", r"^(?:[-+]?[0-9]+|0o[0-7]+|0x[0-9a-fA-F]+)$", "-+0123456789"),
+    (
+        "float",
+        (
+            r"^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?"
+            r"|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$"
+        ),
+        "-+.0123456789",
+    ),
+    ("null", r"^(?:~|null|Null|NULL|)$", ["~", "n", "N", ""]),
+)
+
 
 def _yaml_loader():
-    """A safe loader that rejects duplicate keys and reads ``1e-3`` as a number (YAML 1.2)."""
+    """A safe loader with YAML 1.2 core-schema scalars that rejects duplicate keys.
+
+    Numbers that are no finite double (``.inf``, ``.nan``, ``1e999``, 400-digit integers)
+    become :class:`_NonFinite`, so the error names the key and the text as written.
+    """
     global _YAML_LOADER
     if _YAML_LOADER is not None:
         return _YAML_LOADER
@@ -312,13 +423,92 @@ def _yaml_loader():
                 seen.add(key)
             return super().construct_mapping(node, deep=deep)
 
-    Loader.add_implicit_resolver(
-        "tag:yaml.org,2002:float",
-        re.compile(r"^[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)[eE][-+]?[0-9]+$"),
-        list("-+.0123456789"),
-    )
+        def construct_yaml_int(self, node):
+            text = self.construct_scalar(node)
+            digits = text.lstrip("+-")
+            try:
+                if digits.startswith(("0o", "0x")):
+                    value = int(digits[2:], 8 if digits[1] == "o" else 16)
+                    return -value if text.startswith("-") else value
+                return int(text)
+            except ValueError:
+                if re.fullmatch(r"[-+]?[0-9]+", text):  # more digits than int() converts
+                    return _NonFinite(text)
+                raise yaml.constructor.ConstructorError(
+                    None, None, f"cannot read {text!r} as an integer", node.start_mark
+                ) from None
+
+        def construct_yaml_float(self, node):
+            text = self.construct_scalar(node)
+            if text.lstrip("+-").lower() in (".inf", ".nan"):
+                return _NonFinite(text)
+            try:
+                value = float(text)
+            except ValueError:
+                raise yaml.constructor.ConstructorError(
+                    None, None, f"cannot read {text!r} as a number", node.start_mark
+                ) from None
+            return value if math.isfinite(value) else _NonFinite(text)
+
+    resolvers = {}
+    for first, entries in base.yaml_implicit_resolvers.items():
+        kept = [
+            (tag, regexp)
+            for tag, regexp in entries
+            if tag.rsplit(":", 1)[-1] not in ("bool", "int", "float", "null")
+        ]
+        if kept:
+            resolvers[first] = kept
+    Loader.yaml_implicit_resolvers = resolvers
+    for name, pattern, first in _YAML_SCALARS:
+        Loader.add_implicit_resolver(f"tag:yaml.org,2002:{name}", re.compile(pattern), list(first))
+    Loader.add_constructor("tag:yaml.org,2002:int", Loader.construct_yaml_int)
+    Loader.add_constructor("tag:yaml.org,2002:float", Loader.construct_yaml_float)
     _YAML_LOADER = Loader
     return Loader
+
+
+def _yaml_depth_bound(text: str) -> int:
+    """An upper bound of the nesting depth of YAML ``text``, cheap to compute.
+
+    Every level is opened by ``[``, ``{``, a ``-``, ``?`` or ``:`` indicator, or a deeper
+    line; counting all of them (in scalars and comments too) over-estimates safely.
+    """
+    return sum(text.count(ch) for ch in "[{-?:\n") + 1
+
+
+def _check_yaml_depth(text: str, name: str) -> None:
+    """Raise if YAML ``text`` nests deeper than :data:`MAX_DEPTH`, before composing it.
+
+    The C composer recurses once per level on the C stack, so a file of 50 000 ``[`` would
+    crash the interpreter. The parser's events come from a loop, not recursion; counting
+    them is safe. Files too small to nest that deep are not scanned.
+    """
+    if _yaml_depth_bound(text) <= MAX_DEPTH:
+        return
+    import yaml
+
+    opening = (yaml.MappingStartEvent, yaml.SequenceStartEvent)
+    closing = (yaml.MappingEndEvent, yaml.SequenceEndEvent)
+    depth = 0
+    loader = _yaml_loader()(text)
+    try:
+        while loader.check_event():
+            event = loader.get_event()
+            if isinstance(event, opening):
+                depth += 1
+                if depth > MAX_DEPTH:
+                    mark = event.start_mark
+                    raise InputFileError(
+                        f"{name}:{mark.line + 1}:{mark.column + 1}: nested too deeply "
+                        f"(a2b reads at most {MAX_DEPTH} levels)"
+                    )
+            elif isinstance(event, closing):
+                depth -= 1
+    except yaml.YAMLError:
+        return  # composing stops at the same place and reports the syntax error
+    finally:
+        loader.dispose()
 
 
 def _yaml_locate(root, path: Path) -> tuple[int, int] | None:
@@ -343,10 +533,12 @@ def _yaml_locate(root, path: Path) -> tuple[int, int] | None:
 def _parse_yaml(text: str, name: str) -> _Document:
     import yaml
 
+    _check_yaml_depth(text, name)
     loader = _yaml_loader()(text)
     try:
-        node = loader.get_single_node()
-        data = loader.construct_document(node) if node is not None else None
+        with _gc_paused():
+            node = loader.get_single_node()
+            data = loader.construct_document(node) if node is not None else None
     except _Duplicate as e:
         line, col = e.mark
         raise InputFileError(f"{name}:{line}:{col}: duplicate key {e.key!r}") from None
@@ -391,16 +583,21 @@ def _is_number(v) -> bool:
 
 def _number(doc: _Document, path: Path, v) -> float:
     if isinstance(v, _NonFinite):
-        raise doc.error(path, f"{v.token} is not allowed; numbers must be finite")
+        raise doc.error(path, v.message())
     if not _is_number(v):
         raise doc.error(path, f"expected a number, got {_describe(v)}")
-    f = float(v)
+    try:
+        f = float(v)
+    except OverflowError:  # an integer beyond the doubles
+        raise doc.error(path, _NonFinite(str(v)).message()) from None
     if not math.isfinite(f):
         raise doc.error(path, f"{v!r} is not allowed; numbers must be finite")
     return f
 
 
 def _describe(v) -> str:
+    if isinstance(v, _NonFinite):
+        return f"the number {v.token}" if len(v.token) <= 24 else "a number too large for a double"
     if isinstance(v, bool):
         return f"the boolean {str(v).lower()}"
     if isinstance(v, str):
@@ -507,6 +704,27 @@ def _pose(doc: _Document, path: Path, v) -> np.ndarray:
         raise doc.error(path + (form,), str(e)) from e
 
 
+def _samples(doc: _Document, path: Path, v) -> int | None:
+    """A file's ``samples``: a whole number in ``[MIN_SAMPLES, MAX_SAMPLES]``, or ``None``."""
+    if v is None:
+        return None
+    here = path + ("samples",)
+    if not isinstance(v, int) or isinstance(v, bool):
+        shown = _describe(v) if not _is_number(v) else repr(v)
+        raise doc.error(here, f"expected a whole number of samples, at least {MIN_SAMPLES}, got {shown}")
+    if v < MIN_SAMPLES:
+        raise doc.error(
+            here, f"expected at least {MIN_SAMPLES} samples (t = 0 and t = 1), got {v}"
+        )
+    if v > MAX_SAMPLES:
+        raise doc.error(
+            here,
+            f"expected at most 2**53 = {MAX_SAMPLES} samples (more evenly spaced t in [0, 1] "
+            f"than doubles tell apart), got {_shorten(str(v))}",
+        )
+    return v
+
+
 def _parameters(doc: _Document, path: Path, v) -> dict:
     params = _mapping(doc, path, v, "a mapping of motion parameters")
     _check_keys(doc, path, params, tuple(PARAMETER_KINDS), "parameters")
@@ -541,6 +759,12 @@ def _job(doc: _Document, path: Path, v, allowed: tuple) -> Job:
     job = _mapping(doc, path, v, "a mapping with start and end")
     if any(k in job for k in POSE_FORMS) and "start" not in job and "end" not in job:
         raise doc.error(path, "this is one pose, but start and end poses are needed (see a2b interpolate -h)")
+    if "start" not in job and "end" not in job:
+        for key, command in (("controls", "a2b bezier"), ("poses", "a2b spline")):
+            if key in job:
+                raise doc.error(
+                    path, f"this is a list of {key} ({command}), but start and end poses are needed"
+                )
     _check_keys(doc, path, job, allowed, "a poses file" if allowed is POSES_KEYS else "a job")
     for key in ("start", "end"):
         if key not in job:
@@ -548,9 +772,7 @@ def _job(doc: _Document, path: Path, v, allowed: tuple) -> Job:
     mode = job.get("mode")
     if mode is not None and mode not in MODES:
         raise doc.error(path + ("mode",), f"expected one of {', '.join(MODES)}, got {_describe(mode)}")
-    samples = job.get("samples")
-    if samples is not None and (not isinstance(samples, int) or isinstance(samples, bool) or samples < 1):
-        raise doc.error(path + ("samples",), f"expected a positive whole number, got {_describe(samples) if not _is_number(samples) else samples}")
+    samples = _samples(doc, path, job.get("samples"))
     name = job.get("name")
     if name is not None and not isinstance(name, (str, int)):
         raise doc.error(path + ("name",), f"expected a string, got {_describe(name)}")
@@ -599,6 +821,118 @@ def read_poses(stream: IO, name: str | None = None) -> Job:
     return _job(doc, (), doc.data, POSES_KEYS)
 
 
+#: Curve spaces and kernel bases of a pose list (``a2b bezier``, ``a2b spline``).
+SPACES = ("matrix", "study")
+BASES = ("paper", "rref", "auto")
+#: The parameters a pose list may give, per list key: name -> kind ("m": 4 numbers,
+#: "per-pose": one number per pose, "per-pose-6": 6 numbers per pose, "basis": a basis name).
+#: The names are those of :func:`a2b.motions.bezier.bezier_motion` and ``spline_motion``.
+POSE_LIST_PARAMETERS = {
+    "controls": {
+        "m": "m",
+        "weights": "per-pose",
+        "alphas": "per-pose-6",
+        "basis": "basis",
+        "offsets": "per-pose",
+    },
+    "poses": {"m": "m"},
+}
+
+
+@dataclass(frozen=True)
+class PoseList:
+    """The poses of a pose-list file (robotics matrices ``(k, 4, 4)``) and what it says.
+
+    ``key`` is the list's key, ``controls`` (a Bézier curve) or ``poses`` (a spline).
+    ``space`` and ``samples`` are ``None`` where the file does not give them; ``parameters``
+    holds only the keys the file gives.
+    """
+
+    key: str
+    poses: np.ndarray
+    space: str | None = None
+    samples: int | None = None
+    parameters: dict = field(default_factory=dict)
+
+
+def read_pose_list(stream: IO, key: str, name: str | None = None) -> PoseList:
+    """Read a file with a list of at least two poses under ``key`` (``controls`` or ``poses``).
+
+    The mapping may also give ``space`` (matrix or study), ``samples`` and ``parameters``
+    (:data:`POSE_LIST_PARAMETERS`). Every pose may be in any pose form; errors name the file,
+    the line and column and the key, e.g.
+    ``curve.yaml:7:5: controls[2].quaternion: expected 4 numbers (w, x, y, z), got 3``.
+
+    Raises
+    ------
+    InputFileError
+    """
+    if key not in POSE_LIST_PARAMETERS:
+        raise ValueError(f"key must be one of {', '.join(POSE_LIST_PARAMETERS)}, got {key!r}")
+    name = _stream_name(stream, name)
+    doc = _parse(_read_text(stream, name), name, _kind_from_suffix(name))
+    return _pose_list(doc, doc.data, key)
+
+
+def _pose_list(doc: _Document, data, key: str) -> PoseList:
+    what = "a mapping with " + key
+    top = _mapping(doc, (), data, what)
+    if "start" in top and "end" in top and key not in top:
+        raise doc.error((), f"this is a poses file (start and end); this command needs a list of poses under {key!r}")
+    _check_keys(doc, (), top, (key, "space", "samples", "parameters"), f"a {key} file")
+    if key not in top:
+        raise doc.error((), f"missing {key!r}: a list of at least two poses")
+    items = top[key]
+    if not isinstance(items, list) or len(items) < 2:
+        got = f"{len(items)}" if isinstance(items, list) else _describe(items)
+        raise doc.error((key,), f"expected a list of at least two poses, got {got}")
+    poses = np.stack([_pose(doc, (key, i), item) for i, item in enumerate(items)])
+    k = len(items)
+    space = top.get("space")
+    if space is not None and space not in SPACES:
+        raise doc.error(("space",), f"expected one of {', '.join(SPACES)}, got {_describe(space)}")
+    samples = _samples(doc, (), top.get("samples"))
+    given = _mapping(doc, ("parameters",), top.get("parameters") or {}, "a mapping of curve parameters")
+    kinds = POSE_LIST_PARAMETERS[key]
+    _check_keys(doc, ("parameters",), given, tuple(kinds), "parameters")
+    parameters = {}
+    for pname, value in given.items():
+        here = ("parameters", pname)
+        kind = kinds[pname]
+        if value is None:
+            continue
+        if kind == "m":
+            parameters[pname] = tuple(_numbers(doc, here, value, 4, "(m0, m1, m2, m3)"))
+        elif kind == "per-pose":
+            parameters[pname] = tuple(_numbers(doc, here, value, k, f"(one per pose in {key})"))
+        elif kind == "per-pose-6":
+            if not isinstance(value, list) or len(value) != k:
+                got = len(value) if isinstance(value, list) else _describe(value)
+                raise doc.error(here, f"expected {k} lists of 6 numbers (one per pose in {key}), got {got}")
+            rows = [_numbers(doc, here + (i,), row, 6, "(α0 … α5)") for i, row in enumerate(value)]
+            parameters[pname] = tuple(tuple(row) for row in rows)
+        else:
+            if value not in BASES:
+                raise doc.error(here, f"expected one of {', '.join(BASES)}, got {_describe(value)}")
+            parameters[pname] = value
+    return PoseList(key, poses, space, samples, parameters)
+
+
+def read_motion_file(stream: IO, name: str | None = None) -> Job | PoseList:
+    """Read a poses file (``start``, ``end``) or a pose list (``controls`` or ``poses``).
+
+    The top-level keys tell which: ``controls`` makes a Bézier curve's :class:`PoseList`,
+    ``poses`` a spline's, anything else is read as a poses file (:func:`read_poses`).
+    """
+    name = _stream_name(stream, name)
+    doc = _parse(_read_text(stream, name), name, _kind_from_suffix(name))
+    if isinstance(doc.data, dict):
+        for key in POSE_LIST_PARAMETERS:
+            if key in doc.data:
+                return _pose_list(doc, doc.data, key)
+    return _job(doc, (), doc.data, POSES_KEYS)
+
+
 @dataclass
 class Jobs:
     """The jobs of a jobs file: iterate to validate and get them one by one.
@@ -624,14 +958,13 @@ def read_jobs(stream: IO, name: str | None = None) -> Jobs:
     kind = _kind_from_suffix(name)
     if kind == "jsonl":
         return Jobs(None, _json_lines(_lines(stream, name), name))
-    text_start = stream.readline()
-    if isinstance(text_start, bytes):
-        text_start = text_start.decode("utf-8-sig", errors="replace")
-    first = text_start.strip()
-    if kind is None and first.startswith("{") and _is_complete_json(first):
-        return Jobs(None, _json_lines(_lines(stream, name, text_start), name))
-    rest = _read_text(stream, name)
-    doc = _parse(text_start + rest, name, kind)
+    raw_start = stream.readline()
+    first = raw_start.strip()
+    if kind is None and first.startswith(b"{" if isinstance(first, bytes) else "{"):
+        text_start = _decode(raw_start, name)
+        if _is_complete_json(text_start):
+            return Jobs(None, _json_lines(_lines(stream, name, text_start), name))
+    doc = _parse(_decode(raw_start + stream.read(), name), name, kind)
     if not isinstance(doc.data, list):
         hint = " (one motion: a2b interpolate)" if isinstance(doc.data, dict) else ""
         raise doc.error((), f"expected a list of jobs, got {_describe(doc.data)}{hint}")
@@ -653,15 +986,13 @@ def _is_complete_json(line: str) -> bool:
 
 
 def _lines(stream: IO, name: str, first: str | None = None) -> Iterator[str]:
+    number = 0
     if first is not None:
+        number += 1
         yield first
     for raw in stream:
-        if isinstance(raw, bytes):
-            try:
-                raw = raw.decode("utf-8")
-            except UnicodeDecodeError as e:
-                raise InputFileError(f"{name}: not UTF-8 text") from e
-        yield raw
+        number += 1
+        yield _decode(raw, name, number)
 
 
 def _json_lines(lines: Iterator[str], name: str) -> Iterator[Job]:
