@@ -41,6 +41,7 @@ import argparse
 import contextlib
 import datetime
 import gc
+import importlib.util
 import json
 import os
 import platform
@@ -538,20 +539,15 @@ def csv_section(n: int, repeats: int, work: Path, exe: list[str]) -> tuple[list[
         "a2b": exe + ["interpolate", str(poses), "--samples", str(n), "-o", str(out_csv)],
         "savetxt": [sys.executable, "-c", savetxt, str(columns), str(ref_csv)],
     }
-    log(f"csv: {n} rows, {repeats} interleaved repeats")
+    # the CSV writers the issue names as possible dependencies, when they are importable
+    for name, script in CSV_LIBRARIES.items():
+        if importlib.util.find_spec(name) is not None:
+            commands[name] = [sys.executable, "-c", script, str(columns), str(work / f"{name}.csv")]
+    log(f"csv: {n} rows, {repeats} interleaved repeats of {', '.join(commands)}")
     result = interleaved_processes(commands, repeats)
     a2b_s, sav_s = result["a2b"][0], result["savetxt"][0]
 
-    # read back with Python's float (correctly rounded) and compare the bits
-    with open(out_csv) as f:
-        header = f.readline().strip()
-        values = np.array([[float(x) for x in line.split(",")] for line in f])
-    exact = values.shape == expected.shape and np.array_equal(
-        values.view(np.int64), expected.view(np.int64)
-    )
-    mismatches = (
-        "shape differs" if values.shape != expected.shape else int((values != expected).sum())
-    )
+    exact, mismatches, header = read_back(out_csv, expected)
     ratio = a2b_s / sav_s
     rows = [
         Row(
@@ -574,9 +570,51 @@ def csv_section(n: int, repeats: int, work: Path, exe: list[str]) -> tuple[list[
             exact,
         ),
     ]
-    out_csv.unlink(missing_ok=True)
-    ref_csv.unlink(missing_ok=True)
+    for name in CSV_LIBRARIES:
+        if name not in result:
+            rows.append(Row("csv", f"{name} CSV writer, same 8 columns", "not installed"))
+            continue
+        seconds = result[name][0]
+        same = read_back(work / f"{name}.csv", expected)[0]
+        rows.append(
+            Row(
+                "csv",
+                f"{name} CSV writer, same 8 columns, separate process"
+                + ("" if same else " (does NOT read back bit for bit)"),
+                f"{seconds:.2f} s, {rate(n, seconds)} rows",
+                f"{seconds / sav_s:.3f} of savetxt",
+            )
+        )
+    for path in work.glob("*.csv"):
+        path.unlink()
     return rows, n / a2b_s
+
+
+#: Whole-process scripts for the CSV writers the issue compares: columns.npy -> CSV.
+CSV_LIBRARIES = {
+    "polars": (
+        "import sys, numpy as np, polars as pl; a = np.load(sys.argv[1]); "
+        "names = ['t', 'tx', 'ty', 'tz', 'qw', 'qx', 'qy', 'qz']; "
+        "pl.DataFrame({k: a[:, i] for i, k in enumerate(names)}).write_csv(sys.argv[2])"
+    ),
+    "pyarrow": (
+        "import sys, numpy as np, pyarrow as pa, pyarrow.csv as csv; a = np.load(sys.argv[1]); "
+        "names = ['t', 'tx', 'ty', 'tz', 'qw', 'qx', 'qy', 'qz']; "
+        "csv.write_csv(pa.table({k: a[:, i] for i, k in enumerate(names)}), sys.argv[2])"
+    ),
+}
+
+
+def read_back(path: Path, expected: np.ndarray) -> tuple[bool, str, str]:
+    """Whether a CSV (with a header line) reads back as ``expected`` bit for bit, with Python's
+    correctly rounded ``float``; the number of differing values; the header."""
+    with open(path) as f:
+        header = f.readline().strip()
+        values = np.array([[float(x) for x in line.split(",")] for line in f])
+    if values.shape != expected.shape:
+        return False, f"shape {values.shape} instead of {expected.shape}", header
+    same = np.array_equal(values.view(np.int64), expected.view(np.int64))
+    return same, str(int((values.view(np.int64) != expected.view(np.int64)).sum())), header
 
 
 def mcap_section(n: int, repeats: int, work: Path, exe: list[str]) -> list[Row]:
