@@ -126,6 +126,7 @@ class _Track:
     inst: np.ndarray  # (K, 4, 4) the instants shown in the frame panel
     colour: str
     params: dict = field(default_factory=dict)
+    source: object | None = None  # the object sampled, when it is no mode (e.g. a BezierMotion)
 
 
 def _format_number(x: float) -> str:
@@ -213,7 +214,10 @@ def _as_tracks(start, end, motions, samples: int, instants: int) -> list[_Track]
         colour = MODE_COLOURS.get(mode) if mode else None
         if colour is None or any(t.colour == colour for t in tracks):
             colour = next(others)
-        tracks.append(_Track(label, mode, obj if mode else None, mats, inst, colour, params))
+        source = None if mode or not hasattr(obj, "matrices") else obj
+        tracks.append(
+            _Track(label, mode, obj if mode else None, mats, inst, colour, params, source)
+        )
     if not tracks:
         raise ParameterError("nothing to plot: give at least one motion")
     labels = [t.label for t in tracks]
@@ -549,6 +553,7 @@ def plot_motions(
     axis_length: float | None = None,
     figsize: tuple[float, float] | None = None,
     title: str | None = None,
+    marks=None,
 ):
     """Draw the moving frame, the trajectories and the transmission curve of motions from A to B.
 
@@ -602,7 +607,12 @@ def plot_motions(
     figsize : (float, float), optional
         Figure size in inches; default 15 × 5.2 for three panels, 10.5 × 5.2 for two.
     title : str, optional
-        Replaces the generated title (the modes, their essential parameters, φ and d).
+        Replaces the generated title (the modes, their essential parameters, φ and d; for a
+        single Bézier motion or spline, its kind, degree or segments and space).
+    marks : sequence of (str, array_like (4, 4)), optional
+        Further poses to mark with a label, such as the inner control poses of a Bézier motion
+        or the key poses of a spline: a thin frame and the label at its origin, in both 3-D
+        panels (``gid`` ``mark:<label>:<axis>``).
 
     Returns
     -------
@@ -651,6 +661,9 @@ def plot_motions(
     elif not (math.isfinite(axis_length) and axis_length > 0):
         raise ParameterError(f"axis_length must be a positive number, got {axis_length!r}")
     body, point_names, default_points = _body_points(points, float(axis_length))
+    marked = [(str(label), check_matrices(pose)) for label, pose in (marks or ())]
+    if any(pose.shape != (4, 4) for _, pose in marked):
+        raise ParameterError("each mark is a (label, 4x4 pose) pair")
 
     require_matplotlib()
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -703,9 +716,35 @@ def plot_motions(
                 alpha=0.6,
             )
         )
+    for pose_label, pose in marked:
+        for ax, pts, gid in ((ax_frames, frame_pts, "mark"), (ax_traj, traj_pts, "end-mark")):
+            pts.append(
+                _draw_frame(
+                    ax,
+                    pose,
+                    axis_length,
+                    AXIS_COLOURS,
+                    f"{gid}:{pose_label}",
+                    linewidth=1.0,
+                    alpha=0.45,
+                )
+            )
+            ax.scatter(*pose[:3, 3, None], color="0.25", s=14, depthshade=False, zorder=5)
+            ax.text(
+                *pose[:3, 3],
+                f"  {pose_label}",
+                color="0.25",
+                fontsize=10,
+                ha="left",
+                va="top",
+                zorder=6,
+            )
+    # The screw axis of B A⁻¹ belongs to the modes and to motions about it, not to a curve
+    # through other poses.
+    show_axis = has_transmission or any(t.mode for t in tracks)
     for ax, pts in ((ax_frames, frame_pts), (ax_traj, traj_pts)):
         lo, hi = _set_equal_3d(ax, np.concatenate(pts), length_label)
-        axis_seg = _screw_axis_segment(frame, lo, hi)
+        axis_seg = _screw_axis_segment(frame, lo, hi) if show_axis else None
         if axis_seg is not None:
             (line,) = ax.plot(*axis_seg.T, color="0.45", linestyle=(0, (6, 3)), linewidth=1.0)
             line.set_gid("screw-axis")
@@ -727,7 +766,8 @@ def plot_motions(
     legend_axis = [
         Line2D([], [], color=AXIS_COLOURS[j], label=f"{n} axis") for j, n in enumerate("xyz")
     ]
-    legend_axis.append(Line2D([], [], color="0.45", linestyle=(0, (6, 3)), label="screw axis"))
+    if show_axis:
+        legend_axis.append(Line2D([], [], color="0.45", linestyle=(0, (6, 3)), label="screw axis"))
     ax_frames.legend(handles=legend_axis, loc="upper left", fontsize=8, frameon=False)
     if single:
         handles = [
@@ -763,7 +803,9 @@ def plot_motions(
     # Title and legend.
     angles = f"φ = {_angle_text(frame.phi, angle_unit)}, d = {_format_number(frame.d)}"
     if title is None:
-        if single:
+        if single and _curve_title(tracks[0]) is not None:
+            title = _curve_title(tracks[0])
+        elif single:
             track = tracks[0]
             what = f"{track.label} motion" if track.mode else track.label
             extra = (
@@ -775,7 +817,7 @@ def plot_motions(
         else:
             title = f"{', '.join(t.label for t in tracks)} from A to B   ({angles})"
     fig.suptitle(title, fontsize=13)
-    if not has_transmission:
+    if not has_transmission and show_axis:
         fig.text(
             0.5,
             0.01,
@@ -808,6 +850,21 @@ def plot_motions(
             frameon=False,
         )
     return fig
+
+
+def _curve_title(track: _Track) -> str | None:
+    """The title of a Bézier motion or spline, from its ``describe()``; else ``None``."""
+    if track.mode is not None or track.source is None:
+        return None
+    describe = getattr(track.source, "describe", None)
+    info = describe() if callable(describe) else None
+    if not isinstance(info, dict) or not {"kind", "space", "degree", "segments"} <= set(info):
+        return None
+    space = f"{info['space']} space"
+    segments = info["segments"]
+    if "spline" in str(info["kind"]).lower():
+        return f"C¹ spline of {segments} cubic segment{'s' * (segments != 1)} ({space})"
+    return f"Bézier motion of degree {info['degree']} ({space})"
 
 
 def _draw_transmission(ax, frame, tracks, in_group, family, angle_unit, length_label, single):

@@ -12,6 +12,7 @@ README.md; ``tests/test_readme.py`` checks that.
 from __future__ import annotations
 
 import importlib
+import warnings
 
 import click
 
@@ -29,6 +30,9 @@ COMMANDS = {
     "spline": ("a2b.cli.spline", "Sample a C¹ spline through many key poses."),
 }
 
+#: numpy's floating-point RuntimeWarnings, e.g. "overflow encountered in multiply".
+_NUMPY_FLOAT_WARNINGS = r"(overflow|invalid value|divide by zero|underflow) encountered"
+
 CONTEXT_SETTINGS = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
 
@@ -36,9 +40,11 @@ class LazyGroup(click.Group):
     """A group whose commands are imported on first use, from :data:`COMMANDS`.
 
     It is also the single error boundary of the program: an :class:`a2b.A2bError` (bad input,
-    a parameter without a solution, a singular motion) becomes a one-line message and exit
-    status 1. Any other exception is a bug and keeps its traceback. A closed output pipe
-    (``a2b ... | head``) ends the program quietly with status 0.
+    a parameter without a solution, a singular motion, an output that cannot be written)
+    becomes a one-line message and exit status 1. Any other exception is a bug and keeps its
+    traceback. A closed output pipe (``a2b ... | head``) ends the program quietly with status 0.
+    numpy's floating-point warnings (overflow, invalid value) are not shown: the commands
+    check their results and refuse non-finite ones with an error of their own.
     """
 
     def list_commands(self, ctx):
@@ -56,7 +62,9 @@ class LazyGroup(click.Group):
 
     def invoke(self, ctx):
         try:
-            return super().invoke(ctx)
+            with warnings.catch_warnings():
+                warnings.filterwarnings("ignore", _NUMPY_FLOAT_WARNINGS, RuntimeWarning)
+                return super().invoke(ctx)
         except A2bError as e:
             raise click.ClickException(str(e)) from e
         except BrokenPipeError:

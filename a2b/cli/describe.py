@@ -38,21 +38,8 @@ def _number(value) -> str:
     return str(value)
 
 
-def json_safe(value):
-    """``value`` with non-finite floats as the strings "nan", "inf", "-inf" (valid JSON)."""
-    import math
-
-    if isinstance(value, float) and not math.isfinite(value):
-        return str(value)
-    if isinstance(value, dict):
-        return {k: json_safe(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [json_safe(v) for v in value]
-    return value
-
-
-def render(description: dict) -> None:
-    """Print ``description`` as a rich table, then the choices a2b made."""
+def render(description: dict, defaults: list | None = None) -> None:
+    """Print ``description`` as a rich table, then the choices a2b made (``defaults`` first)."""
     from rich.console import Console
     from rich.table import Table
     from rich.text import Text
@@ -66,11 +53,10 @@ def render(description: dict) -> None:
             continue
         table.add_row(Text(LABELS.get(key, key.replace("_", " "))), Text(_number(value)))
     console.print(table)
-    choices = description.get("choices") or []
-    if choices:
-        console.print("Choices a2b made:")
-        for choice in choices:
-            console.print(f"  • {choice}", highlight=False, markup=False)
+    choices = list(defaults or []) + list(description.get("choices") or [])
+    console.print("Choices a2b made:" if choices else "Choices a2b made: none")
+    for choice in choices:
+        console.print(f"  • {choice}", highlight=False, markup=False)
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
@@ -83,8 +69,9 @@ def command(poses, mode, as_json, **parameters):
     Shows the canonical frame (rotation angle φ, translation d along the screw axis, the
     axis), the motion's essential parameters and its transmission curve (darboux: δ, z0, λ,
     κ and the pitches; cubic: m, m0, m3, a and b), any singular t, and every choice a2b
-    made for you. Pitches are translation per radian, dz/dω. --json prints the keys of
-    a2b.describe.
+    made for you (the sign of B's quaternion, the axis of a pure translation, the branch of an
+    amplitude, the default m, the mode if the file and the options give none). Pitches are
+    translation per radian, dz/dω. --json prints the keys of a2b.describe.
 
     \b
     Example:
@@ -99,8 +86,11 @@ def command(poses, mode, as_json, **parameters):
 
     job = read_poses(poses)
     parameters = options.merge_parameters(job.parameters, parameters, mode)
-    description = a2b.describe(job.start, job.end, mode or job.mode or "darboux", **parameters)
+    defaults: list[str] = []
+    mode = options.pick("mode", mode, job.mode, "darboux", defaults, "--mode")
+    description = a2b.describe(job.start, job.end, mode, **parameters)
+    options.check_finite(description, "describe")
     if as_json:
-        click.echo(json.dumps(json_safe(description), indent=2))
+        click.echo(json.dumps(description, indent=2, allow_nan=False))
     else:
-        render(description)
+        render(description, defaults)

@@ -26,13 +26,9 @@ def render(result: dict) -> None:
         table.add_column("s", justify="right")
         labels = result["s"]
     else:
-        if result["paper_basis_degenerate"]:
+        if result["paper_basis_degenerate"] and result["basis_name"] != "rref":
             console.print(
-                Text(
-                    "Note: the paper's kernel basis (eq. 13) degenerates for this m "
-                    "(n0 = 4 m0 m1 m2 m3 = 0); "
-                    + ("using the RREF basis instead." if result["basis_name"] == "rref" else "")
-                ),
+                Text("Note: the paper's kernel basis (eq. 13) degenerates for this m (n0 = 0)."),
                 style="yellow",
             )
         console.print(Text(f"μ_[m]-fiber, m = ({_fmt(result['m'])}), {result['basis_name']} basis f0 … f5 (x0, a11 … a33):"))
@@ -48,6 +44,10 @@ def render(result: dict) -> None:
     for label, point, residual in zip(labels, result["points"], result["residuals"]):
         table.add_row(Text(str(label)), Text(_fmt(point)), Text(f"{residual:.3g}"))
     console.print(table)
+    choices = result.get("choices") or []
+    console.print("Choices a2b made:" if choices else "Choices a2b made: none")
+    for choice in choices:
+        console.print(f"  • {choice}", highlight=False, markup=False)
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
@@ -107,7 +107,8 @@ def command(pose, kind, s, m, alphas, basis, as_json):
     from ..fibers import fiber
 
     result = fiber(read_pose(pose), kind, s=s, m=m, alphas=alphas, basis=basis)
+    options.check_finite(result, "fiber")
     if as_json:
-        click.echo(json.dumps(result, indent=2))
+        click.echo(json.dumps(result, indent=2, allow_nan=False))
     else:
         render(result)

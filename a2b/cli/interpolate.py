@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import sys
-
 import click
 
 from . import CONTEXT_SETTINGS, options
@@ -12,22 +10,14 @@ from . import CONTEXT_SETTINGS, options
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=click.File("rb"))
 @options.motion_options
-@options.samples_option
-@click.option(
-    "--format",
-    "fmt",
-    type=click.Choice(options.FORMATS),
-    help="Output format  [default: from the -o suffix (.mcap, .tum, .kitti), else csv]",
-)
-@options.output_option
-@options.timing_options
-@options.frame_options
-def command(poses, mode, samples, fmt, output, duration, start_time, frame_id, child_frame_id, **parameters):
+@options.trajectory_options
+def command(poses, mode, samples, verbose, **parameters):
     """Sample the motion from the start to the end pose in POSES (a file, or - for stdin).
 
     POSES is JSON or YAML with `start` and `end` poses and, optionally, `mode`, `samples` and
     `parameters`; options given here override the file. Every format keeps full precision:
-    each number reads back as the same double.
+    each number reads back as the same double. Samples are computed and written in chunks,
+    so any count runs in bounded memory (`--samples 1000000000 | head` starts at once).
 
     \b
     Formats:
@@ -38,37 +28,28 @@ def command(poses, mode, samples, fmt, output, duration, start_time, frame_id, c
       kitti   12 numbers of [R | t] per line
       mcap    foxglove.PoseInFrame on /a2b/pose and foxglove.FrameTransform on /tf
 
-    Pitches are screw-theory pitches: translation per radian, dz/dω.
+    Pitches are screw-theory pitches: translation per radian, dz/dω. -v states on stderr
+    every choice a2b makes for you: defaults, the sign of a quaternion, the screw axis of a
+    pure translation, the branch of an amplitude.
 
     \b
     Example:
       a2b interpolate samples/quarter-turn.yaml --samples 5
       a2b interpolate samples/quarter-turn.yaml --delta 0.2 --format tum -o turn.tum
-      a2b interpolate samples/half-turn.yaml --mode cubic --m 1,0,0,0.5 -o turn.mcap
+      a2b interpolate samples/half-turn.yaml --mode cubic --m 1,0,0,0.5 -o turn.mcap -v
       cat samples/quarter-turn.yaml | a2b interpolate - --format mcap | cat > turn.mcap
     """
-    import numpy as np
-
     import a2b
 
-    from ..io.atomic import atomic_output
     from ..io.readers import read_poses
-    from ..io.writers import REPRESENTATION, sample_chunks, write_samples
 
-    fmt = options.format_from(fmt, output)
-    if fmt == "mcap" and output == "-" and sys.stdout.isatty():
-        raise click.UsageError("MCAP is binary: write it with -o FILE or into a pipe, not to a terminal")
+    out = options.pop_trajectory(parameters)
     job = read_poses(poses)
     parameters = options.merge_parameters(job.parameters, parameters, mode)
-    motion = a2b.motion(job.start, job.end, mode or job.mode or "darboux", **parameters)
-    ts = np.linspace(0.0, 1.0, samples or job.samples or 101)
-    with atomic_output(output) as stream:
-        write_samples(
-            stream,
-            fmt,
-            sample_chunks(motion, ts, REPRESENTATION[fmt]),
-            duration=duration,
-            start_time=start_time,
-            frame_id=frame_id,
-            child_frame_id=child_frame_id,
-        )
+    choices: list[str] = []
+    mode = options.pick("mode", mode, job.mode, "darboux", choices, "--mode")
+    motion = a2b.motion(job.start, job.end, mode, **parameters)
+    samples = options.pick("samples", samples, job.samples, 101, choices, "--samples")
+    out["fmt"] = options.format_from(out["fmt"], out["output"], choices)
+    options.state_choices(choices + motion.choices, verbose)
+    options.write_motion(motion, samples, **out)

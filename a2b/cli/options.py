@@ -1,4 +1,4 @@
-"""Option decorators and parameter types shared by the commands.
+"""Option decorators, parameter types and the sampling-and-writing step shared by the commands.
 
 Only click is imported here: the numeric core, numpy, yaml and rich are imported inside the
 functions that need them, so ``a2b --help`` stays fast.
@@ -12,8 +12,16 @@ import click
 
 MODES = ("darboux", "cubic", "screw")
 FORMATS = ("csv", "matrix", "study", "tum", "kitti", "mcap")
+SPACES = ("matrix", "study")
 #: ``-o`` suffixes that choose a format when ``--format`` is not given.
 FORMAT_SUFFIXES = {".mcap": "mcap", ".tum": "tum", ".kitti": "kitti"}
+#: The fewest and the most samples (as :data:`a2b.io.readers.MIN_SAMPLES` and ``MAX_SAMPLES``):
+#: t = 0 and t = 1, and no more evenly spaced t in [0, 1] than doubles tell apart.
+MIN_SAMPLES, MAX_SAMPLES = 2, 2**53
+#: MCAP numbers messages with a uint32 sequence number.
+MCAP_MAX_SAMPLES = 2**32
+#: MCAP log times are unsigned nanoseconds; a2b's writer forms them as int64.
+MCAP_MAX_NANOSECONDS = 2**63 - 1
 
 
 class FiniteFloat(click.ParamType):
@@ -30,6 +38,18 @@ class FiniteFloat(click.ParamType):
             self.fail(f"{value!r} is not a number", param, ctx)
         if not math.isfinite(number):
             self.fail(f"{value!r} is not a finite number", param, ctx)
+        return number
+
+
+class PositiveFloat(FiniteFloat):
+    """A finite number greater than zero."""
+
+    name = "NUMBER>0"
+
+    def convert(self, value, param, ctx):
+        number = super().convert(value, param, ctx)
+        if not number > 0:
+            self.fail(f"{value!r} is not greater than 0", param, ctx)
         return number
 
 
@@ -52,6 +72,17 @@ class Vector(click.ParamType):
                 ctx,
             )
         return tuple(FiniteFloat().convert(p, param, ctx) for p in parts)
+
+
+class NumberList(click.ParamType):
+    """Comma-separated finite numbers, any count, as in ``--weights 1,2,2,1``."""
+
+    name = "NUMBERS"
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, tuple):
+            return value
+        return tuple(FLOAT.convert(p.strip(), param, ctx) for p in str(value).split(","))
 
 
 class Branch(click.ParamType):
@@ -135,8 +166,18 @@ def output_option(f):
 def samples_option(f):
     return click.option(
         "--samples",
-        type=click.IntRange(min=1),
-        help="Number of samples, t evenly spaced in [0, 1]  [default: the file's samples, else 101]",
+        type=click.IntRange(min=MIN_SAMPLES, max=MAX_SAMPLES),
+        help="Number of samples, t evenly spaced in [0, 1], written as they are computed "
+        "(any number streams in bounded memory)  [default: the file's samples, else 101]",
+    )(f)
+
+
+def format_option(f):
+    return click.option(
+        "--format",
+        "fmt",
+        type=click.Choice(FORMATS),
+        help="Output format  [default: from the -o suffix (.mcap, .tum, .kitti), else csv]",
     )(f)
 
 
@@ -150,11 +191,49 @@ def timing_options(f):
     )(f)
     return click.option(
         "--duration",
-        type=click.FloatRange(min=0.0, min_open=True),
+        type=PositiveFloat(),
         default=1.0,
         show_default=True,
         help="tum, mcap: seconds from t = 0 to t = 1; time = t · duration + start_time.",
     )(f)
+
+
+def verbose_option(f):
+    return click.option(
+        "-v",
+        "--verbose",
+        is_flag=True,
+        help="State on stderr every choice a2b makes for you (defaults, signs, bases, branches, axes).",
+    )(f)
+
+
+def space_option(f):
+    return click.option(
+        "--space",
+        type=click.Choice(SPACES),
+        help="Build the curve in R^13 and map it by μ_[m] (matrix, default), or over unit Study "
+        "vectors and map it by κ (study).",
+    )(f)
+
+
+#: The options of :func:`trajectory_options` that :func:`write_motion` takes.
+TRAJECTORY_OPTIONS = ("fmt", "output", "duration", "start_time", "frame_id", "child_frame_id")
+
+
+def trajectory_options(f):
+    """``--samples``, ``--format``, ``-o``, the tum/mcap timing and frame options, and ``-v``.
+
+    The command receives ``samples`` and ``verbose`` and the keys of :data:`TRAJECTORY_OPTIONS`;
+    :func:`pop_trajectory` takes the latter out of its keyword arguments for :func:`write_motion`.
+    """
+    for option in (verbose_option, frame_options, timing_options, output_option, format_option):
+        f = option(f)
+    return samples_option(f)
+
+
+def pop_trajectory(kwargs: dict) -> dict:
+    """Remove the keys of :data:`TRAJECTORY_OPTIONS` from ``kwargs`` and return them."""
+    return {key: kwargs.pop(key) for key in TRAJECTORY_OPTIONS}
 
 
 def frame_options(f):
@@ -212,11 +291,179 @@ def merge_parameters(from_file: dict, from_command_line: dict, mode: str | None 
     return merged
 
 
-def format_from(fmt: str | None, output: str) -> str:
-    """``--format`` if given, else the format the ``-o`` suffix names, else ``csv``."""
+def format_from(fmt: str | None, output: str, choices: list | None = None) -> str:
+    """``--format`` if given, else the format the ``-o`` suffix names, else ``csv``.
+
+    A format a2b picks is stated in ``choices`` when given.
+    """
     if fmt:
         return fmt
     for suffix, name in FORMAT_SUFFIXES.items():
         if str(output).lower().endswith(suffix):
+            if choices is not None:
+                choices.append(f"format {name}: from the -o suffix {suffix} (--format to change)")
             return name
+    if choices is not None:
+        choices.append("format csv: the default (--format or an -o suffix .mcap, .tum, .kitti to change)")
     return "csv"
+
+
+def pick(what: str, given, from_file, default, choices: list, option: str):
+    """``given`` (the command line), else ``from_file``, else ``default``, stated in ``choices``."""
+    if given is not None:
+        return given
+    if from_file is not None:
+        return from_file
+    choices.append(f"{what} {default}: the default ({option} or the file to change)")
+    return default
+
+
+def state_choices(choices: list, verbose: bool) -> None:
+    """With ``-v``, write every choice a2b made for the user to stderr, one per line."""
+    if not verbose:
+        return
+    click.echo("Choices a2b made:" if choices else "Choices a2b made: none", err=True)
+    for choice in choices:
+        click.echo(f"  • {choice}", err=True)
+
+
+def check_finite(data, what: str) -> None:
+    """Raise if a number in ``data`` (nested dicts and lists) is NaN or infinite.
+
+    The core computes in doubles; input near their limits (a translation of 1e300, an
+    amplitude of 1e200) can overflow on the way. Such a result is refused, not printed.
+    """
+    import math
+
+    from ..errors import A2bError
+
+    def walk(value, key):
+        if isinstance(value, float) and not math.isfinite(value):
+            raise A2bError(
+                f"{what}: {key} = {value} overflows double precision; the poses or "
+                "parameters are too large"
+            )
+        if isinstance(value, dict):
+            for k, v in value.items():
+                walk(v, k)
+        elif isinstance(value, (list, tuple)):
+            for v in value:
+                walk(v, key)
+
+    walk(data, "a value")
+
+
+def evenly_spaced(samples: int, size: int):
+    """``t = i / (samples − 1)``, ``i = 0 … samples − 1``, as arrays of at most ``size``.
+
+    Bit for bit the values of ``numpy.linspace(0, 1, samples)``, without ever holding them
+    all: 10⁹ samples cost one chunk of memory.
+    """
+    import numpy as np
+
+    step = 1.0 / (samples - 1)
+    for lo in range(0, samples, size):
+        hi = min(lo + size, samples)
+        ts = np.arange(lo, hi, dtype=np.int64).astype(np.float64)
+        ts *= step
+        if hi == samples:
+            ts[-1] = 1.0
+        yield ts
+
+
+def motion_chunks(motion, samples: int, representation: str):
+    """Sample ``motion`` at ``samples`` evenly spaced t in [0, 1], one writer chunk at a time.
+
+    Every chunk is checked: a sample that overflowed to NaN or infinity stops the run with an
+    :class:`A2bError` instead of reaching the output.
+    """
+    import numpy as np
+
+    from ..errors import A2bError
+    from ..io.writers import CHUNK_SAMPLES, sample_chunks
+
+    for ts in evenly_spaced(samples, CHUNK_SAMPLES):
+        for chunk in sample_chunks(motion, ts, representation, size=len(ts)):
+            for name in ("quat_wxyz", "trans", "matrices", "study"):
+                values = getattr(chunk, name)
+                if values is not None and not np.isfinite(values).all():
+                    bad = ~np.isfinite(values.reshape(len(chunk.t), -1)).all(axis=1)
+                    t = float(chunk.t[np.argmax(bad)])
+                    raise A2bError(
+                        f"the sample at t = {t:.17g} is not finite: the motion overflows double "
+                        "precision; the poses or parameters are too large"
+                    )
+            yield chunk
+
+
+def check_output(fmt: str, output: str, samples: int, duration: float, start_time: float) -> None:
+    """Refuse, before writing anything, what the format cannot hold.
+
+    MCAP: binary, so not to a terminal; at most 2**32 messages per topic (uint32 sequence
+    numbers); log times ``t · duration + start_time`` from 0 to 2**63 − 1 nanoseconds (the
+    year 2262). tum and mcap: times that overflow a double.
+    """
+    import math
+    import sys
+
+    from ..errors import ParameterError
+
+    if fmt == "mcap" and str(output) == "-" and sys.stdout.isatty():
+        raise click.UsageError("MCAP is binary: write it with -o FILE or into a pipe, not to a terminal")
+    if fmt not in ("tum", "mcap"):
+        return
+    last = duration + start_time  # the time of t = 1, the latest (duration > 0)
+    if not math.isfinite(last):
+        raise ParameterError(
+            f"the time of t = 1, duration + start_time = {duration:g} + {start_time:g}, "
+            "overflows a double"
+        )
+    if fmt != "mcap":
+        return
+    if samples > MCAP_MAX_SAMPLES:
+        raise ParameterError(
+            f"MCAP numbers messages with 32-bit sequence numbers: at most 2**32 = "
+            f"{MCAP_MAX_SAMPLES} samples, got {samples}"
+        )
+    if start_time < 0:
+        raise ParameterError(
+            f"MCAP times must not be negative; --start-time is {start_time:g} s"
+        )
+    if not last * 1e9 < MCAP_MAX_NANOSECONDS:
+        raise ParameterError(
+            f"MCAP log times are nanoseconds below 2**63 (the year 2262); the time of t = 1, "
+            f"duration + start_time, is {last:g} s"
+        )
+
+
+def write_motion(
+    motion,
+    samples: int,
+    *,
+    fmt: str,
+    output: str,
+    duration: float,
+    start_time: float,
+    frame_id: str,
+    child_frame_id: str,
+) -> None:
+    """Sample ``motion`` at ``samples`` evenly spaced t in [0, 1] and write them to ``output``.
+
+    ``fmt`` is already resolved (:func:`format_from`). The samples stream chunk by chunk
+    into :func:`a2b.io.atomic.atomic_output`, so memory stays bounded for any count and a
+    failure leaves no partial file. Used by ``interpolate``, ``bezier`` and ``spline``.
+    """
+    from ..io.atomic import atomic_output
+    from ..io.writers import REPRESENTATION, write_samples
+
+    check_output(fmt, output, samples, duration, start_time)
+    with atomic_output(output) as stream:
+        write_samples(
+            stream,
+            fmt,
+            motion_chunks(motion, samples, REPRESENTATION[fmt]),
+            duration=duration,
+            start_time=start_time,
+            frame_id=frame_id,
+            child_frame_id=child_frame_id,
+        )

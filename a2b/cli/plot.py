@@ -1,4 +1,4 @@
-"""``a2b plot``: the paper's three pictures of a motion between the two poses of a file."""
+"""``a2b plot``: the paper's three pictures of a motion between two poses, or of a curve."""
 
 from __future__ import annotations
 
@@ -55,6 +55,7 @@ class PointList(click.ParamType):
     help="The image to write: .png, .svg or .pdf. Written to a temporary file and renamed into place.",
 )
 @options.motion_options
+@options.space_option
 @click.option(
     "--compare",
     type=ModeList(),
@@ -98,6 +99,7 @@ def command(
     poses,
     output,
     mode,
+    space,
     compare,
     family,
     family_of,
@@ -107,7 +109,9 @@ def command(
     samples,
     **parameters,
 ):
-    """Draw the motion between the start and end pose in POSES (a file, or - for stdin).
+    """Draw the motion between the start and end pose in POSES (a file, or - for stdin),
+    or the Bézier motion or spline of a `controls:` or `poses:` file (as for a2b bezier and
+    a2b spline, with --space).
 
     Three panels, as in the paper's figures: the moving frame at 8 instants (axes x, y, z in
     red, green, blue), the trajectories of body points, and the transmission curve: the
@@ -117,23 +121,49 @@ def command(
     transmission curve. The suffix of -o chooses PNG, SVG or PDF. Needs matplotlib:
     pip install 'a2b[plot]'.
 
-    With --compare, each motion parameter applies to the modes that take it.
+    With --compare, each motion parameter applies to the modes that take it. A curve is
+    drawn with its control poses (C1, C2, …) or key poses (P1, P2, …) marked; the motion
+    options, --compare and --family are for two poses only.
 
     \b
     Example:
       a2b plot samples/quarter-turn.yaml -o turn.png
       a2b plot samples/quarter-turn.yaml --compare darboux,cubic,screw -o compare.svg
       a2b plot samples/half-turn.yaml --mode cubic --family --angle-unit rad -o family.pdf
+      a2b plot samples/planar-bezier.yaml --space study -o planar.svg
     """
     from ..api import PARAMETERS
     from ..errors import ParameterError
     from ..io.atomic import atomic_output
-    from ..io.readers import read_poses
+    from ..io.readers import PoseList, read_motion_file
     from ..plot import figure_format, plot_motions, write_figure
 
     fmt = figure_format(output)
     if compare and mode:
         raise click.UsageError("give --mode or --compare, not both")
+    job = read_motion_file(poses)
+    style = {
+        "points": points,
+        "angle_unit": angle_unit,
+        "length_unit": length_unit,
+        "samples": samples,
+    }
+    if isinstance(job, PoseList):
+        given = [k for k, v in parameters.items() if v is not None]
+        given += [name for name, v in (("mode", mode), ("compare", compare)) if v]
+        given += [name for name, v in (("family", family), ("family-of", family_of)) if v]
+        if given:
+            raise click.UsageError(
+                f"{', '.join('--' + k.replace('_', '-') for k in given)} "
+                f"{'is' if len(given) == 1 else 'are'} for two poses; this file is a list of "
+                f"{job.key} (a {'Bézier motion' if job.key == 'controls' else 'spline'})"
+            )
+        figure = _plot_curve(job, space, style)
+        with atomic_output(output) as stream:
+            write_figure(figure, stream, fmt)
+        return
+    if space:
+        raise click.UsageError("--space is for a list of controls or poses; this is a poses file")
     if compare:
         given = [k for k, v in parameters.items() if v is not None]
         unused = sorted(k for k in given if not any(k in PARAMETERS[m] for m in compare))
@@ -142,7 +172,6 @@ def command(
                 f"{', '.join('--' + k.replace('_', '-') for k in unused)} applies to none of the "
                 f"compared modes {', '.join(compare)}"
             )
-    job = read_poses(poses)
     parameters = options.merge_parameters(job.parameters, parameters, mode)
     if compare:
         # Each mode takes the parameters meant for it (from the file or the command line).
@@ -151,15 +180,20 @@ def command(
         ]
     else:
         motions = [(mode or job.mode or "darboux", parameters)]
-    figure = plot_motions(
-        job.start,
-        job.end,
-        motions,
-        points=points,
-        family=family_of or family,
-        angle_unit=angle_unit,
-        length_unit=length_unit,
-        samples=samples,
-    )
+    figure = plot_motions(job.start, job.end, motions, family=family_of or family, **style)
     with atomic_output(output) as stream:
         write_figure(figure, stream, fmt)
+
+
+def _plot_curve(curve, space, style: dict):
+    """The figure of the Bézier motion or spline of a pose list, its inner poses marked."""
+    from ..motions.bezier import bezier_motion, spline_motion
+    from ..plot import plot_motions
+
+    space = space or curve.space or "matrix"
+    if curve.key == "controls":
+        motion, prefix = bezier_motion(curve.poses, space, **curve.parameters), "C"
+    else:
+        motion, prefix = spline_motion(curve.poses, space, **curve.parameters), "P"
+    inner = [(f"{prefix}{i}", pose) for i, pose in enumerate(curve.poses)][1:-1]
+    return plot_motions(curve.poses[0], curve.poses[-1], motion, marks=inner, **style)

@@ -5,24 +5,19 @@ from __future__ import annotations
 import click
 
 from . import CONTEXT_SETTINGS, options
-from .bezier import format_option, read_curve_file, space_option, write_motion
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=click.File("rb"))
-@space_option
+@options.space_option
 @click.option(
     "--m",
     "m",
     type=options.Vector(4, "m0, m1, m2, m3"),
     help="matrix: the vector m of μ_[m], one for all segments  [default: the sum of the poses' quaternions]",
 )
-@options.samples_option
-@format_option
-@options.output_option
-@options.timing_options
-@options.frame_options
-def command(poses, space, m, samples, fmt, output, duration, start_time, frame_id, child_frame_id):
+@options.trajectory_options
+def command(poses, space, m, samples, verbose, **out):
     """Sample the C¹ spline through the key poses in POSES (a file, or - for stdin).
 
     POSES is JSON or YAML with a list `poses` of at least two poses, in any pose form of
@@ -36,7 +31,8 @@ def command(poses, space, m, samples, fmt, output, duration, start_time, frame_i
     Xj, Xj + Tj/3, X(j+1) − T(j+1)/3, X(j+1). The motion is C¹ and passes through pose j at
     t = j/N (N + 1 poses), so --samples s·N + 1 hits every pose.
 
-    Output formats and options as for `a2b interpolate`.
+    Output formats and options as for `a2b interpolate`; -v states every choice a2b makes
+    for you.
 
     \b
     Example:
@@ -44,18 +40,15 @@ def command(poses, space, m, samples, fmt, output, duration, start_time, frame_i
       a2b spline samples/spline.yaml --space study --format tum -o spline.tum
       a2b spline samples/spline.yaml --format mcap -o spline.mcap
     """
+    from ..io.readers import read_pose_list
     from ..motions.bezier import spline_motion
 
-    curve = read_curve_file(poses, "poses")
+    curve = read_pose_list(poses, "poses")
     merged = options.merge_parameters(curve.parameters, {"m": m})
-    motion = spline_motion(curve.poses, space or curve.space or "matrix", **merged)
-    write_motion(
-        motion,
-        samples or curve.samples or 101,
-        fmt,
-        output,
-        duration,
-        start_time,
-        frame_id,
-        child_frame_id,
-    )
+    choices: list[str] = []
+    space = options.pick("space", space, curve.space, "matrix", choices, "--space")
+    motion = spline_motion(curve.poses, space, **merged)
+    samples = options.pick("samples", samples, curve.samples, 101, choices, "--samples")
+    out["fmt"] = options.format_from(out["fmt"], out["output"], choices)
+    options.state_choices(choices + motion.choices, verbose)
+    options.write_motion(motion, samples, **out)

@@ -1,16 +1,19 @@
 """Output that appears whole or not at all.
 
 :func:`atomic_output` writes into a temporary file next to the target and renames it into
-place only when the writer finished. A failure, Ctrl-C or SIGTERM removes the temporary file
-and leaves any existing target untouched. Standard output (``-``) is written directly; a reader
-that goes away early (``a2b ... | head``) raises :class:`BrokenPipeError`, which
-:func:`silence_stdout` turns into a quiet end.
+place only when the writer finished. A failure, Ctrl-C, SIGTERM or a full disk removes the
+temporary file and leaves any existing target untouched. Standard output (``-``) and targets
+that are no regular file (``/dev/null``, a named pipe, a terminal) are written directly: a
+rename cannot replace them. A reader that goes away early (``a2b ... | head``) raises
+:class:`BrokenPipeError`, which :func:`silence_stdout` turns into a quiet end; any other write
+error (``ENOSPC``, ``EFBIG``, ``EIO``) is an :class:`OutputFileError` naming the target.
 """
 
 from __future__ import annotations
 
 import os
 import signal
+import stat
 import sys
 import tempfile
 import threading
@@ -59,47 +62,69 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
     """A binary stream for ``path``; ``None`` or ``"-"`` is standard output.
 
     For a file, the stream is a temporary file in the same directory, renamed to ``path``
-    when the block ends normally (keeping the mode of an existing target, else the umask's).
-    If the block raises (including ``KeyboardInterrupt`` and SIGTERM), the temporary file is
-    removed and ``path`` is left as it was.
+    when the block ends normally (keeping the mode of an existing target, else the umask's;
+    a symbolic link is followed, so the file it points to is replaced). If the block raises
+    (including ``KeyboardInterrupt``, SIGTERM and a failed write), the temporary file is
+    removed and ``path`` is left as it was. Standard output and targets that are no regular
+    file, such as ``/dev/null`` or a named pipe, are written directly.
 
     Raises
     ------
     OutputFileError
-        If the temporary file cannot be created or renamed (a missing directory, no
-        permission).
+        If the temporary file cannot be created, written or renamed (a missing directory, no
+        permission, a full disk, a file-size limit), or standard output cannot be written.
     """
     if _is_stdout(path):
-        out = sys.stdout.buffer
-        yield out
-        out.flush()
+        with _write_errors("standard output", on_error=silence_stdout):
+            out = sys.stdout.buffer
+            yield out
+            out.flush()
         return
-    target = os.fspath(path)
-    directory = os.path.dirname(os.path.abspath(target))
+    target = os.path.realpath(os.fspath(path))
+    directory = os.path.dirname(target)
     try:
-        mode = os.stat(target).st_mode & 0o7777
+        info = os.stat(target)
     except FileNotFoundError:
         mode = _default_mode()
     except OSError as e:
-        raise OutputFileError(f"cannot write {target}: {e.strerror}") from e
+        raise OutputFileError(f"cannot write {path}: {e.strerror}") from e
+    else:
+        if not stat.S_ISREG(info.st_mode) and not stat.S_ISDIR(info.st_mode):
+            # A device, a named pipe or a socket: a rename would replace it, not write to it.
+            with _write_errors(os.fspath(path)), open(target, "wb") as stream:
+                yield stream
+            return
+        mode = info.st_mode & 0o7777
     with _terminate_as_exit():
         try:
             fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(target)}.", suffix=".tmp", dir=directory)
         except OSError as e:
-            raise OutputFileError(f"cannot write {target}: {e.strerror or e}") from e
+            raise OutputFileError(f"cannot write {path}: {e.strerror or e}") from e
         try:
-            with os.fdopen(fd, "wb", buffering=1 << 20) as stream:
-                yield stream
-            os.chmod(tmp, mode)
-            os.replace(tmp, target)
-        except BaseException as e:
+            with _write_errors(os.fspath(path)):
+                with os.fdopen(fd, "wb", buffering=1 << 20) as stream:
+                    yield stream
+                os.chmod(tmp, mode)
+                os.replace(tmp, target)
+        except BaseException:
             try:
                 os.unlink(tmp)
             except FileNotFoundError:
                 pass
-            if isinstance(e, IsADirectoryError) or (isinstance(e, OSError) and e.filename == target):
-                raise OutputFileError(f"cannot write {target}: {e.strerror}") from e
             raise
+
+
+@contextmanager
+def _write_errors(what: str, on_error=None) -> Iterator[None]:
+    """Turn an :class:`OSError` of writing (not a closed pipe) into an :class:`OutputFileError`."""
+    try:
+        yield
+    except BrokenPipeError:
+        raise
+    except OSError as e:
+        if on_error is not None:
+            on_error()
+        raise OutputFileError(f"cannot write {what}: {e.strerror or e}") from e
 
 
 def silence_stdout() -> None:
