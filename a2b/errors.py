@@ -27,3 +27,7 @@ class SingularMotionError(A2bError):
 
 class InputFileError(A2bError):
     """An input file cannot be read or does not have the expected structure."""
+
+
+class A2bWarning(UserWarning):
+    """A result that a2b computes but that is sensitive to rounding of the input (near a singularity)."""

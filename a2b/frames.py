@@ -142,14 +142,15 @@ def screw_frame(start: np.ndarray, end: np.ndarray) -> ScrewFrame:
     p_b, t_b = quat_trans_from_matrices(end)
     choices = []
     r = quat_mul(p_b, quat_conj(p_a))
-    if r[0] < 0:
+    s = float(np.linalg.norm(r[1:]))
+    half_turn = s > ROTATION_NOISE and abs(r[0]) <= ROTATION_NOISE
+    if r[0] < 0 and not half_turn:
         p_b, r = -p_b, -r
         choices.append("flipped the sign of B's quaternion so that pA·pB ≥ 0 (the short way round)")
     from .poses import rotations_from_quaternions
 
     rot_d = rotations_from_quaternions(r)
     t_disp = t_b - rot_d @ t_a
-    s = float(np.linalg.norm(r[1:]))
     if 0.0 < s <= ROTATION_NOISE:
         choices.append(
             f"the rotations of A and B differ by |sin(φ/2)| = {s:.3g}, within rounding "
@@ -158,18 +159,20 @@ def screw_frame(start: np.ndarray, end: np.ndarray) -> ScrewFrame:
     if s > ROTATION_NOISE:
         u = r[1:] / s
         d = float(u @ t_disp)
-        if r[0] == 0.0:
-            # A half-turn: u and −u give the same rotation; pick one and say so.
+        if half_turn:
+            # A half-turn (pA·pB = 0 within rounding): u and −u are equally short; pick one and
+            # say so, rather than let the sign of rounding noise decide.
             flip = d < 0 or (d == 0 and canonical_sign(u)[0] != u[0])
             if flip:
                 u, d, p_b, r = -u, -d, -p_b, -r
             choices.append(
-                "φ = π: both axis orientations are short; chose the one with "
+                f"φ = π (|pA·pB| = {abs(r[0]):.3g} ≤ {ROTATION_NOISE:.3g}): both axis orientations are "
+                "short; chose the one with "
                 + ("d > 0" if d > 0 else "d = 0 and the first non-zero axis component positive")
             )
-        phi = 2.0 * float(np.arctan2(s, r[0]))
+        phi = 2.0 * float(np.arctan2(s, abs(r[0])))
         t_perp = t_disp - d * u
-        axis_point = 0.5 * (t_perp + np.cross(u, t_perp) * (r[0] / s))
+        axis_point = 0.5 * (t_perp + np.cross(u, t_perp) * (abs(r[0]) / s))
     else:
         phi = 0.0
         norm_t = float(np.linalg.norm(t_disp))

@@ -84,7 +84,6 @@ def test_the_ill_conditioned_cell_is_what_the_estimate_says():
 # ------------------------------------------------------------------------------------------------
 
 
-@pytest.mark.xfail(strict=True, reason="finding: rotations from cancelling Bernstein sums are not rigid")
 @pytest.mark.parametrize("probe", ["long-way", "opposite-weights"])
 def test_rigid_where_the_quaternion_path_nearly_vanishes(probe):
     phi = accuracy.MP.mpf("1e-2")
@@ -100,14 +99,12 @@ def test_rigid_where_the_quaternion_path_nearly_vanishes(probe):
     assert max(cell.ortho, cell.det) <= TARGETS["rigid"]
 
 
-@pytest.mark.xfail(strict=True, reason="finding: the half-turn rule is skipped when pA·pB is rounding noise")
 def test_half_turn_rule_holds_within_rounding():
     for k in range(accuracy.GENERAL_PAIRS):
         pair = accuracy.general_pair(accuracy.MP.pi, 1.0, k)
         assert screw_frame(pair.start, pair.end).d > 0
 
 
-@pytest.mark.xfail(strict=True, reason="finding: no warning for the ill-conditioned canonical cubic")
 def test_ill_conditioned_canonical_cubic_warns_or_refuses():
     case = accuracy.CASE_BY_KEY["cubic-canonical"]
     pair = accuracy.general_pair(accuracy.PHI_VALUES["1e-12"], 1.0, 0)
@@ -120,7 +117,6 @@ def test_ill_conditioned_canonical_cubic_warns_or_refuses():
     assert caught
 
 
-@pytest.mark.xfail(strict=True, reason="finding: no warning where p(t) nearly vanishes above the refusal threshold")
 def test_long_way_close_to_a_translation_warns_or_refuses():
     """|p(½)|²/max|p|² ≈ 6e-10: the exact motion moves by about 2e-7 L under rounding of the input."""
     pair = accuracy.general_pair(accuracy.MP.mpf("1e-4"), 1.0, 0)

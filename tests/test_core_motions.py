@@ -1,6 +1,7 @@
 """The motions against the paper's theorems (Theorems 1 and 2) and MATH.md's closed forms."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -581,3 +582,60 @@ def test_describe_has_the_documented_keys(rng):
     import json
 
     json.dumps(darboux), json.dumps(cubic), json.dumps(a2b.describe(a, b, "screw"))
+
+
+# --------------------------------------------------------------------------------------------
+# near the singularities: rigid, warned or refused, never garbage
+# --------------------------------------------------------------------------------------------
+
+
+def small_rotation_pair(rng, phi):
+    a = random_pose(rng)
+    disp = pose_about_axis(phi, rng.normal(size=3), rng.normal(size=3), rng.normal())
+    return a, disp @ a
+
+
+@pytest.mark.parametrize("phi", [1e-1, 1e-2, 1e-3])
+def test_long_way_near_a_translation_stays_rigid(rng, phi):
+    a, b = small_rotation_pair(rng, phi)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", a2b.errors.A2bWarning)
+        darboux = a2b.interpolate(a, b, np.linspace(-0.2, 1.2, 57), "darboux", long_way=True)
+        pa, pb = (a2b.poses.quaternions_from_rotations(x[:3, :3]) for x in (a, b))
+        m = pa - pb if pa @ pb > 0 else pa + pb  # weights of opposite sign
+        cubic = a2b.interpolate(a, b, np.linspace(0, 1, 57), "cubic", frame="given", m=m)
+    assert rigidity(darboux) < 1e-13
+    assert rigidity(cubic) < 1e-13
+
+
+def test_long_way_close_to_a_translation_warns_then_refuses(rng):
+    a, b = small_rotation_pair(rng, 1e-4)
+    with pytest.warns(a2b.errors.A2bWarning, match=r"close to p\(t\) = 0 at t = 0.5"):
+        motion = a2b.motion(a, b, "darboux", long_way=True)
+    assert motion.describe()["warnings"]
+    a, b = small_rotation_pair(rng, 1e-7)
+    with pytest.raises(SingularMotionError, match="tolerance 1e-12"):
+        a2b.motion(a, b, "darboux", long_way=True)
+
+
+def test_ill_conditioned_canonical_cubic_warns_and_the_defaults_do_not(rng):
+    a, b = small_rotation_pair(rng, 1e-12)
+    with pytest.warns(a2b.errors.A2bWarning, match="screw axis is ill-determined"):
+        a2b.motion(a, b, "cubic", m=[0.9, 0.2, -0.4, 0.5], a=0.4, b=-0.3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        motion = a2b.motion(a, b, "cubic")
+        a2b.motion(a, b, "cubic", frame="given", m=[0.9, 0.2, -0.4, 0.5], a=0.4, b=-0.3)
+    assert motion.describe()["warnings"] == []
+
+
+def test_half_turn_within_rounding_follows_the_half_turn_rule(rng):
+    """pA·pB at rounding level must not decide the orientation; the stated rule does."""
+    for _ in range(20):
+        a = random_pose(rng)
+        b = pose_about_axis(math.pi, rng.normal(size=3), rng.normal(size=3), rng.normal()) @ a
+        frame = screw_frame(a, b)
+        assert frame.d >= 0
+        assert frame.phi == pytest.approx(math.pi)
+        assert any("φ = π" in choice for choice in frame.choices)
+        np.testing.assert_allclose(a2b.interpolate(a, b, [1.0], "screw")[0], b, atol=1e-12)

@@ -12,11 +12,21 @@ Sampling is one matrix product and two divisions per sample, with no Python loop
 
 from __future__ import annotations
 
+import warnings
 from math import comb
 
 import numpy as np
 
-from ..errors import SingularMotionError
+from ..errors import A2bWarning, SingularMotionError
+
+EPS = float(np.finfo(float).eps)
+#: ``|p(t)|² / max|p|²`` at or below which a motion is refused as passing through ``p = 0``.
+SINGULAR_TOL = 1e-12
+#: Below this ratio a motion is sampled, but with an :class:`A2bWarning` about its sensitivity.
+SENSITIVE_TOL = 1e-7
+#: Below this ratio the rotation is evaluated from the normalised ``p(t)`` (rigid to rounding)
+#: instead of the ratio of Bernstein sums, whose rounding grows like ``ε / ratio``.
+FRAGILE_TOL = 1e-2
 
 ROT_COLS = (0, 1, 2, 4, 5, 6, 8, 9, 10)
 TRANS_COLS = (3, 7, 11)
@@ -221,20 +231,42 @@ def linear_root(v0: float, v1: float) -> float | None:
     return v0 / (v0 - v1) + 0.0  # + 0.0 turns −0 into 0
 
 
-def check_quaternion_path(pa: np.ndarray, pb: np.ndarray, lo: float, hi: float, what: str) -> None:
-    """Raise if ``p(t) = (1−t) pa + t pb`` (nearly) vanishes for some ``t ∈ [lo, hi]``.
+def quaternion_path_minimum(pa: np.ndarray, pb: np.ndarray, lo: float, hi: float) -> tuple[float, float]:
+    """Where ``|p(t)|²`` of ``p(t) = (1−t) pa + t pb`` is smallest on ``[lo, hi]``, and how small.
 
-    ``|p(t)|²`` is a quadratic in t; its minimum on the interval is compared with
-    ``1e-12 · max(|pa|², |pb|²)``.
+    Returns ``(t_min, ratio)`` with ``ratio = |p(t_min)|² / max(|pa|², |pb|²)``.
     """
     diff = pb - pa
     dd = float(diff @ diff)
     t_min = 0.0 if dd == 0.0 else float(np.clip(-(pa @ diff) / dd, lo, hi))
     p_min = pa + t_min * diff
     scale = max(float(pa @ pa), float(pb @ pb))
-    value = float(p_min @ p_min)
-    if value <= 1e-12 * scale:
+    return t_min, float(p_min @ p_min) / scale
+
+
+def check_quaternion_path(pa: np.ndarray, pb: np.ndarray, lo: float, hi: float, what: str, warn=None) -> float:
+    """Raise if ``p(t) = (1−t) pa + t pb`` (nearly) vanishes for some ``t ∈ [lo, hi]``.
+
+    ``|p(t)|²`` is a quadratic in t; its minimum on the interval, relative to
+    ``max(|pa|², |pb|²)``, must exceed ``SINGULAR_TOL = 1e-12``. Between that and
+    ``SENSITIVE_TOL = 1e-7`` the motion is defined but amplifies rounding of the input by about
+    ``ε / ratio``: ``warn(message)`` is called (default: an :class:`a2b.errors.A2bWarning`).
+    Returns the ratio.
+    """
+    t_min, ratio = quaternion_path_minimum(pa, pb, lo, hi)
+    if ratio <= SINGULAR_TOL:
         raise SingularMotionError(
             f"the {what} passes through p(t) = 0 (no rotation defined) at t = {t_min:.6g}: "
-            f"|p(t)|² / |p|²_max = {value / scale:.3g}, tolerance 1e-12"
+            f"|p(t)|² / |p|²_max = {ratio:.3g}, tolerance {SINGULAR_TOL:g}"
         )
+    if ratio <= SENSITIVE_TOL:
+        message = (
+            f"the {what} passes close to p(t) = 0 at t = {t_min:.6g} (|p(t)|² / |p|²_max = "
+            f"{ratio:.3g}): its poses near there change by about {EPS / ratio:.1g} of the "
+            "motion's size under rounding of the input"
+        )
+        if warn is None:
+            warnings.warn(A2bWarning(message), stacklevel=2)
+        else:
+            warn(message)
+    return ratio

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import A2bWarning, ParameterError
 from ..frames import ScrewFrame
 from ._rational import evaluate_table, evaluate_translations
 
@@ -42,6 +44,13 @@ class Motion:
         self.end = end
         self.frame = frame
         self.choices: list[str] = list(frame.choices)
+        self.warnings: list[str] = []
+
+    def _warn(self, message: str) -> None:
+        """Record a sensitivity warning for ``describe`` and issue it as an ``A2bWarning``."""
+        if message not in self.warnings:
+            self.warnings.append(message)
+            warnings.warn(A2bWarning(message), stacklevel=3)
 
     # -- to implement ------------------------------------------------------------------------
     def _basis(self, ts: np.ndarray) -> np.ndarray:  # pragma: no cover - abstract
@@ -67,10 +76,24 @@ class Motion:
             self._check_interval(min(0.0, float(arr.min())), max(1.0, float(arr.max())))
         return arr
 
+    def _rotation_is_fragile(self, lo: float, hi: float) -> bool:
+        """True where the table's rotation would lose rigidity (``p(t)`` close to 0 on [lo, hi])."""
+        return False
+
     def matrices(self, ts) -> np.ndarray:
-        """Sample the motion: robotics matrices ``(len(ts), 4, 4)`` for a 1-D ``ts``."""
+        """Sample the motion: robotics matrices ``(len(ts), 4, 4)`` for a 1-D ``ts``.
+
+        Where ``p(t)`` comes close to 0 (``|p|²/max|p|² < 1e-2``), the rotation block is taken
+        from the normalised ``p(t)`` instead of the coefficient table, so that every sample stays
+        rigid to rounding.
+        """
         arr = self._prepare(ts)
-        return evaluate_table(self._basis(arr), self.table)
+        out = evaluate_table(self._basis(arr), self.table)
+        if arr.size and self._rotation_is_fragile(min(0.0, float(arr.min())), max(1.0, float(arr.max()))):
+            from ..poses import rotations_from_quaternions
+
+            out[:, :3, :3] = rotations_from_quaternions(self._quats(arr))
+        return out
 
     def quat_trans(self, ts) -> tuple[np.ndarray, np.ndarray]:
         """Unit quaternions ``(N, 4)`` (w, x, y, z) and translations ``(N, 3)``.
@@ -104,4 +127,5 @@ class Motion:
         out.update(self._describe())
         out["singular_t"] = [float(t) for t in self.singular_t()]
         out["choices"] = list(self.choices)
+        out["warnings"] = list(self.warnings)
         return out

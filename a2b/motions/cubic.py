@@ -34,7 +34,20 @@ from ..errors import ParameterError, SingularMotionError
 from ..extended import check_m, check_not_orthogonal, kernel_basis, paper_basis_degenerate
 from ..frames import ScrewFrame
 from ..study import rotation_numerators
-from ._rational import bern_elevate, bern_mul, bernstein_basis, check_quaternion_path, linear_root, make_table
+from ._rational import (
+    EPS,
+    FRAGILE_TOL,
+    bern_elevate,
+    bern_mul,
+    bernstein_basis,
+    check_quaternion_path,
+    linear_root,
+    make_table,
+    quaternion_path_minimum,
+)
+
+#: Relative sensitivity to rounding of the input above which a canonical cubic motion warns.
+SENSITIVITY_WARNING = 1e-9
 from .base import Motion, _vec
 
 FRAMES = ("canonical", "given")
@@ -150,6 +163,35 @@ class CubicMotion(Motion):
             trans_den = bern_mul(delta, x0)
         self.table = make_table(bern_elevate(rot, 3), bern_elevate(delta, 3), trans, trans_den)
         self._check_interval(0.0, 1.0)
+        if frame_name == "canonical":
+            self._check_axis_sensitivity(s)
+
+    def _check_axis_sensitivity(self, s: float) -> None:
+        """Warn when a nearly pure translation makes the canonical motion depend on rounding.
+
+        For small φ the canonical cubic moves the part ``t⊥`` of the displacement across the
+        screw axis with the rotation's profile ``f(t) = t wB / ((1−t) wA + t wB)`` and the slide
+        ``d u`` with eq. 18's ``g(t) = t ψB / ((1−t) ψA + t ψB)``. The axis of float64 input is
+        known to about ``ε / sin(φ/2)``, so the poses move by about
+        ``ε / sin(φ/2) · max |f − g|`` of the motion's size. (With the defaults f = g.)
+        """
+        if s == 0.0:
+            return
+        w_a, w_b = self.weights
+        ts = np.linspace(0.0, 1.0, 101)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            f = ts * w_b / ((1 - ts) * w_a + ts * w_b)
+            g = ts * self.psi_b / ((1 - ts) * self.psi_a + ts * self.psi_b)
+        diff = np.abs(f - g)
+        spread = float(np.max(diff[np.isfinite(diff)], initial=0.0))
+        estimate = EPS / s * spread
+        if estimate > SENSITIVITY_WARNING:
+            self._warn(
+                f"the rotation angle φ = {self.frame.phi:.3g} is so small that the screw axis is "
+                f"ill-determined, and with wB/wA ≠ ψB/ψA the canonical cubic motion depends on it: "
+                f"its poses change by about {estimate:.1g} of the motion's size under rounding of "
+                "the input (the defaults m = pA + pB, a = b = 0, or frame given, avoid this)"
+            )
 
     def _check_psi(self):
         root = linear_root(self.psi_a, self.psi_b)
@@ -166,6 +208,9 @@ class CubicMotion(Motion):
     def _quats(self, ts):
         return bernstein_basis(ts, 1) @ self._p
 
+    def _rotation_is_fragile(self, lo, hi):
+        return quaternion_path_minimum(self._p[0], self._p[1], lo, hi)[1] < FRAGILE_TOL
+
     def _check_interval(self, lo, hi):
         root = linear_root(self.psi_a, self.psi_b)
         if root is not None and lo <= root <= hi:
@@ -173,7 +218,7 @@ class CubicMotion(Motion):
                 f"the cubic motion passes through infinity at t = {root:.6g} (x0(t) = 0), inside the "
                 f"sampled range [{lo:.6g}, {hi:.6g}]"
             )
-        check_quaternion_path(self._p[0], self._p[1], lo, hi, "cubic motion")
+        check_quaternion_path(self._p[0], self._p[1], lo, hi, "cubic motion", warn=self._warn)
 
     def singular_t(self):
         root = linear_root(self.psi_a, self.psi_b)

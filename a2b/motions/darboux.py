@@ -21,7 +21,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..frames import ScrewFrame
 from ..study import rotation_numerators, translation_numerators
-from ._rational import bernstein_basis, check_quaternion_path, make_table
+from ._rational import FRAGILE_TOL, bernstein_basis, check_quaternion_path, make_table, quaternion_path_minimum
 from .base import Motion
 
 #: Relative tolerance for a third pose to count as a member of the cylinder group of A and B.
@@ -242,8 +242,11 @@ class DarbouxMotion(Motion):
     def _quats(self, ts):
         return bernstein_basis(ts, 1) @ self._p
 
+    def _rotation_is_fragile(self, lo, hi):
+        return quaternion_path_minimum(self._p[0], self._p[1], lo, hi)[1] < FRAGILE_TOL
+
     def _check_interval(self, lo, hi):
-        check_quaternion_path(self._p[0], self._p[1], lo, hi, "Darboux motion")
+        check_quaternion_path(self._p[0], self._p[1], lo, hi, "Darboux motion", warn=self._warn)
 
     def singular_t(self):
         p_a, p_b = self._p
