@@ -141,7 +141,10 @@ def screw_frame(start: np.ndarray, end: np.ndarray) -> ScrewFrame:
     p_a, t_a = quat_trans_from_matrices(start)
     p_b, t_b = quat_trans_from_matrices(end)
     choices = []
-    r = quat_mul(p_b, quat_conj(p_a))
+    if np.array_equal(p_a, p_b):  # identical rotations: no rounding residue from p p̄
+        r = np.array([1.0, 0.0, 0.0, 0.0])
+    else:
+        r = quat_mul(p_b, quat_conj(p_a))
     s = float(np.linalg.norm(r[1:]))
     half_turn = s > ROTATION_NOISE and abs(r[0]) <= ROTATION_NOISE
     if r[0] < 0 and not half_turn:
