@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from a2b.io import readers, writers
-from a2b.io.floatrepr import format_rows
+from a2b.io.floatrepr import format_rows, integer_words, number_words
 
 
 def _reprs(values, sep=","):
@@ -17,9 +17,36 @@ def _reprs(values, sep=","):
 
 def test_format_rows_is_repr_for_special_values():
     values = np.array(
-        [[0.0, -0.0, 1.0, -1.0, 0.1, 0.5, 1e16, 1e15, 1e-4, 1e-5, 123.456, np.nan, np.inf, -np.inf,
-          5e-324, 2.2250738585072014e-308, 1.7976931348623157e308, 1e300, -1e-300,
-          9.999999999999999e15, 0.30000000000000004, 1e22, 1 / 3, 2 / 3, 100.0, 1234567890123456.8]]
+        [
+            [
+                0.0,
+                -0.0,
+                1.0,
+                -1.0,
+                0.1,
+                0.5,
+                1e16,
+                1e15,
+                1e-4,
+                1e-5,
+                123.456,
+                np.nan,
+                np.inf,
+                -np.inf,
+                5e-324,
+                2.2250738585072014e-308,
+                1.7976931348623157e308,
+                1e300,
+                -1e-300,
+                9.999999999999999e15,
+                0.30000000000000004,
+                1e22,
+                1 / 3,
+                2 / 3,
+                100.0,
+                1234567890123456.8,
+            ]
+        ]
     )
     assert format_rows(values).decode() == _reprs(values)
 
@@ -34,9 +61,61 @@ def test_format_rows_reads_back_every_bit_pattern(rng):
     bits = rng.integers(0, 2**63, 40000, dtype=np.int64) * rng.choice([-1, 1], 40000)
     values = bits.view(np.float64).reshape(-1, 8)
     text = format_rows(values).decode()
-    back = np.array([float(v) for v in text.replace("\n", ",").split(",")[:-1]]).reshape(values.shape)
+    back = np.array([float(v) for v in text.replace("\n", ",").split(",")[:-1]]).reshape(
+        values.shape
+    )
     same = (back.view(np.int64) == values.view(np.int64)) | (np.isnan(back) & np.isnan(values))
     assert same.all()
+
+
+def test_format_rows_is_repr_next_to_powers_of_two_and_ten():
+    """Below a power of two the doubles are twice as dense; 10^k is often not a double."""
+    values = [2.0**k * m for k in range(-1074, 1024) for m in (1, 3) if 2.0**k * m < np.inf]
+    for k in range(-323, 309):
+        p = float(f"1e{k}")
+        values += [p, np.nextafter(p, 0), np.nextafter(p, np.inf), 5 * p, 9.999999999999999 * p]
+    values = np.array(values)[:, None]
+    assert format_rows(values).decode() == _reprs(values)
+
+
+def test_format_rows_is_repr_for_short_decimals(rng):
+    values = np.array(
+        [
+            [round(float(v), int(d)) for v, d in zip(row, digits)]
+            for row, digits in zip(
+                rng.normal(size=(3000, 8)) * 1000, rng.integers(0, 12, (3000, 8))
+            )
+        ]
+    )
+    integers = rng.integers(-(10**6), 10**6, (3000, 8)) * 10.0 ** rng.integers(-20, 20, (3000, 8))
+    assert format_rows(values).decode() == _reprs(values)
+    assert format_rows(integers).decode() == _reprs(integers)
+
+
+def test_number_words_and_lengths(rng):
+    values = np.concatenate(
+        [
+            rng.normal(size=2000) * 10.0 ** rng.integers(-300, 300, 2000),
+            [0.0, -0.0, np.nan, np.inf, -np.inf, 5e-324, 100.0, 1e16, 1e-5, -2.5e-7],
+        ]
+    )
+    words, lengths = number_words(values, lengths=True)
+    texts = [repr(float(v)) for v in values]
+    assert [row.tobytes().translate(None, b"\0").decode() for row in words] == texts
+    assert lengths.tolist() == [len(t) for t in texts]
+    assert not (words[:, 3] >> np.uint64(56)).any()  # the separator's byte is free
+
+
+def test_integer_words(rng):
+    values = np.concatenate(
+        [[0, 1, 9, 10, 99, 100, 999_999_999, 10**15, 10**16 - 1], rng.integers(0, 10**12, 500)]
+    )
+    words = integer_words(values)
+    assert [row.tobytes().translate(None, b"\0").decode() for row in words] == [
+        str(int(v)) for v in values
+    ]
+    with pytest.raises(ValueError, match="integers in"):
+        integer_words(np.array([-1]))
 
 
 def test_format_rows_separator_and_prefix():
@@ -44,6 +123,11 @@ def test_format_rows_separator_and_prefix():
     assert format_rows(values, sep=" ") == b"0.25 -3.0\n1e-07 2.0\n"
     assert format_rows(values, prefix=["a", "b"]) == b"a,0.25,-3.0\nb,1e-07,2.0\n"
     assert format_rows(np.empty((0, 3))) == b""
+    assert format_rows(values, prefix=np.array([b"x;", b"y;"])) == b"x;0.25,-3.0\ny;1e-07,2.0\n"
+    with pytest.raises(ValueError, match="NUL"):
+        format_rows(values, prefix=["a\0", "b"])
+    with pytest.raises(ValueError, match="one character"):
+        format_rows(values, sep=", ")
 
 
 def _chunks(rng, n, size):
@@ -56,7 +140,13 @@ def _chunks(rng, n, size):
     study = rng.normal(size=(n, 8))
     t = np.linspace(0, 1, n)
     return [
-        writers.Chunk(t[i : i + size], quat[i : i + size], trans[i : i + size], mats[i : i + size], study[i : i + size])
+        writers.Chunk(
+            t[i : i + size],
+            quat[i : i + size],
+            trans[i : i + size],
+            mats[i : i + size],
+            study[i : i + size],
+        )
         for i in range(0, n, size)
     ], (t, quat, trans, mats, study)
 
@@ -69,7 +159,11 @@ def test_writer_reader_pairs(rng, fmt):
     stream.seek(0)
     if fmt == "csv":
         got_t, got_q, got_tr = readers.read_csv(stream)
-        assert np.array_equal(got_t, t) and np.array_equal(got_q, quat) and np.array_equal(got_tr, trans)
+        assert (
+            np.array_equal(got_t, t)
+            and np.array_equal(got_q, quat)
+            and np.array_equal(got_tr, trans)
+        )
     elif fmt == "matrix":
         got_t, got_m = readers.read_matrix_csv(stream)
         assert np.array_equal(got_t, t) and np.array_equal(got_m, mats)

@@ -2,183 +2,360 @@
 
 Writing a million poses as CSV calls for 8 million float-to-text conversions. ``repr`` per
 float (or ``numpy.savetxt``) manages a few hundred thousand rows per second. This module
-produces the same text with array operations, so CSV output keeps full round-trip precision
-at several times that speed.
+produces the same text with whole-array operations, a few dozen nanoseconds per number, so
+CSV and MCAP output keep full round-trip precision at many times that speed.
 
 Method
 ------
-For a finite ``x`` with ``1e-250 < |x| < 1e250`` let ``e = floor(log10 |x|)`` and
-``X = |x| · 10^(16 − e)``, computed in double-double arithmetic (Dekker's exact product with a
-double-double table of powers of ten). The absolute error of ``X`` is below ``1e-14``, so the
-integer ``D17 = round(X)`` is the correctly rounded 17-digit decimal of ``x`` except within
-``1e-14`` of a tie, where either neighbour is still within half an ulp of ``x``. A decimal
-``v`` reads back as ``x`` if ``|v − X| < U``, where ``U`` is half the spacing of doubles at
-``x`` in the same units. The shortest of the nearest 15-, 16- and 17-digit candidates that
-passes this test *with a safety margin* is used; the 17-digit one always passes. Stripping its
-trailing zeros gives the shortest digits, which is what ``repr`` prints. Everything outside the
-fast range (zero, subnormals, huge values, NaN, infinity, and the rare candidate the margin
-cannot decide) is formatted with ``repr`` itself (zeros by a table), so the output always reads back bit for bit.
+For a finite ``x`` with ``2^-830 <= |x| < 2^830`` (about ``1e-250`` to ``1e250``) let
+``e = floor(log10 |x|)``, found from the binary exponent and one comparison with a table of
+powers of ten, and ``X = |x| · 10^(16 − e)``, computed as an unevaluated sum of two doubles
+with Dekker's exact product [1]_ and a double-double table of powers of ten. The error of
+``X`` is below ``1e-14``, in units of the 17th significant digit. ``X`` lies in
+``[1e16, 1e17)``. A decimal ``c`` reads back as ``x`` if ``|c − X| < U``, where ``U`` is half
+the spacing of doubles at ``x`` in the same units (between 0.55 and 11). ``repr`` prints the
+shortest such decimal, and of those the nearest to ``x`` [2]_. Doubles carry 15.95 digits,
+so it has 15 or fewer digits exactly when the multiple of 100 nearest to ``X`` reads back
+(then its trailing zeros are dropped), else 16 when the multiple of 10 nearest to ``X`` does,
+else it is the 17-digit rounding of ``X``. Each test is made with a margin of ``1e-6``; the
+rare number within the margin of a decision, at a tie, or a power of two whose digits do not
+end exactly (the doubles below a power of two are twice as dense) is formatted with
+``repr`` itself, as is everything outside the range above except zero (NaN, infinity,
+subnormals, huge numbers).
+
+The 17 digits ``c0 … c16`` are turned into characters four at a time through a table, in
+little-endian 64-bit words, and laid out in a cell of four words::
+
+    [sign, "0.00" | c0 | "."] [c1 … c8] [c9 … c16] [spill | "e-05" | separator]
+
+Digits that ``repr`` does not print (trailing zeros) are zero bytes, as are the unused
+places; one pass of :meth:`bytes.translate` removes the zero bytes of all cells at once.
+Numbers printed as ``123.456`` (exponent 1 to 15) move their digits after ``c_e`` up by one
+byte to make room for the point; the last one spills into the fourth word.
+
+References
+----------
+.. [1] T. J. Dekker, "A floating-point technique for extending the available precision",
+   Numerische Mathematik 18 (1971), 224–242.
+.. [2] G. L. Steele and J. L. White, "How to print floating-point numbers accurately",
+   PLDI 1990; Python's ``float.__repr__`` (``repr`` since Python 3.1).
 """
 
 from __future__ import annotations
 
 from fractions import Fraction
-from itertools import pairwise
 
 import numpy as np
 
-__all__ = ["format_rows"]
+__all__ = ["BLOCK", "format_rows", "integer_words", "number_words"]
 
-_LO_EXP, _HI_EXP = -250, 250
-_K_MIN, _K_MAX = 16 - _HI_EXP - 1, 16 - _LO_EXP + 1
-_SPLIT = 134217729.0  # 2**27 + 1, Veltkamp's constant
+#: Numbers formatted per pass: large enough to amortise numpy's per-call cost, small enough
+#: for the temporaries to stay in the processor's cache.
+BLOCK = 16384
+
+_U64 = np.uint64
+_E_MIN, _E_MAX = -260, 260  # decimal exponents the tables cover
+_NE = _E_MAX - _E_MIN + 1
+_BEXP_LO, _BEXP_HI = 1023 - 830, 1023 + 830  # biased binary exponents of the fast range
+_LOG10_2 = 0.30102999566398120
 _MARGIN = 1e-6  # in units of the 17th digit; the error of X is below 1e-14
+_ABS = _U64(2**63 - 1)
+_HIGH_26 = _U64(2**64 - 2**27)  # the top 26 bits of the significand (with sign and exponent)
 
 
-def _pow10_table() -> tuple[np.ndarray, np.ndarray]:
-    hi = np.empty(_K_MAX - _K_MIN + 1)
-    lo = np.empty_like(hi)
-    for i, k in enumerate(range(_K_MIN, _K_MAX + 1)):
-        exact = Fraction(10) ** k
-        h = float(exact)
-        hi[i] = h
-        lo[i] = float(exact - Fraction(h))
-    return hi, lo
+def _word(text: bytes) -> int:
+    """Up to eight bytes as a little-endian integer: the first byte is the lowest."""
+    return int.from_bytes(text.ljust(8, b"\0"), "little")
 
 
-_P10_HI, _P10_LO = _pow10_table()
+def _exponent_tables():
+    es = range(_E_MIN, _E_MAX + 1)
+    next_p10 = np.array([float(Fraction(10) ** (e + 1)) for e in es])
+    hi = np.empty(_NE)
+    lo = np.empty(_NE)
+    for j, e in enumerate(es):
+        exact = Fraction(10) ** (16 - e)
+        hi[j] = float(exact)
+        lo[j] = float(exact - Fraction(hi[j]))
+    c = 134217729.0 * hi  # Veltkamp's split into two 26-bit halves
+    hh = c - (c - hi)
+    hl = hi - hh
+    # first word by (c0 alone?, sign, exponent): sign and "0.000" in bytes 0-5, "." in byte 7;
+    # byte 6 takes the digit c0
+    head = np.zeros((2, 2, _NE), _U64)
+    head_len = np.zeros((2, 2, _NE), np.int64)  # the characters of everything but c1 … c16
+    suffix = np.zeros(_NE, _U64)  # "e-05" in bytes 1-5 of the fourth word
+    keep = np.ones(_NE, np.int8)  # c0, and if positional the digits to the point and one after
+    for j, e in enumerate(es):
+        positional = 0 <= e < 16
+        small = -4 <= e < 0
+        exp_text = b"" if positional or small else f"e{e:+03d}".encode()
+        if exp_text:
+            suffix[j] = _word(exp_text) << 8
+        if positional:
+            keep[j] = e + 2
+        for alone in (0, 1):
+            for neg in (0, 1):
+                text = (b"-" if neg else b"") + (b"0." + b"0" * (-e - 1) if small else b"")
+                point = e == 0 or (not positional and not small and not alone)
+                head[alone, neg, j] = _word(text) | (ord(".") << 56 if point else 0)
+                head_len[alone, neg, j] = len(text) + 1 + (point or 1 <= e < 16) + len(exp_text)
+    return next_p10, hi, lo, hh, hl, head.reshape(-1), head_len.reshape(-1), suffix, keep
 
 
-def _split(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    c = _SPLIT * a
-    high = c - (c - a)
-    return high, a - high
+_NEXT_P10, _HI, _LO, _HH, _HL, _HEAD, _HEAD_LEN, _SUFFIX, _KEEP = _exponent_tables()
+
+#: Four digits as characters, in the low and the high half of a word.
+_DIGITS_LO = np.array([_word(f"{g:04d}".encode()) for g in range(10000)], _U64)
+_DIGITS_HI = _DIGITS_LO << _U64(32)
 
 
-def _scaled(ax: np.ndarray, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``ax · 10^k`` as an unevaluated sum ``s + r`` (double-double)."""
-    hi = _P10_HI[k - _K_MIN]
-    lo = _P10_LO[k - _K_MIN]
+def _digit_count(offset: int) -> np.ndarray:
+    """Digits up to the last non-zero one of a group that starts after ``offset`` digits."""
+    return np.array(
+        [offset + len(f"{g:04d}".rstrip("0")) if g else 0 for g in range(10000)], np.int8
+    )
+
+
+_COUNT1, _COUNT2, _COUNT3, _COUNT4 = (_digit_count(o) for o in (1, 5, 9, 13))
+
+
+def _mask_tables():
+    # keep c_d (d = 1 … 16, byte d − 1 of words 1 and 2) if d < shown
+    keep1 = np.zeros(18, _U64)
+    keep2 = np.zeros(18, _U64)
+    for shown in range(18):
+        for d in range(1, min(shown, 17)):
+            w, o = divmod(d - 1, 8)
+            (keep1, keep2)[w][shown] |= _U64(0xFF << (8 * o))
+    # the point after c_e, e = 1 … 15: c1 … c_e stay, the rest move up one byte
+    low1 = np.zeros(16, _U64)
+    low2 = np.zeros(16, _U64)
+    point1 = np.zeros(16, _U64)
+    point2 = np.zeros(16, _U64)
+    for e in range(1, 16):
+        for byte in range(e):
+            w, o = divmod(byte, 8)
+            (low1, low2)[w][e] |= _U64(0xFF << (8 * o))
+        w, o = divmod(e, 8)
+        (point1, point2)[w][e] |= _U64(ord(".") << (8 * o))
+    return keep1, keep2, low1, low2, point1, point2
+
+
+_KEEP1, _KEEP2, _LOW1, _LOW2, _POINT1, _POINT2 = _mask_tables()
+_C0 = _U64(48) << _U64(48)  # "0" in byte 6
+
+
+def number_words(x: np.ndarray, lengths: bool = False):
+    """``repr`` of each entry of ``x`` as a cell of four little-endian words, zero-padded.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n,)
+        Contiguous float64.
+    lengths : bool
+        Also return the number of characters of each entry.
+
+    Returns
+    -------
+    words : ndarray of uint64, shape (n, 4)
+        The characters of ``repr(x[i])`` in order, with zero bytes between them; byte 31
+        (the top byte of the last word) is zero, free for a separator.
+    length : ndarray of int64, shape (n,)
+        Only if ``lengths``.
+    """
+    x = np.ascontiguousarray(x, dtype=np.float64).reshape(-1)
+    n = x.size
+    bits = x.view(_U64)
+    abits = bits & _ABS
+    ax = abits.view(np.float64)
+    bexp = abits >> _U64(52)
+    fast = (bexp - _U64(_BEXP_LO)) < _U64(_BEXP_HI - _BEXP_LO)  # wraps below the range
+    all_fast = bool(fast.all())
+    if not all_fast:  # zeros, subnormals, huge numbers, NaN, infinity: stand-ins for now
+        slow = ~fast
+        ax[slow] = 1.0
+        abits = ax.view(_U64)
+        bexp[slow] = 1023
+    # decimal exponent e, as the index i = e − E_MIN into the tables
+    i = (bexp.astype(np.float64) * _LOG10_2 + (-1023 * _LOG10_2 - _E_MIN)).astype(np.intp)
+    i += ax >= _NEXT_P10.take(i)
+    # X = s + r = |x| · 10^(16 − e): Dekker's product of |x| = ah + al and hi = hh + hl
+    hi = _HI.take(i)
     p = ax * hi
-    ah, al = _split(ax)
-    hh, hl = _split(hi)
-    err = ((ah * hh - p) + ah * hl + al * hh) + al * hl
-    tail = err + ax * lo
-    s = p + tail
-    r = tail - (s - p)
-    return s, r
+    ah = (abits & _HIGH_26).view(np.float64)
+    al = ax - ah
+    hh = _HH.take(i)
+    hl = _HL.take(i)
+    err = ah * hh
+    err -= p
+    err += ah * hl
+    err += al * hh
+    err += al * hl
+    err += ax * _LO.take(i)
+    s = p + err
+    p -= s
+    p += err
+    r = p  # s is an integer (X > 2^53), r the rest: |r| <= 8
+    high = np.floor(s / 1e8)  # c0 … c8
+    s -= high * 1e8
+    step = np.rint(r)
+    xl = s + r  # X − high · 1e8, within 1e-8
+    low = s  # c9 … c16 of the 17-digit rounding, before carries
+    low += step
+    r -= step  # its distance to X
+    half = ((bexp - _U64(53)) << _U64(52)).view(np.float64)  # half an ulp of |x| …
+    half *= hi  # … in units of the 17th digit
+    c2 = np.floor((xl + 50.0) / 100.0)
+    c2 *= 100.0  # the nearest 15-digit decimal
+    d2 = np.abs(c2 - xl)
+    d2 -= half
+    c1 = np.floor((xl + 5.0) / 10.0)
+    c1 *= 10.0  # the nearest 16-digit decimal
+    d1 = np.abs(c1 - xl)
+    low = np.where(d1 < half - _MARGIN, c1, low)
+    low = np.where(d2 < -_MARGIN, c2, low)
+    unsure = np.abs(d2) <= _MARGIN
+    unsure |= np.abs(d1 - half) <= _MARGIN
+    unsure |= d1 >= 5.0 - _MARGIN  # a tie between two 16-digit decimals
+    unsure |= np.abs(r) >= 0.5 - _MARGIN  # a tie between two 17-digit decimals
+    power_of_two = (abits << _U64(12)) == 0
+    if power_of_two.any():
+        unsure |= power_of_two & ~((r == 0.0) & (c2 == xl))
+    carry = np.floor(low / 1e8)
+    high += carry
+    low -= carry * 1e8
+    bad = unsure
+    bad |= high < 1e8  # |x| = 10^k rounded down: e came out one too large
+    if not all_fast:
+        zero = x == 0.0
+        bad |= slow & ~zero
+        high[zero] = 0.0  # "0.0" comes out of the positional layout with c0 = 0
+    up = high >= 1e9  # rounded up to 10^(e + 1)
+    if up.any():
+        high[up] = 1e8
+        i += up
+    any_bad = bool(bad.any())
+    if any_bad:
+        high[bad] = 1e8
+        low[bad] = 0.0
+    c0 = np.floor(high / 1e8)
+    high -= c0 * 1e8
+    g1 = np.floor(high / 1e4)
+    high -= g1 * 1e4
+    g3 = np.floor(low / 1e4)
+    low -= g3 * 1e4
+    g1 = g1.astype(np.intp)
+    g2 = high.astype(np.intp)
+    g3 = g3.astype(np.intp)
+    g4 = low.astype(np.intp)
+    # significant digits (0: c0 alone), and the digits shown: c0, and if positional at least
+    # the digits before the point and one after it, 1 + e + 1
+    count = np.maximum(_COUNT1.take(g1), _COUNT2.take(g2))
+    np.maximum(count, _COUNT3.take(g3), out=count)
+    np.maximum(count, _COUNT4.take(g4), out=count)
+    shown = np.maximum(count, _KEEP.take(i)).astype(np.intp)
+    out = np.empty((n, 4), _U64)
+    w1 = _DIGITS_LO.take(g1)
+    w1 |= _DIGITS_HI.take(g2)
+    w1 &= _KEEP1.take(shown)
+    w2 = _DIGITS_LO.take(g3)
+    w2 |= _DIGITS_HI.take(g4)
+    w2 &= _KEEP2.take(shown)
+    head = (bits >> _U64(63)).view(np.int64)
+    head += (count == 0) * 2
+    head *= _NE
+    head += i
+    w0 = _HEAD.take(head)
+    w0 += c0.astype(np.int64).view(_U64) << _U64(48)
+    w0 += _C0
+    w3 = _SUFFIX.take(i)
+    positional = (i - (1 - _E_MIN)).view(_U64) < _U64(15)  # 1 <= e <= 15: "123.456"
+    if positional.any():
+        at = np.flatnonzero(positional)
+        e = i.take(at) + _E_MIN
+        a = w1.take(at)
+        b = w2.take(at)
+        la = a & _LOW1.take(e)
+        a ^= la
+        lb = b & _LOW2.take(e)
+        b ^= lb
+        w1[at] = la | (a << _U64(8)) | _POINT1.take(e)
+        w2[at] = lb | (b << _U64(8)) | (a >> _U64(56)) | _POINT2.take(e)
+        w3[at] = b >> _U64(56)
+    out[:, 0] = w0
+    out[:, 1] = w1
+    out[:, 2] = w2
+    out[:, 3] = w3
+    if lengths:
+        length = _HEAD_LEN.take(head)
+        length += shown
+        length -= 1
+    if any_bad:
+        for j in np.flatnonzero(bad):
+            text = repr(float(x[j])).encode()
+            out[j, :3] = np.frombuffer(text.ljust(24, b"\0"), _U64)
+            out[j, 3] = 0
+            if lengths:
+                length[j] = len(text)
+    return (out, length) if lengths else out
 
 
-def _digits17(ax: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """17-digit integers ``D`` in ``[1e16, 1e17)``, decimal exponents ``e`` and residuals
-    ``X − D`` (in units of the 17th digit) for positive ``ax`` in the fast range."""
-    e = np.floor(np.log10(ax)).astype(np.int64)
-    for _ in range(3):  # log10 can be off by one next to powers of ten
-        s, r = _scaled(ax, 16 - e)
-        base = np.floor(s)
-        frac = (s - base) + r
-        step = np.floor(frac + 0.5)
-        d = base.astype(np.int64) + step.astype(np.int64)
-        resid = frac - step
-        tie = (resid == -0.5) & (d % 2 == 1)  # round half to even, as repr does
-        d = d - tie
-        resid = resid + tie
-        high = d >= 10**17
-        low = d < 10**16
-        if not (high.any() or low.any()):
-            return d, e, resid
-        e = e + high - low
-    raise AssertionError("decimal exponent did not settle")  # pragma: no cover
+def integer_words(v: np.ndarray) -> np.ndarray:
+    """Decimal text of non-negative integers below ``10^16``, as two zero-padded words each.
 
-
-def _shortest(
-    d: np.ndarray, e: np.ndarray, resid: np.ndarray, half_ulp: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Replace ``d`` by its nearest multiple of 100, else of 10, where that surely reads back.
-
-    A candidate ``c`` reads back as ``x`` when ``|c − X| < U`` (``U = half_ulp``). Returns the
-    chosen integers, their exponents, and a mask of the entries whose choice the margin cannot
-    decide (they are left to ``repr``).
+    Leading zeros are zero bytes (``0`` itself is ``"0"``), so :meth:`bytes.translate`
+    turns the cells into the numbers' text.
     """
-    out = d.copy()
-    done = np.zeros(d.shape, dtype=bool)
-    undecided = np.zeros(d.shape, dtype=bool)
-    for unit in (100, 10):
-        below = d - d % unit
-        above = below + unit
-        dist_below = np.abs((below - d).astype(float) - resid)
-        dist_above = np.abs((above - d).astype(float) - resid)
-        ok_below = dist_below < half_ulp - _MARGIN
-        ok_above = dist_above < half_ulp - _MARGIN
-        unsure = (np.abs(dist_below - half_ulp) <= _MARGIN) | (np.abs(dist_above - half_ulp) <= _MARGIN)
-        nearer_above = (dist_above < dist_below) | (
-            (dist_above == dist_below) & ((above // unit) % 2 == 0)  # a tie goes to even, as repr
-        )
-        pick_above = ok_above & (~ok_below | nearer_above)
-        take = (ok_below | ok_above) & ~done & ~undecided
-        out = np.where(take, np.where(pick_above, above, below), out)
-        undecided |= unsure & ~done & ~take
-        done |= take
-    carry = out >= 10**17
-    out = np.where(carry, out // 10, out)
-    return out, e + carry, undecided
+    v = np.asarray(v, dtype=np.int64).reshape(-1)
+    if v.size and (v.min() < 0 or v.max() >= 10**16):
+        raise ValueError("integer_words takes integers in [0, 10**16)")
+    high = v // 100_000_000
+    low = v - high * 100_000_000
+    groups = np.empty((v.size, 4), np.intp)
+    groups[:, 0] = high // 10000
+    groups[:, 1] = high - groups[:, 0] * 10000
+    groups[:, 2] = low // 10000
+    groups[:, 3] = low - groups[:, 2] * 10000
+    digits = np.empty((v.size, 2), _U64)
+    digits[:, 0] = _DIGITS_LO.take(groups[:, 0]) | _DIGITS_HI.take(groups[:, 1])
+    digits[:, 1] = _DIGITS_LO.take(groups[:, 2]) | _DIGITS_HI.take(groups[:, 3])
+    # blank the leading zeros: keep the last ``width`` of 16 bytes
+    width = np.ones(v.size, np.intp)
+    for k in range(1, 16):
+        width += v >= 10**k
+    digits &= _LEADING.take(width, axis=0)
+    return digits
 
 
-_WIDTH = 25  # longest repr: "-1.2345678901234567e-250" has 24 characters
-_ZERO = ord("0")
-_PAIRS = np.frombuffer("".join(f"{i:02d}" for i in range(100)).encode(), dtype=np.uint16)
+def _leading_masks() -> np.ndarray:
+    masks = np.zeros((17, 2), _U64)
+    for width in range(17):
+        for byte in range(16 - width, 16):
+            w, o = divmod(byte, 8)
+            masks[width, w] |= _U64(0xFF << (8 * o))
+    return masks
 
 
-def _render(cells: np.ndarray, rows: np.ndarray, neg: np.ndarray, d: np.ndarray, e: np.ndarray) -> None:
-    """Write ``±d · 10^(e − 16)`` in ``repr`` style into ``cells[rows]``.
-
-    ``d`` has 17 digits. Cells that stay 0 are dropped when the text is joined, so digits
-    are blanked rather than moved. Entries are grouped by exponent, which fixes the layout.
-    """
-    pairs = np.empty((d.shape[0], 9), dtype=np.uint16)  # base-100 digits as two characters
-    rest = d
-    for i in range(8, -1, -1):
-        quotient = rest // 100  # a scalar divisor takes numpy's fast path; divmod does not
-        pairs[:, i] = _PAIRS[rest - 100 * quotient]
-        rest = quotient
-    chars = pairs.view(np.uint8)[:, 1:]  # (n, 17): drop the leading pad digit
-    nonzero = chars != _ZERO
-    ndig = 17 - np.argmax(nonzero[:, ::-1], axis=1)  # significant digits
-    chars *= np.arange(17)[None, :] < ndig[:, None]  # blank trailing zeros
-    order = np.argsort(e.astype(np.int16), kind="stable")  # a radix sort for 16-bit keys
-    e, chars, ndig = e[order], chars[order], ndig[order]
-    sign = np.where(neg[order], np.uint8(ord("-")), np.uint8(0))[:, None]
-    out = np.zeros((len(order), _WIDTH), dtype=np.uint8)
-    bounds = np.concatenate([[0], np.flatnonzero(np.diff(e)) + 1, [len(e)]])
-    for lo, hi in pairwise(bounds):
-        ex = int(e[lo])
-        g = chars[lo:hi]
-        n = hi - lo
-        if 0 <= ex < 16:
-            integer = g[:, : ex + 1]
-            integer[integer == 0] = _ZERO  # integer-part zeros are printed
-            frac = g[:, ex + 1 :]
-            frac[:, 0] |= np.uint8(_ZERO)  # at least "x.0" (a blank 0 becomes "0")
-            block = np.hstack([sign[lo:hi], integer, np.full((n, 1), ord("."), np.uint8), frac])
-        elif -4 <= ex < 0:
-            lead = np.frombuffer(b"0." + b"0" * (-ex - 1), dtype=np.uint8)
-            block = np.hstack([sign[lo:hi], np.broadcast_to(lead, (n, len(lead))), g])
-        else:
-            tail = np.frombuffer(f"e{ex:+03d}".encode(), dtype=np.uint8)
-            block = np.hstack(
-                [
-                    sign[lo:hi],
-                    g[:, :1],
-                    np.full((n, 1), ord("."), np.uint8) * (ndig[lo:hi] > 1)[:, None],
-                    g[:, 1:],
-                    np.broadcast_to(tail, (n, len(tail))),
-                ]
-            )
-        out[lo:hi, : block.shape[1]] = block
-    cells[rows[order], :_WIDTH] = out
+_LEADING = _leading_masks()
 
 
-def format_rows(values: np.ndarray, sep: str = ",", prefix: list[str] | None = None) -> bytes:
+_ENDS: dict = {}
+
+
+def _row_cells(a: np.ndarray, sep: int) -> np.ndarray:
+    """The cells of a 2-d array, separators and line ends in place: (n, 4 k) words."""
+    n, k = a.shape
+    cells = number_words(a.reshape(-1))
+    ends = _ENDS.get((k, sep))
+    if ends is None or len(ends) < n * k:
+        row = np.array([sep] * (k - 1) + [10], _U64) << _U64(56)
+        ends = _ENDS[(k, sep)] = np.tile(row, max(n, BLOCK // k + 1))
+    cells[:, 3] |= ends[: n * k]
+    return cells.reshape(n, 4 * k)
+
+
+def format_rows(values, sep: str = ",", prefix=None) -> bytes:
     """Render a 2-d float array as delimited text, one line per row, ``repr`` of every entry.
 
     Parameters
@@ -187,52 +364,37 @@ def format_rows(values: np.ndarray, sep: str = ",", prefix: list[str] | None = N
         Any floats, including NaN, infinity, zero and subnormals.
     sep : str
         The one-character field separator.
-    prefix : list of str, optional
-        A first field per row (for example a job name), written before the numbers.
+    prefix : sequence of str, or ndarray of bytes (dtype ``S``), optional
+        A first field per row (for example a job name), written before the numbers and a
+        separator. An ``S`` array is taken as already encoded, separator included.
 
     Returns
     -------
     bytes
         ``n`` lines, each ending in ``"\\n"``; ``float(field) == value`` for every entry.
     """
+    sep_b = sep.encode()
+    if len(sep_b) != 1 or sep_b == b"\0":
+        raise ValueError(f"the separator must be one character, got {sep!r}")
     a = np.ascontiguousarray(values, dtype=np.float64)
+    if a.ndim != 2:
+        raise ValueError(f"format_rows takes a 2-d array, got shape {a.shape}")
     n, k = a.shape
     if n == 0:
         return b""
-    flat = a.ravel()
-    ax = np.abs(flat)
-    fast = (ax > 10.0**_LO_EXP) & (ax < 10.0**_HI_EXP)  # excludes 0, NaN, inf, subnormals
-    idx = np.flatnonzero(fast)
-    cells = np.zeros((flat.size, _WIDTH + 1), dtype=np.uint8)
-    if idx.size:
-        axf = ax[idx]
-        d, e, resid = _digits17(axf)
-        exp2 = np.frexp(axf)[1].astype(np.int64)  # axf in [2^(exp2-1), 2^exp2)
-        # half an ulp of x, in units of the 17th digit: 2^(exp2 - 54) · 10^(16 − e)
-        half_ulp = np.ldexp(_P10_HI[16 - e - _K_MIN], exp2 - 54)
-        d, e, undecided = _shortest(d, e, resid, half_ulp)
-        keep = ~undecided
-        _render(cells, idx[keep], np.signbit(flat[idx[keep]]), d[keep], e[keep])
-        fast[idx[undecided]] = False
-    zero = flat == 0.0
-    negative_zero = zero & np.signbit(flat)
-    cells[zero & ~negative_zero, :3] = np.frombuffer(b"0.0", dtype=np.uint8)
-    cells[negative_zero, :4] = np.frombuffer(b"-0.0", dtype=np.uint8)
-    fast |= zero
-    for i in np.flatnonzero(~fast):
-        text = repr(float(flat[i])).encode()
-        cells[i, : len(text)] = np.frombuffer(text, dtype=np.uint8)
-    sep_b = sep.encode()
-    if len(sep_b) != 1:
-        raise ValueError(f"the separator must be one character, got {sep!r}")
-    last = cells[:, _WIDTH].reshape(n, k)
-    last[:, :-1] = sep_b[0]
-    last[:, -1] = ord("\n")
     if prefix is not None:
-        head = np.zeros((n, max(len(p) for p in prefix) + 1), dtype=np.uint8)
-        for i, p in enumerate(prefix):
-            b = p.encode() + sep_b
-            head[i, : len(b)] = np.frombuffer(b, dtype=np.uint8)
-        table = np.hstack([head, cells.reshape(n, k * (_WIDTH + 1))])
-        return table[table != 0].tobytes()
-    return cells[cells != 0].tobytes()
+        if not isinstance(prefix, np.ndarray):
+            if any("\0" in p for p in set(prefix)):
+                raise ValueError("a prefix contains a NUL character")
+            prefix = np.array([p.encode() + sep_b for p in prefix], dtype=bytes)
+        if len(prefix) != n:
+            raise ValueError(f"{len(prefix)} prefixes for {n} rows")
+    rows = max(1, BLOCK // max(k, 1))
+    parts = []
+    for lo in range(0, n, rows):
+        cells = _row_cells(a[lo : lo + rows], sep_b[0]).view(np.uint8)
+        if prefix is not None:
+            head = prefix[lo : lo + rows]
+            cells = np.hstack([head.view(np.uint8).reshape(len(head), -1), cells])
+        parts.append(cells.tobytes().translate(None, b"\0"))
+    return parts[0] if len(parts) == 1 else b"".join(parts)
