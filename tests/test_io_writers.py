@@ -7,6 +7,7 @@ import io
 import numpy as np
 import pytest
 
+from a2b.errors import ParameterError
 from a2b.io import readers, writers
 from a2b.io.floatrepr import format_rows, integer_words, number_words
 
@@ -216,3 +217,43 @@ def test_mcap_writer_needs_no_seek(rng):
     writers.write_mcap(pipe, chunks)
     got_time, _, _ = readers.read_mcap(io.BytesIO(bytes(pipe.data)))
     assert len(got_time) == 10
+
+
+@pytest.mark.parametrize("workers", [1, 3])
+def test_many_blocks_in_order_with_threads(rng, monkeypatch, workers):
+    """Blocks formatted by several threads come out in order, for plain and batch CSV."""
+    monkeypatch.setattr(writers, "WORKERS", workers)
+    chunks, (t, quat, trans, _, _) = _chunks(rng, 20000, 6000)
+    stream = io.BytesIO()
+    writers.write_csv(stream, chunks)
+    stream.seek(0)
+    got_t, got_q, got_tr = readers.read_csv(stream)
+    assert (
+        np.array_equal(got_t, t) and np.array_equal(got_q, quat) and np.array_equal(got_tr, trans)
+    )
+    for c in chunks:
+        c.job = [f"job {int(v * 7)}" for v in c.t]
+    stream = io.BytesIO()
+    writers.write_batch_csv(stream, chunks)
+    stream.seek(0)
+    names, values = readers.read_batch_csv(stream)
+    assert names == [f"job {int(v * 7)}" for v in t]
+    assert np.array_equal(values[:, 0], t) and np.array_equal(values[:, 4:], quat)
+
+
+def test_formatting_error_reaches_the_caller(monkeypatch):
+    monkeypatch.setattr(writers, "WORKERS", 2)
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("formatter failed")
+
+    monkeypatch.setattr(writers, "format_rows", broken)
+    chunk = writers.Chunk(np.zeros(3), np.tile([1.0, 0, 0, 0], (3, 1)), np.zeros((3, 3)))
+    with pytest.raises(RuntimeError, match="formatter failed"):
+        writers.write_csv(io.BytesIO(), [chunk])
+
+
+def test_batch_job_name_with_nul_is_an_error():
+    chunk = writers.Chunk(np.zeros(1), np.array([[1.0, 0, 0, 0]]), np.zeros((1, 3)), job=["a\0b"])
+    with pytest.raises(ParameterError, match="NUL"):
+        writers.write_batch_csv(io.BytesIO(), [chunk])

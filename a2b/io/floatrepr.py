@@ -43,8 +43,6 @@ References
 
 from __future__ import annotations
 
-from fractions import Fraction
-
 import numpy as np
 
 __all__ = ["BLOCK", "format_rows", "integer_words", "number_words"]
@@ -68,18 +66,21 @@ def _word(text: bytes) -> int:
     return int.from_bytes(text.ljust(8, b"\0"), "little")
 
 
+def _power_of_ten(k: int) -> tuple[float, float]:
+    """``10^k`` as the nearest double and the nearest double to the rest (int arithmetic is
+    exact, and int / int is correctly rounded)."""
+    if k >= 0:
+        hi = float(10**k)
+        return hi, float(10**k - int(hi))
+    hi = 1 / 10**-k
+    a, b = hi.as_integer_ratio()
+    return hi, (b - a * 10**-k) / (b * 10**-k)
+
+
 def _exponent_tables():
     es = range(_E_MIN, _E_MAX + 1)
-    next_p10 = np.array([float(Fraction(10) ** (e + 1)) for e in es])
-    hi = np.empty(_NE)
-    lo = np.empty(_NE)
-    for j, e in enumerate(es):
-        exact = Fraction(10) ** (16 - e)
-        hi[j] = float(exact)
-        lo[j] = float(exact - Fraction(hi[j]))
-    c = 134217729.0 * hi  # Veltkamp's split into two 26-bit halves
-    hh = c - (c - hi)
-    hl = hi - hh
+    next_p10 = np.array([_power_of_ten(e + 1)[0] for e in es])
+    hi, lo = np.array([_power_of_ten(16 - e) for e in es]).T
     # first word by (c0 alone?, sign, exponent): sign and "0.000" in bytes 0-5, "." in byte 7;
     # byte 6 takes the digit c0
     head = np.zeros((2, 2, _NE), _U64)
@@ -100,21 +101,23 @@ def _exponent_tables():
                 point = e == 0 or (not positional and not small and not alone)
                 head[alone, neg, j] = _word(text) | (ord(".") << 56 if point else 0)
                 head_len[alone, neg, j] = len(text) + 1 + (point or 1 <= e < 16) + len(exp_text)
-    return next_p10, hi, lo, hh, hl, head.reshape(-1), head_len.reshape(-1), suffix, keep
+    return next_p10, hi, lo, head.reshape(-1), head_len.reshape(-1), suffix, keep
 
 
-_NEXT_P10, _HI, _LO, _HH, _HL, _HEAD, _HEAD_LEN, _SUFFIX, _KEEP = _exponent_tables()
+_NEXT_P10, _HI, _LO, _HEAD, _HEAD_LEN, _SUFFIX, _KEEP = _exponent_tables()
 
 #: Four digits as characters, in the low and the high half of a word.
-_DIGITS_LO = np.array([_word(f"{g:04d}".encode()) for g in range(10000)], _U64)
+_GROUPS = np.arange(10000)
+_DIGITS_LO = np.zeros(10000, _U64)
+for _k, _unit in enumerate((1000, 100, 10, 1)):
+    _DIGITS_LO |= (_GROUPS // _unit % 10 + 48).astype(_U64) << _U64(8 * _k)
 _DIGITS_HI = _DIGITS_LO << _U64(32)
+_SIGNIFICANT = 4 - sum((_GROUPS % m == 0).astype(np.int8) for m in (10, 100, 1000))
 
 
 def _digit_count(offset: int) -> np.ndarray:
     """Digits up to the last non-zero one of a group that starts after ``offset`` digits."""
-    return np.array(
-        [offset + len(f"{g:04d}".rstrip("0")) if g else 0 for g in range(10000)], np.int8
-    )
+    return np.where(_GROUPS == 0, 0, offset + _SIGNIFICANT).astype(np.int8)
 
 
 _COUNT1, _COUNT2, _COUNT3, _COUNT4 = (_digit_count(o) for o in (1, 5, 9, 13))
@@ -185,8 +188,9 @@ def number_words(x: np.ndarray, lengths: bool = False):
     p = ax * hi
     ah = (abits & _HIGH_26).view(np.float64)
     al = ax - ah
-    hh = _HH.take(i)
-    hl = _HL.take(i)
+    hh = hi * 134217729.0  # Veltkamp's split of hi into two 26-bit halves
+    hh -= hh - hi
+    hl = hi - hh
     err = ah * hh
     err -= p
     err += ah * hl
@@ -213,10 +217,12 @@ def number_words(x: np.ndarray, lengths: bool = False):
     c1 = np.floor((xl + 5.0) / 10.0)
     c1 *= 10.0  # the nearest 16-digit decimal
     d1 = np.abs(c1 - xl)
-    low = np.where(d1 < half - _MARGIN, c1, low)
+    d1 -= half
+    low = np.where(d1 < -_MARGIN, c1, low)
     low = np.where(d2 < -_MARGIN, c2, low)
     unsure = np.abs(d2) <= _MARGIN
-    unsure |= np.abs(d1 - half) <= _MARGIN
+    unsure |= np.abs(d1) <= _MARGIN
+    d1 += half
     unsure |= d1 >= 5.0 - _MARGIN  # a tie between two 16-digit decimals
     unsure |= np.abs(r) >= 0.5 - _MARGIN  # a tie between two 17-digit decimals
     power_of_two = (abits << _U64(12)) == 0

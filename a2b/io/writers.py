@@ -22,14 +22,17 @@ In ``tum`` and ``mcap`` the time of sample ``t`` is ``t · duration + start_time
 from __future__ import annotations
 
 import json
-from collections.abc import Iterable, Iterator
+import os
+from collections import deque
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
+from itertools import groupby
 from typing import IO
 
 import numpy as np
 
 from ..errors import ParameterError
-from .floatrepr import format_rows
+from .floatrepr import BLOCK, format_rows
 from .readers import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER
 
 __all__ = [
@@ -79,7 +82,9 @@ REPRESENTATION = {
 FORMATS = tuple(REPRESENTATION)
 
 
-def sample_chunks(motion, ts: np.ndarray, representation: str, size: int = CHUNK_SAMPLES) -> Iterator[Chunk]:
+def sample_chunks(
+    motion, ts: np.ndarray, representation: str, size: int = CHUNK_SAMPLES
+) -> Iterator[Chunk]:
     """Sample ``motion`` at ``ts`` in chunks of ``size``, in the representation a format needs.
 
     ``motion`` is an :class:`a2b.motions.base.Motion` (anything with ``quat_trans``,
@@ -111,11 +116,72 @@ def _rows(fmt: str, chunk: Chunk) -> np.ndarray:
     raise ValueError(f"no table layout for {fmt!r}")
 
 
-def _write_table(stream: IO, fmt: str, header: str | None, chunks: Iterable[Chunk], sep: str = ",") -> None:
+#: Threads that format text; ``None``: one per processor available, at most 4.
+WORKERS: int | None = None
+
+
+def _workers() -> int:
+    if WORKERS is not None:
+        return WORKERS
+    try:
+        available = len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        available = os.cpu_count() or 1
+    return max(1, min(available, 4))
+
+
+def _in_order(function: Callable, items: Iterable) -> Iterator:
+    """``function(item)`` for every item, computed by :func:`_workers` threads, in order.
+
+    The formatter spends its time in numpy, which releases the GIL, so threads use the
+    other cores. At most two items per thread are in flight, so memory stays bounded.
+    """
+    workers = _workers()
+    if workers == 1:
+        yield from map(function, items)
+        return
+    from concurrent.futures import ThreadPoolExecutor
+
+    pool = ThreadPoolExecutor(workers, thread_name_prefix="a2b-format")
+    pending: deque = deque()
+    try:
+        for item in items:
+            pending.append(pool.submit(function, item))
+            if len(pending) > 2 * workers:
+                yield pending.popleft().result()
+        while pending:
+            yield pending.popleft().result()
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _blocks(rows: np.ndarray, prefix: np.ndarray | None = None) -> Iterator[tuple]:
+    """Slices of about :data:`BLOCK` numbers: the formatter's unit of work."""
+    size = max(1, BLOCK // max(rows.shape[1], 1))
+    for lo in range(0, len(rows), size):
+        yield rows[lo : lo + size], None if prefix is None else prefix[lo : lo + size]
+
+
+def _write_rows(stream: IO, tables: Iterable[tuple], sep: str = ",") -> None:
+    """Write ``(rows, prefix)`` tables as text, formatted in blocks by several threads."""
+
+    def blocks():
+        for rows, prefix in tables:
+            yield from _blocks(rows, prefix)
+
+    def text(block):
+        return format_rows(block[0], sep=sep, prefix=block[1])
+
+    for piece in _in_order(text, blocks()):  # noqa: FURB122 - write each block as it is done
+        stream.write(piece)
+
+
+def _write_table(
+    stream: IO, fmt: str, header: str | None, chunks: Iterable[Chunk], sep: str = ","
+) -> None:
     if header is not None:
         stream.write(header.encode() + b"\n")
-    for chunk in chunks:  # noqa: FURB122 - one write per chunk, as it is sampled
-        stream.write(format_rows(_rows(fmt, chunk), sep=sep))
+    _write_rows(stream, ((_rows(fmt, chunk), None) for chunk in chunks), sep)
 
 
 def write_csv(stream: IO, chunks: Iterable[Chunk]) -> None:
@@ -142,21 +208,44 @@ def _times(t: np.ndarray, duration: float, start_time: float) -> np.ndarray:
     return t * duration + start_time
 
 
-def write_tum(stream: IO, chunks: Iterable[Chunk], duration: float = 1.0, start_time: float = 0.0) -> None:
+def write_tum(
+    stream: IO, chunks: Iterable[Chunk], duration: float = 1.0, start_time: float = 0.0
+) -> None:
     """Write TUM ``time tx ty tz qx qy qz qw`` (space-separated, one ``#`` comment line).
 
     The quaternion is rolled from a2b's ``wxyz`` to TUM's ``xyzw`` here, at the edge.
     """
     stream.write(b"# time tx ty tz qx qy qz qw\n")
-    for c in chunks:
-        rows = np.column_stack([_times(c.t, duration, start_time), c.trans, c.quat_wxyz[:, [1, 2, 3, 0]]])
-        stream.write(format_rows(rows, sep=" "))
+    tables = (
+        (
+            np.column_stack(
+                [_times(c.t, duration, start_time), c.trans, c.quat_wxyz[:, [1, 2, 3, 0]]]
+            ),
+            None,
+        )
+        for c in chunks
+    )
+    _write_rows(stream, tables, sep=" ")
 
 
 def _csv_field(name: str) -> str:
     if any(ch in name for ch in ',"\n\r') or name != name.strip():
         return '"' + name.replace('"', '""') + '"'
     return name
+
+
+def _job_column(job: list[str]) -> np.ndarray:
+    """The ``job`` field of every row, quoted as CSV needs and encoded, with its comma.
+
+    Rows of one job come in runs, so each name is quoted and encoded once per run.
+    """
+    names, counts = [], []
+    for name, run in groupby(job):
+        if "\0" in name:
+            raise ParameterError(f"job name {name!r} contains a NUL character")
+        names.append(_csv_field(name).encode() + b",")
+        counts.append(sum(1 for _ in run))
+    return np.repeat(np.array(names, dtype=bytes), counts)
 
 
 def write_batch_csv(stream: IO, chunks: Iterable[Chunk], fmt: str = "csv") -> None:
@@ -167,8 +256,7 @@ def write_batch_csv(stream: IO, chunks: Iterable[Chunk], fmt: str = "csv") -> No
     """
     header = {"csv": CSV_HEADER, "matrix": MATRIX_HEADER, "study": STUDY_HEADER}[fmt]
     stream.write(b"job," + header.encode() + b"\n")
-    for chunk in chunks:  # noqa: FURB122 - one write per chunk, as it is sampled
-        stream.write(format_rows(_rows(fmt, chunk), prefix=[_csv_field(j) for j in chunk.job]))
+    _write_rows(stream, ((_rows(fmt, chunk), _job_column(chunk.job)) for chunk in chunks))
 
 
 def _schema(name: str) -> bytes:
@@ -233,8 +321,12 @@ def write_mcap(
         index_types=IndexType.CHUNK | IndexType.MESSAGE,
     )
     writer.start(profile="", library=f"a2b {__version__}")
-    pose_schema = writer.register_schema("foxglove.PoseInFrame", "jsonschema", _schema("foxglove.PoseInFrame"))
-    tf_schema = writer.register_schema("foxglove.FrameTransform", "jsonschema", _schema("foxglove.FrameTransform"))
+    pose_schema = writer.register_schema(
+        "foxglove.PoseInFrame", "jsonschema", _schema("foxglove.PoseInFrame")
+    )
+    tf_schema = writer.register_schema(
+        "foxglove.FrameTransform", "jsonschema", _schema("foxglove.FrameTransform")
+    )
     pose_channel = writer.register_channel(pose_topic, "json", pose_schema)
     tf_channel = writer.register_channel(tf_topic, "json", tf_schema)
     frame, child = json.dumps(frame_id), json.dumps(child_frame_id)
@@ -259,7 +351,9 @@ def write_mcap(
         text = format_rows(np.column_stack([c.trans, c.quat_wxyz[:, [1, 2, 3, 0]]])).decode()
         for s, n, t_ns, line in zip(sec.tolist(), nsec.tolist(), ns.tolist(), text.splitlines()):
             values = (s, n, *line.split(","))
-            writer.add_message(pose_channel, t_ns, (pose_template % values).encode(), t_ns, sequence)
+            writer.add_message(
+                pose_channel, t_ns, (pose_template % values).encode(), t_ns, sequence
+            )
             writer.add_message(tf_channel, t_ns, (tf_template % values).encode(), t_ns, sequence)
             sequence += 1
     writer.finish()
