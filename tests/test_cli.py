@@ -511,3 +511,283 @@ def test_batch_progress_bar_only_on_a_terminal(monkeypatch):
         assert progress is not None
         task = progress.add_task("jobs", total=3)
         progress.advance(task, 3)
+
+
+# -- no silent fallbacks: -v and describe state every choice ----------------------------------
+
+
+def run_split(*args, input=None):
+    """Run with stdout and stderr apart (``-v`` writes to stderr)."""
+    return CliRunner().invoke(cli, [str(a) for a in args], input=input, catch_exceptions=False, prog_name="a2b")
+
+
+HALF_TURN_TRANSLATION = (
+    "start: {quaternion: [1, 0, 0, 0]}\n"
+    "end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\n"
+)
+
+
+def test_verbose_states_every_choice_on_stderr(tmp_path):
+    path = tmp_path / "p.yaml"
+    path.write_text(HALF_TURN_TRANSLATION)
+    result = run_split("interpolate", path, "--lam", 2, "-v", "--samples", 3)
+    assert result.exit_code == 0
+    assert result.stdout.splitlines()[0] == "t,tx,ty,tz,qw,qx,qy,qz"
+    lines = result.stderr.splitlines()
+    assert lines[:3] == [
+        "Choices a2b made:",
+        "  • mode darboux: the default (--mode or the file to change)",
+        "  • format csv: the default (--format or an -o suffix .mcap, .tum, .kitti to change)",
+    ]
+    # the core's words for the half turn and the amplitude's branch, one line each
+    assert len(lines) == 5 and lines[3].startswith("  • φ = π") and "d > 0" in lines[3]
+    assert lines[4] == "  • lam has two mirror solutions ±|δ|; used branch +1"
+    quiet = run_split("interpolate", path, "--lam", 2, "--samples", 3)
+    assert quiet.stderr == "" and quiet.stdout == result.stdout
+
+
+def test_verbose_names_the_axis_of_a_pure_translation_and_the_default_m(tmp_path):
+    path = tmp_path / "p.yaml"
+    path.write_text("start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [1, 0, 0, 0], translation: [1, 2, 3]}\n")
+    err = run_split("interpolate", path, "--mode", "cubic", "-o", tmp_path / "o.mcap", "-v").stderr
+    assert "  • format mcap: from the -o suffix .mcap (--format to change)" in err
+    assert "  • pure translation (φ = 0): the axis is the line through A's origin along the translation" in err
+    assert "  • m defaults to pA + pB in canonical coordinates, so both weights are equal" in err
+    assert "mode" not in err  # given on the command line
+    c, s = math.cos(math.radians(85)), math.sin(math.radians(85))  # turns of +170° and −170°
+    path.write_text(f"start: {{quaternion: [{c}, 0, 0, {s}]}}\nend: {{quaternion: [{c}, 0, 0, {-s}]}}\n")
+    err = run_split("interpolate", path, "-v", "--samples", 2).stderr
+    assert "flipped the sign of B's quaternion so that pA·pB ≥ 0 (the short way round)" in err
+
+
+@pytest.mark.parametrize(
+    "command, sample, expected",
+    [
+        ("bezier", "planar-bezier.yaml", "m defaults to the sum of the control quaternions with consistent signs"),
+        ("spline", "spline.yaml", "inner control points by the uniform Catmull–Rom rule"),
+    ],
+)
+def test_verbose_bezier_and_spline(command, sample, expected):
+    result = run_split(command, SAMPLES / sample, "--samples", 3, "-v")
+    assert result.exit_code == 0
+    assert result.stderr.startswith("Choices a2b made:\n")
+    assert expected in result.stderr
+
+
+def test_verbose_batch_names_the_job_of_each_choice():
+    result = run_split("batch", SAMPLES / "jobs.yaml", "-v", "--mode", "darboux", "--samples", 3)
+    assert result.exit_code == 0
+    assert result.stderr.splitlines() == [
+        "Choices a2b made:",
+        "  • format csv: the default (--format to change)",
+        "  • job lift-cubic: m defaults to pA + pB in canonical coordinates, so both weights are equal",
+        "  • job slide: pure translation (φ = 0): the axis is the line through A's origin along the translation",
+    ]
+
+
+def test_describe_states_the_default_mode_and_the_choices(tmp_path):
+    path = tmp_path / "p.yaml"
+    path.write_text(HALF_TURN_TRANSLATION)
+    out = run("describe", path, "--lam", 2).output
+    assert "Choices a2b made:" in out
+    assert "mode darboux: the default" in out and "used branch +1" in out
+    out = run("describe", path, "--mode", "screw").output
+    assert "mode darboux" not in out and "both axis orientations are short; chose the one with d > 0" in out
+
+
+def test_fiber_states_the_kernel_basis_it_chose(pose_file):
+    path, _ = pose_file
+    out = run("fiber", path, "--map", "mu", "--m", "1,0,0,0.5").output
+    assert "Choices a2b made:" in out and "used the RREF basis" in out
+    assert "Choices a2b made: none" in run("fiber", path).output
+
+
+# -- bounded resources and absurd requests -----------------------------------------------------
+
+
+@pytest.mark.parametrize("n", [2, 3, 7, 101, 65537, 200_003])
+@pytest.mark.parametrize("size", [1, 5, 65536])
+def test_evenly_spaced_chunks_are_linspace_bit_for_bit(n, size):
+    from a2b.cli.options import evenly_spaced
+
+    if n // size > 50_000:
+        pytest.skip("too many chunks to be worth it")
+    chunks = list(evenly_spaced(n, size))
+    assert all(len(c) <= size for c in chunks)
+    assert np.array_equal(np.concatenate(chunks), np.linspace(0.0, 1.0, n))
+
+
+def test_streamed_output_equals_one_block(poses, tmp_path, monkeypatch):
+    """Chunks of 7 samples give the same bytes as one block (the chunk size is no parameter)."""
+    from a2b.io import writers
+
+    path, _, _ = poses
+    whole = run("interpolate", path, "--samples", 50, "--format", "matrix").output
+    monkeypatch.setattr(writers, "CHUNK_SAMPLES", 7)
+    assert run("interpolate", path, "--samples", 50, "--format", "matrix").output == whole
+
+
+def test_batch_splits_a_large_job_into_bounded_chunks(rng, monkeypatch):
+    from a2b.cli.batch import batch_chunks
+    from a2b.io import writers
+    from a2b.io.readers import Job
+
+    monkeypatch.setattr(writers, "CHUNK_SAMPLES", 10)
+    jobs = [Job(random_pose(rng), random_pose(rng), samples=n) for n in (3, 25, 4)]
+    chunks = list(batch_chunks(jobs, "darboux", 101, "quat_trans", chunk_size=256))
+    assert [len(c.t) for c in chunks] == [13, 10, 9]
+    assert sum((c.job for c in chunks), []) == ["0"] * 3 + ["1"] * 25 + ["2"] * 4
+    t = np.concatenate([c.t for c in chunks])
+    assert np.array_equal(t[3:28], np.linspace(0, 1, 25))
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--samples", 1], "1 is not in the range 2<=x<=9007199254740992"),
+        (["--samples", 0], "0 is not in the range"),
+        (["--samples", -5], "-5 is not in the range"),
+        (["--samples", 2**53 + 1], "is not in the range"),
+        (["--duration", "inf"], "'inf' is not a finite number"),
+        (["--duration", "0"], "'0' is not greater than 0"),
+        (["--duration", "nan"], "'nan' is not a finite number"),
+    ],
+)
+def test_absurd_requests_are_usage_errors(poses, args, message):
+    path, _, _ = poses
+    result = run_split("interpolate", path, *args)
+    assert result.exit_code == 2
+    assert message in result.stderr
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--format", "mcap", "--samples", 2**32 + 1],
+         "MCAP numbers messages with 32-bit sequence numbers: at most 2**32 = 4294967296 samples, got 4294967297"),
+        (["--format", "mcap", "--duration", 1e10],
+         "MCAP log times are nanoseconds below 2**63 (the year 2262); the time of t = 1, duration + start_time, is 1e+10 s"),
+        (["--format", "mcap", "--start-time", 9.3e9],
+         "MCAP log times are nanoseconds below 2**63 (the year 2262); the time of t = 1, duration + start_time, is 9.3e+09 s"),
+        (["--format", "mcap", "--start-time", -0.5], "MCAP times must not be negative; --start-time is -0.5 s"),
+        (["--format", "tum", "--start-time", 1e308, "--duration", 1e308],
+         "the time of t = 1, duration + start_time = 1e+308 + 1e+308, overflows a double"),
+    ],
+)  # fmt: skip
+def test_what_a_format_cannot_hold_is_an_error_before_writing(poses, tmp_path, args, message):
+    path, _, _ = poses
+    out = tmp_path / "out.bin"
+    result = run_split("interpolate", path, "-o", out, *args)
+    assert result.exit_code == 1
+    assert result.stderr == f"Error: {message}\n"
+    assert not out.exists()
+
+
+def test_a_pipe_gets_no_mcap_header_for_a_refused_request(poses):
+    path, _, _ = poses
+    result = run_split("interpolate", path, "--format", "mcap", "--start-time", -1)
+    assert result.exit_code == 1 and result.stdout_bytes == b""
+
+
+NON_FINITE_RESULTS = [
+    ("interpolate", "end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\nparameters: {lam: 1e200}\n",
+     "the sample at t = 0 is not finite: the motion overflows double precision"),
+    ("describe", "end: {quaternion: [1, 0, 0, 0], translation: [1e300, 1e300, 0]}\n",
+     "describe: d = inf overflows double precision; the poses or parameters are too large"),
+    ("describe", "end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\nparameters: {lam: 1e200}\n",
+     "describe: delta = inf overflows double precision"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("command, end, message", NON_FINITE_RESULTS)
+def test_results_that_overflow_are_refused(tmp_path, command, end, message):
+    path = tmp_path / "p.yaml"
+    path.write_text("start: {quaternion: [1, 0, 0, 0]}\n" + end)
+    args = ["-o", tmp_path / "o.csv"] if command == "interpolate" else ["--json"]
+    result = run_split(command, path, *args)
+    assert result.exit_code == 1
+    assert result.stderr.startswith(f"Error: {message}") and result.stderr.count("\n") == 1
+    assert result.stdout == ""
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.yaml"]
+
+
+def test_batch_names_the_job_whose_samples_overflow(tmp_path):
+    path = tmp_path / "jobs.yaml"
+    path.write_text(
+        "- {name: fine, start: {quaternion: [1, 0, 0, 0]}, end: {quaternion: [1, 0, 0, 0]}, samples: 2}\n"
+        "- {name: huge, start: {quaternion: [1, 0, 0, 0]}, end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}, "
+        "parameters: {lam: 1e200}}\n"
+    )
+    result = run_split("batch", path, "-o", tmp_path / "o.csv")
+    assert result.exit_code == 1
+    assert result.stderr.startswith("Error: job huge: the sample at t = 0 is not finite")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["jobs.yaml"]
+
+
+# -- output targets that are no regular file -------------------------------------------------
+
+
+def test_output_into_a_named_pipe_is_written_directly(poses, tmp_path):
+    import os
+    import threading
+
+    path, _, _ = poses
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    received = []
+    reader = threading.Thread(target=lambda: received.append(fifo.read_bytes()))
+    reader.start()
+    result = run("interpolate", path, "--samples", 3, "-o", fifo)
+    reader.join(timeout=30)
+    assert result.exit_code == 0
+    assert received[0].decode().splitlines()[0] == "t,tx,ty,tz,qw,qx,qy,qz"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe", "poses.json"]
+
+
+def test_output_through_a_symbolic_link_replaces_the_file_it_points_to(poses, tmp_path):
+    path, _, _ = poses
+    target = tmp_path / "run-42.csv"
+    target.write_text("old\n")
+    link = tmp_path / "latest.csv"
+    link.symlink_to(target.name)
+    assert run("interpolate", path, "--samples", 3, "-o", link).exit_code == 0
+    assert link.is_symlink() and target.read_text().startswith("t,tx")
+
+
+# -- plot: Bézier and spline files ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "sample, args, title, marks",
+    [
+        ("planar-bezier.yaml", [], "Bézier motion of degree 3 (matrix space)", ["C1", "C2"]),
+        ("planar-bezier.yaml", ["--space", "study"], "Bézier motion of degree 3 (study space)", ["C1", "C2"]),
+        ("spline.yaml", [], "C¹ spline of 4 cubic segments (matrix space)", ["P1", "P2", "P3"]),
+    ],
+)
+def test_plot_draws_curve_files(tmp_path, sample, args, title, marks):
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "curve.svg"
+    result = run("plot", SAMPLES / sample, "-o", out, "--samples", 9, *args)
+    assert result.exit_code == 0, result.output
+    svg = out.read_text()
+    assert title.replace("¹", "") in svg.replace("¹", "") or title in svg
+    for mark in marks:
+        assert f'id="mark:{mark}:x"' in svg
+    assert 'id="screw-axis"' not in svg
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--mode", "cubic"], "--mode is for two poses; this file is a list of controls (a Bézier motion)"),
+        (["--delta", "0.1", "--family"], "--delta, --family are for two poses"),
+    ],
+)
+def test_plot_curve_files_refuse_options_for_two_poses(tmp_path, args, message):
+    result = run_split("plot", SAMPLES / "planar-bezier.yaml", "-o", tmp_path / "x.png", *args)
+    assert result.exit_code == 2
+    assert f"Error: {message}" in result.stderr
+    result = run_split("plot", SAMPLES / "quarter-turn.yaml", "-o", tmp_path / "x.png", "--space", "study")
+    assert result.exit_code == 2 and "--space is for a list of controls or poses" in result.stderr
+    assert list(tmp_path.iterdir()) == []

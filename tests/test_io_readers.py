@@ -161,3 +161,81 @@ def test_a_poses_file_where_one_pose_belongs_and_back(tmp_path):
     assert result.exit_code == 1 and "this is one pose, but start and end poses are needed" in result.output
     result = runner.invoke(cli, ["batch", str(SAMPLES / "quarter-turn.yaml")])
     assert result.exit_code == 1 and "expected a list of jobs, got a mapping" in result.output
+
+
+# -- numbers, text and nesting that a hand or another program may produce --------------------
+
+EXACT_ERRORS = [
+    ("big.json", b'{"quaternion": [1' + b"0" * 400 + b", 0, 0, 0]}",
+     "big.json:1:17: quaternion[0]: 100000000000…000000 (401 digits) is too large for a double; numbers must be finite (|x| < 1.8e308)"),
+    ("digits.yaml", b"quaternion: [1" + b"0" * 5000 + b", 0, 0, 0]\n",
+     "digits.yaml:1:14: quaternion[0]: 100000000000…000000 (5001 digits) is too large for a double; numbers must be finite (|x| < 1.8e308)"),
+    ("exp.json", b'{"quaternion": [1e999, 0, 0, 0]}',
+     "exp.json:1:17: quaternion[0]: 1e999 is too large for a double; numbers must be finite (|x| < 1.8e308)"),
+    ("exp.yaml", b"quaternion: [1, 0, 0, -1.5e+400]\n",
+     "exp.yaml:1:23: quaternion[3]: -1.5e+400 is too large for a double; numbers must be finite (|x| < 1.8e308)"),
+    ("inf.yaml", b"quaternion: [1, 0, 0, 0]\ntranslation: [-.Inf, 0, 0]\n",
+     "inf.yaml:2:15: translation[0]: -.Inf is not allowed; numbers must be finite"),
+    ("sexagesimal.yaml", b"quaternion: [1:20, 0, 0, 0]\n",
+     "sexagesimal.yaml:1:14: quaternion[0]: expected a number, got the string '1:20'"),
+    ("underscore.yaml", b"quaternion: [1_000, 0, 0, 0]\n",
+     "underscore.yaml:1:14: quaternion[0]: expected a number, got the string '1_000'"),
+    ("yes.yaml", b"study: [1, 0, 0, 0, 0, 0, 0, 0]\nkappa: yes\n",
+     "yes.yaml:2:1: kappa: expected true or false, got the string 'yes'"),
+    ("latin1.yaml", b"quaternion: [1, 0, 0, 0]\n# caf\xe9\n",
+     "latin1.yaml:2:6: not UTF-8 text (byte 0xe9)"),
+    ("control.yaml", b"quaternion: [1, 0,\x07 0, 0]\n",
+     "control.yaml:1:19: invalid YAML: control characters are not allowed (#x0007)"),
+    ("deep.yaml", b"[" * 50_000 + b"]" * 50_000,
+     "deep.yaml:1:101: nested too deeply (a2b reads at most 100 levels)"),
+    ("deep.json", b"[" * 50_000 + b"]" * 50_000, "deep.json: invalid JSON: nested too deeply to read"),
+    ("key.json", b'{"quaternion": [1, 0, 0, 0], "a\\nb": 1}',
+     "key.json:1:30: 'a\\nb': unknown key 'a\\nb' in a pose (expected matrix, quaternion, quaternion_xyzw, study, layout, translation, kappa)"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("name, data, message", EXACT_ERRORS, ids=[e[0] for e in EXACT_ERRORS])
+def test_exact_messages_for_what_is_no_number_or_no_text(name, data, message):
+    with pytest.raises(InputFileError) as info:
+        readers.read_pose(io.BytesIO(data), name)
+    assert str(info.value) == message
+
+
+def test_yaml_1_2_numbers_are_numbers():
+    text = b"quaternion: [0x1, 0o0, -0, +0.0]\ntranslation: [1e3, .5, -2.]\n"
+    m = readers.read_pose(io.BytesIO(text), "p.yaml")
+    assert m[:3, 3].tolist() == [1000.0, 0.5, -2.0]
+
+
+def test_samples_must_be_at_least_two_and_at_most_2_to_the_53(tmp_path):
+    base = f"start: {IDENTITY}\nend: {QUARTER}\n"
+    with pytest.raises(InputFileError, match=r"p.yaml:3:1: samples: expected at least 2 samples \(t = 0 and t = 1\), got 1"):
+        readers.read_poses(io.BytesIO((base + "samples: 1\n").encode()), "p.yaml")
+    with pytest.raises(InputFileError, match=r"samples: expected at most 2\*\*53 = 9007199254740992 samples"):
+        readers.read_poses(io.BytesIO((base + f"samples: {2**53 + 1}\n").encode()), "p.yaml")
+    assert readers.read_poses(io.BytesIO((base + f"samples: {2**53}\n").encode()), "p.yaml").samples == 2**53
+
+
+def test_an_empty_jobs_file_is_an_error():
+    with pytest.raises(InputFileError, match=r"^jobs.jsonl: no jobs"):
+        list(readers.read_jobs(io.BytesIO(b"\n\n"), "jobs.jsonl"))
+    with pytest.raises(InputFileError, match=r"^jobs.json:1:1: expected a list of jobs, got an empty list"):
+        readers.read_jobs(io.BytesIO(b"[]"), "jobs.json")
+    with pytest.raises(InputFileError, match=r"^jobs.jsonl:2:1: not UTF-8 text \(byte 0xff\)"):
+        list(readers.read_jobs(io.BytesIO(b'{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}\n\xff\n'), "jobs.jsonl"))
+
+
+def test_read_pose_list_and_read_motion_file():
+    text = b"controls:\n  - quaternion: [1, 0, 0, 0]\n  - {quaternion: [0, 0, 0, 1], translation: [1, 0, 0]}\nspace: study\nparameters: {weights: [1, 2]}\n"
+    curve = readers.read_pose_list(io.BytesIO(text), "controls", "c.yaml")
+    assert curve.key == "controls" and curve.poses.shape == (2, 4, 4)
+    assert curve.space == "study" and curve.samples is None and curve.parameters == {"weights": (1.0, 2.0)}
+    assert isinstance(readers.read_motion_file(io.BytesIO(text), "c.yaml"), readers.PoseList)
+    job = readers.read_motion_file(io.BytesIO(f"start: {IDENTITY}\nend: {QUARTER}\n".encode()), "p.yaml")
+    assert isinstance(job, readers.Job)
+    with pytest.raises(InputFileError, match=r"^c.yaml:1:1: this is a list of controls \(a2b bezier\), but start and end poses are needed"):
+        readers.read_poses(io.BytesIO(text), "c.yaml")
+    with pytest.raises(InputFileError, match=r"^p.yaml:1:1: this is a poses file \(start and end\); this command needs a list of poses under 'poses'"):
+        readers.read_pose_list(io.BytesIO(f"start: {IDENTITY}\nend: {QUARTER}\n".encode()), "poses", "p.yaml")
+    with pytest.raises(InputFileError, match=r"^c.yaml:1:1: controls: expected a list of at least two poses, got 1"):
+        readers.read_pose_list(io.BytesIO(b"controls:\n  - quaternion: [1, 0, 0, 0]\n"), "controls", "c.yaml")

@@ -21,23 +21,17 @@ def read_curve_file(stream: IO, key: str, name: str | None = None):
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=click.File("rb"))
 @options.space_option
-@click.option(
-    "--m",
-    "m",
-    type=options.Vector(4, "m0, m1, m2, m3"),
-    help="matrix: the vector m of μ_[m], e.g. 1,0,0,0.5  [default: the sum of the control quaternions]",
+@options.m_option(
+    "matrix: the vector m of μ_[m], e.g. 1,0,0,0.5  [default: the sum of the control quaternions]"
 )
 @click.option(
     "--weights",
     type=options.NumberList(),
     help="Positive weights, one per control pose, e.g. 1,2,2,1 (a rational curve).",
 )
-@click.option(
-    "--alpha",
-    "alphas",
-    type=options.Vector(6, "α0 … α5"),
-    multiple=True,
-    help="matrix: fiber coordinates α of a control pose in the kernel basis; repeat once per control pose, in order.",
+@options.alphas_option(
+    "matrix: fiber coordinates α of a control pose in the kernel basis; repeat once per "
+    "control pose, in order."
 )
 @click.option(
     "--basis",

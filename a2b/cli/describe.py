@@ -56,7 +56,7 @@ def render(description: dict, defaults: list | None = None) -> None:
     choices = list(defaults or []) + list(description.get("choices") or [])
     console.print("Choices a2b made:" if choices else "Choices a2b made: none")
     for choice in choices:
-        console.print(f"  • {choice}", highlight=False, markup=False)
+        console.print(f"  • {choice}", highlight=False, markup=False, soft_wrap=True)
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)

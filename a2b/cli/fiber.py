@@ -47,7 +47,7 @@ def render(result: dict) -> None:
     choices = result.get("choices") or []
     console.print("Choices a2b made:" if choices else "Choices a2b made: none")
     for choice in choices:
-        console.print(f"  • {choice}", highlight=False, markup=False)
+        console.print(f"  • {choice}", highlight=False, markup=False, soft_wrap=True)
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
@@ -61,13 +61,9 @@ def render(result: dict) -> None:
     help="κ (extended dual-quaternion model, points of P^7) or μ_[m] (extended matrix model, points of R^13).",
 )
 @click.option("--s", "s", type=options.FLOAT, multiple=True, help="kappa: one fiber point h + s εp per --s  [default: -1, 0, 1]")
-@click.option("--m", "m", type=options.Vector(4, "m0, m1, m2, m3"), help="mu: the vector m of μ_[m] (required).")
-@click.option(
-    "--alpha",
-    "alphas",
-    type=options.Vector(6, "α0 … α5"),
-    multiple=True,
-    help="mu: one fiber point (1, R) + Σ α_l f_l per --alpha  [default: 0 and each unit vector]",
+@options.m_option("mu: the vector m of μ_[m] (required).")
+@options.alphas_option(
+    "mu: one fiber point (1, R) + Σ α_l f_l per --alpha  [default: 0 and each unit vector]"
 )
 @click.option(
     "--basis",

@@ -102,6 +102,19 @@ class Branch(click.ParamType):
 
 
 FLOAT = FiniteFloat()
+M_VECTOR = Vector(4, "m0, m1, m2, m3")
+ALPHA_VECTOR = Vector(6, "α0 … α5")
+
+
+def m_option(help_: str):
+    """``--m``, the vector m of μ_[m]; ``help_`` says what it does for the command."""
+    return click.option("--m", "m", type=M_VECTOR, help=help_)
+
+
+def alphas_option(help_: str):
+    """``--alpha`` given once per point (collected as ``alphas``): fiber coordinates α."""
+    return click.option("--alpha", "alphas", type=ALPHA_VECTOR, multiple=True, help=help_)
+
 
 #: Motion parameter options, in the order of ``a2b.motion``'s documentation.
 _MOTION_OPTIONS = [
@@ -123,8 +136,8 @@ _MOTION_OPTIONS = [
         default=None,
         help="darboux: go the long way round (the other sign of the end pose's Study vector).",
     ),
-    click.option("--m", "m", type=Vector(4, "m0, m1, m2, m3"), help="cubic: the vector m of μ_[m], e.g. 1,0,0,0.5."),
-    click.option("--alpha", type=Vector(6, "α0 … α5"), help="cubic: fiber coordinates α of the start pose in the kernel basis."),
+    m_option("cubic: the vector m of μ_[m], e.g. 1,0,0,0.5."),
+    click.option("--alpha", type=ALPHA_VECTOR, help="cubic: fiber coordinates α of the start pose in the kernel basis."),
     click.option("--beta", type=Vector(6, "β0 … β5"), help="cubic: fiber coordinates β of the end pose in the kernel basis."),
     click.option("--a", "a", type=FLOAT, help="cubic: the essential scalar a (instead of --alpha)."),
     click.option("--b", "b", type=FLOAT, help="cubic: the essential scalar b (instead of --beta)."),
@@ -152,68 +165,58 @@ def motion_options(f):
     )(f)
 
 
-def output_option(f):
-    return click.option(
-        "-o",
-        "--output",
-        type=click.Path(allow_dash=True, dir_okay=False),
-        default="-",
-        show_default=True,
-        help="Where to write; '-' is standard output. Written to a temporary file and renamed into place.",
-    )(f)
-
-
-def samples_option(f):
-    return click.option(
-        "--samples",
-        type=click.IntRange(min=MIN_SAMPLES, max=MAX_SAMPLES),
-        help="Number of samples, t evenly spaced in [0, 1], written as they are computed "
-        "(any number streams in bounded memory)  [default: the file's samples, else 101]",
-    )(f)
-
-
-def format_option(f):
-    return click.option(
-        "--format",
-        "fmt",
-        type=click.Choice(FORMATS),
-        help="Output format  [default: from the -o suffix (.mcap, .tum, .kitti), else csv]",
-    )(f)
+output_option = click.option(
+    "-o",
+    "--output",
+    type=click.Path(allow_dash=True, dir_okay=False),
+    default="-",
+    show_default=True,
+    help="Where to write; '-' is standard output. Written to a temporary file and renamed into place.",
+)
+samples_option = click.option(
+    "--samples",
+    type=click.IntRange(min=MIN_SAMPLES, max=MAX_SAMPLES),
+    help="Number of samples, t evenly spaced in [0, 1], written as they are computed "
+    "(any number streams in bounded memory)  [default: the file's samples, else 101]",
+)
+format_option = click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(FORMATS),
+    help="Output format  [default: from the -o suffix (.mcap, .tum, .kitti), else csv]",
+)
+_start_time_option = click.option(
+    "--start-time",
+    type=FLOAT,
+    default=0.0,
+    show_default=True,
+    help="tum, mcap: the time of t = 0, in seconds (e.g. a Unix time).",
+)
+_duration_option = click.option(
+    "--duration",
+    type=PositiveFloat(),
+    default=1.0,
+    show_default=True,
+    help="tum, mcap: seconds from t = 0 to t = 1; time = t · duration + start_time.",
+)
 
 
 def timing_options(f):
-    f = click.option(
-        "--start-time",
-        type=FLOAT,
-        default=0.0,
-        show_default=True,
-        help="tum, mcap: the time of t = 0, in seconds (e.g. a Unix time).",
-    )(f)
-    return click.option(
-        "--duration",
-        type=PositiveFloat(),
-        default=1.0,
-        show_default=True,
-        help="tum, mcap: seconds from t = 0 to t = 1; time = t · duration + start_time.",
-    )(f)
+    return _duration_option(_start_time_option(f))
 
 
-def verbose_option(f):
-    return click.option(
-        "-v",
-        "--verbose",
-        is_flag=True,
-        help="State on stderr every choice a2b makes for you (defaults, signs, bases, branches, axes).",
-    )(f)
-
-
-def space_option(f):
-    return click.option(
-        "--space",
-        type=click.Choice(SPACES),
-        help="Build the curve in R^13 and map it by μ_[m] (matrix, default), or over unit Study "
-        "vectors and map it by κ (study).",
-    )(f)
+verbose_option = click.option(
+    "-v",
+    "--verbose",
+    is_flag=True,
+    help="State on stderr every choice a2b makes for you (defaults, signs, bases, branches, axes).",
+)
+space_option = click.option(
+    "--space",
+    type=click.Choice(SPACES),
+    help="Build the curve in R^13 and map it by μ_[m] (matrix, default), or over unit Study "
+    "vectors and map it by κ (study).",
+)
 
 
 #: The options of :func:`trajectory_options` that :func:`write_motion` takes.
@@ -236,23 +239,25 @@ def pop_trajectory(kwargs: dict) -> dict:
     return {key: kwargs.pop(key) for key in TRAJECTORY_OPTIONS}
 
 
+_child_frame_option = click.option(
+    "--child-frame-id",
+    default="a2b",
+    show_default=True,
+    help="mcap: the child frame of the /tf transforms (the moving body).",
+)
+_frame_option = click.option(
+    "--frame-id",
+    default="world",
+    show_default=True,
+    help="mcap: the fixed frame of /a2b/pose and the parent frame of /tf.",
+)
+
+
 def frame_options(f):
-    f = click.option(
-        "--child-frame-id",
-        default="a2b",
-        show_default=True,
-        help="mcap: the child frame of the /tf transforms (the moving body).",
-    )(f)
-    return click.option(
-        "--frame-id",
-        default="world",
-        show_default=True,
-        help="mcap: the fixed frame of /a2b/pose and the parent frame of /tf.",
-    )(f)
+    return _frame_option(_child_frame_option(f))
 
 
-def json_option(f):
-    return click.option("--json", "as_json", is_flag=True, help="Machine-readable JSON instead of a table.")(f)
+json_option = click.option("--json", "as_json", is_flag=True, help="Machine-readable JSON instead of a table.")
 
 
 #: Parameters that choose the same thing; giving one on the command line drops the file's others.

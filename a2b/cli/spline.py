@@ -10,11 +10,9 @@ from . import CONTEXT_SETTINGS, options
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=click.File("rb"))
 @options.space_option
-@click.option(
-    "--m",
-    "m",
-    type=options.Vector(4, "m0, m1, m2, m3"),
-    help="matrix: the vector m of μ_[m], one for all segments  [default: the sum of the poses' quaternions]",
+@options.m_option(
+    "matrix: the vector m of μ_[m], one for all segments  [default: the sum of the poses' "
+    "quaternions]"
 )
 @options.trajectory_options
 def command(poses, space, m, samples, verbose, **out):

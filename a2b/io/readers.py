@@ -179,7 +179,9 @@ def _format_path(path: Path | None) -> str:
         return f"job {path[0]}" + (f": {rest}" if rest else "")
     out = ""
     for el in path:
-        out += f"[{el}]" if isinstance(el, int) else (f".{el}" if out else str(el))
+        if not isinstance(el, int):  # keys that would garble the message are quoted
+            el = el if isinstance(el, str) and el.isprintable() and el.strip() == el and el else repr(el)
+        out += f"[{el}]" if isinstance(el, int) else (f".{el}" if out else el)
     return out
 
 
@@ -547,11 +549,25 @@ def _parse_yaml(text: str, name: str) -> _Document:
         where = f":{mark.line + 1}:{mark.column + 1}" if mark else ""
         problem = e.problem or e.context or "syntax error"
         raise InputFileError(f"{name}{where}: invalid YAML: {problem}") from None
+    except yaml.reader.ReaderError as e:  # a character YAML does not allow
+        line, col = _offset_line_col(text, e.position, isinstance(loader, getattr(yaml, "CParser", ())))
+        char = e.character if isinstance(e.character, int) else ord(e.character or "\0")
+        raise InputFileError(f"{name}:{line}:{col}: invalid YAML: {e.reason} (#x{char:04x})") from None
     except yaml.YAMLError as e:
-        raise InputFileError(f"{name}: invalid YAML: {e}") from None
+        first = str(e).splitlines()[0] if str(e) else "syntax error"
+        raise InputFileError(f"{name}: invalid YAML: {first}") from None
     finally:
         loader.dispose()
     return _Document(name, data, lambda path: _yaml_locate(node, path))
+
+
+def _offset_line_col(text: str, offset: int, in_bytes: bool) -> tuple[int, int]:
+    """Line and column of a character offset, or of a UTF-8 byte offset (libyaml's)."""
+    if not in_bytes:
+        return _line_col(text, offset)
+    data = text.encode("utf-8")
+    start = data.rfind(b"\n", 0, offset) + 1
+    return data.count(b"\n", 0, offset) + 1, len(data[start:offset].decode("utf-8", "replace")) + 1
 
 
 def _parse(text: str, name: str, kind: str | None) -> _Document:
@@ -790,6 +806,12 @@ def _job(doc: _Document, path: Path, v, allowed: tuple) -> Job:
 # Public pose-file readers
 
 
+def _document(stream: IO, name: str | None) -> _Document:
+    """Read and parse a whole pose file, JSON or YAML by its suffix or content."""
+    name = _stream_name(stream, name)
+    return _parse(_read_text(stream, name), name, _kind_from_suffix(name))
+
+
 def read_pose(stream: IO, name: str | None = None) -> np.ndarray:
     """Read a file holding one pose mapping (``a2b fiber``, ``--through``).
 
@@ -803,8 +825,7 @@ def read_pose(stream: IO, name: str | None = None) -> np.ndarray:
     InputFileError
         Naming the file, the key and the line and column.
     """
-    name = _stream_name(stream, name)
-    doc = _parse(_read_text(stream, name), name, _kind_from_suffix(name))
+    doc = _document(stream, name)
     return _pose(doc, (), doc.data)
 
 
@@ -816,8 +837,7 @@ def read_poses(stream: IO, name: str | None = None) -> Job:
     InputFileError
         Naming the file, the key and the line and column.
     """
-    name = _stream_name(stream, name)
-    doc = _parse(_read_text(stream, name), name, _kind_from_suffix(name))
+    doc = _document(stream, name)
     return _job(doc, (), doc.data, POSES_KEYS)
 
 
@@ -869,14 +889,11 @@ def read_pose_list(stream: IO, key: str, name: str | None = None) -> PoseList:
     """
     if key not in POSE_LIST_PARAMETERS:
         raise ValueError(f"key must be one of {', '.join(POSE_LIST_PARAMETERS)}, got {key!r}")
-    name = _stream_name(stream, name)
-    doc = _parse(_read_text(stream, name), name, _kind_from_suffix(name))
-    return _pose_list(doc, doc.data, key)
+    return _pose_list(_document(stream, name), key)
 
 
-def _pose_list(doc: _Document, data, key: str) -> PoseList:
-    what = "a mapping with " + key
-    top = _mapping(doc, (), data, what)
+def _pose_list(doc: _Document, key: str) -> PoseList:
+    top = _mapping(doc, (), doc.data, f"a mapping with {key}")
     if "start" in top and "end" in top and key not in top:
         raise doc.error((), f"this is a poses file (start and end); this command needs a list of poses under {key!r}")
     _check_keys(doc, (), top, (key, "space", "samples", "parameters"), f"a {key} file")
@@ -924,12 +941,11 @@ def read_motion_file(stream: IO, name: str | None = None) -> Job | PoseList:
     The top-level keys tell which: ``controls`` makes a Bézier curve's :class:`PoseList`,
     ``poses`` a spline's, anything else is read as a poses file (:func:`read_poses`).
     """
-    name = _stream_name(stream, name)
-    doc = _parse(_read_text(stream, name), name, _kind_from_suffix(name))
+    doc = _document(stream, name)
     if isinstance(doc.data, dict):
         for key in POSE_LIST_PARAMETERS:
             if key in doc.data:
-                return _pose_list(doc, doc.data, key)
+                return _pose_list(doc, key)
     return _job(doc, (), doc.data, POSES_KEYS)
 
 
@@ -968,6 +984,8 @@ def read_jobs(stream: IO, name: str | None = None) -> Jobs:
     if not isinstance(doc.data, list):
         hint = " (one motion: a2b interpolate)" if isinstance(doc.data, dict) else ""
         raise doc.error((), f"expected a list of jobs, got {_describe(doc.data)}{hint}")
+    if not doc.data:
+        raise doc.error((), "expected a list of jobs, got an empty list")
     data = doc.data
 
     def jobs() -> Iterator[Job]:
@@ -980,7 +998,7 @@ def read_jobs(stream: IO, name: str | None = None) -> Jobs:
 def _is_complete_json(line: str) -> bool:
     try:
         json.loads(line)
-    except ValueError:
+    except (ValueError, RecursionError):
         return False
     return True
 
@@ -1005,6 +1023,8 @@ def _json_lines(lines: Iterator[str], name: str) -> Iterator[Job]:
         doc.locate = lambda path, _inner=inner: _inner(path[1:])  # the job index is the line
         yield _job(doc, (index,), doc.data, JOB_KEYS)
         index += 1
+    if index == 0:
+        raise InputFileError(f"{name}: no jobs: the file has no lines with a job")
 
 
 # --------------------------------------------------------------------------------------------

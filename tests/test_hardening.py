@@ -1,0 +1,240 @@
+"""Output is never half-written, and resources stay bounded: real processes, real limits.
+
+* A run that fails or is interrupted (SIGINT, SIGTERM, a full disk, a file-size limit) leaves
+  no partial output and no temporary file, and an existing file at the destination keeps its
+  bytes. The full disk is ``/dev/full`` (as stdout and as ``-o``: ENOSPC on write); a full
+  disk for the temporary file next to the target is simulated with ``RLIMIT_FSIZE`` (``ulimit
+  -f``) in the child, which makes the write fail with EFBIG (Python ignores SIGXFSZ) like
+  ENOSPC would, without root or a small filesystem.
+* 10⁹ samples stream: ``a2b interpolate --samples 1000000000 | head -c`` starts printing at
+  once and the child's peak resident memory (``VmHWM`` in ``/proc/PID/status``) stays small.
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+import signal
+import stat
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+SAMPLES = ROOT / "samples"
+QUARTER = SAMPLES / "quarter-turn.yaml"
+A2B = [sys.executable, "-c", "from a2b.cli import cli; cli(prog_name='a2b')"]
+PRECIOUS = b"precious: an older result that a failed run must not touch\n"
+
+linux_only = pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="needs /proc")
+
+
+def a2b_cmd(*args):
+    return A2B + [str(a) for a in args]
+
+
+def one_error_line(stderr: bytes) -> str:
+    lines = stderr.decode().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("Error: "), stderr.decode()[-2000:]
+    return lines[0]
+
+
+def big_jobs(path: Path, samples: int) -> Path:
+    path.write_text(
+        "- name: big\n"
+        f"  samples: {samples}\n"
+        "  start: {quaternion: [1, 0, 0, 0]}\n"
+        "  end: {quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [1, 1, 0.5]}\n"
+    )
+    return path
+
+
+# -- a full disk ------------------------------------------------------------------------------
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+@pytest.mark.parametrize("fmt", ["csv", "mcap"])
+def test_stdout_on_a_full_disk(fmt):
+    """``a2b interpolate ... > /dev/full``: one line, status 1, no second error at exit."""
+    with open("/dev/full", "wb") as full:
+        result = subprocess.run(
+            a2b_cmd("interpolate", QUARTER, "--samples", 200_000, "--format", fmt),
+            stdout=full,
+            stderr=subprocess.PIPE,
+            timeout=120,
+            check=False,
+        )
+    assert result.returncode == 1
+    assert one_error_line(result.stderr) == "Error: cannot write standard output: No space left on device"
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+def test_output_to_dev_full_writes_through_and_keeps_the_device():
+    """``-o /dev/full`` is written directly (a rename would replace the device node)."""
+    result = subprocess.run(
+        a2b_cmd("interpolate", QUARTER, "--samples", 200_000, "-o", "/dev/full"),
+        capture_output=True,
+        timeout=120,
+        check=False,
+    )
+    assert result.returncode == 1
+    assert one_error_line(result.stderr) == "Error: cannot write /dev/full: No space left on device"
+    assert stat.S_ISCHR(os.stat("/dev/full").st_mode)
+    assert not any(name.startswith(".full.") for name in os.listdir("/dev"))
+
+
+def _limit_file_size(limit: int):
+    def preexec():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+    return preexec
+
+
+FULL_DISK_RUNS = [
+    ("interpolate", "csv", lambda tmp: [QUARTER, "--samples", 200_000]),
+    ("interpolate", "mcap", lambda tmp: [QUARTER, "--samples", 200_000]),
+    ("bezier", "tum", lambda tmp: [SAMPLES / "planar-bezier.yaml", "--samples", 200_000]),
+    ("batch", "csv", lambda tmp: [big_jobs(tmp / "jobs.yaml", 200_000)]),
+]
+
+
+@pytest.mark.parametrize(
+    "command, fmt, inputs", FULL_DISK_RUNS, ids=[f"{c}-{f}" for c, f, _ in FULL_DISK_RUNS]
+)
+def test_full_disk_for_the_temporary_file_keeps_the_old_file(tmp_path, command, fmt, inputs):
+    """The temporary file next to the target hits a 64 KiB file-size limit (EFBIG)."""
+    out = tmp_path / f"out.{fmt}"
+    out.write_bytes(PRECIOUS)
+    args = inputs(tmp_path) + ["-o", out] + (["--format", fmt] if command != "batch" else [])
+    before = sorted(p.name for p in tmp_path.iterdir())
+    result = subprocess.run(
+        a2b_cmd(command, *args),
+        capture_output=True,
+        timeout=120,
+        check=False,
+        preexec_fn=_limit_file_size(64 * 1024),
+    )
+    assert result.returncode == 1
+    assert one_error_line(result.stderr) == f"Error: cannot write {out}: File too large"
+    assert out.read_bytes() == PRECIOUS
+    assert sorted(p.name for p in tmp_path.iterdir()) == before  # no temporary file left
+
+
+# -- interrupted runs -------------------------------------------------------------------------
+
+
+def _start_and_signal(tmp_path, args, sig):
+    """Start a long run into ``tmp_path/out``, wait until it writes, send ``sig``."""
+    proc = subprocess.Popen(a2b_cmd(*args), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 60
+    while not any(p.name.endswith(".tmp") for p in tmp_path.iterdir()):  # writing has started
+        assert time.monotonic() < deadline and proc.poll() is None, proc.stderr.read() if proc.poll() is not None else ""
+        time.sleep(0.02)
+    time.sleep(0.2)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    return proc.returncode, err
+
+
+INTERRUPTED_RUNS = [
+    ("interpolate", lambda tmp: ["interpolate", QUARTER, "--samples", 50_000_000]),
+    ("interpolate-mcap", lambda tmp: ["interpolate", QUARTER, "--samples", 50_000_000, "--format", "mcap"]),
+    ("batch", lambda tmp: ["batch", big_jobs(tmp / "jobs.yaml", 50_000_000)]),
+]
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+@pytest.mark.parametrize("name, args", INTERRUPTED_RUNS, ids=[n for n, _ in INTERRUPTED_RUNS])
+def test_interrupted_run_keeps_the_old_file(tmp_path, name, args, sig):
+    out = tmp_path / "out.csv"
+    out.write_bytes(PRECIOUS)
+    argv = args(tmp_path)
+    before = sorted(p.name for p in tmp_path.iterdir())
+    code, err = _start_and_signal(tmp_path, argv + ["-o", out], sig)
+    if sig == signal.SIGINT:
+        assert code == 1 and err.decode().strip() == "Aborted!"
+    else:
+        assert code == 128 + signal.SIGTERM and err == b""
+    assert out.read_bytes() == PRECIOUS
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+
+
+def test_failed_run_in_a_real_process_keeps_the_old_file(tmp_path):
+    """A job that fails after others were written: status 1, old file intact."""
+    jobs = tmp_path / "jobs.yaml"
+    good = "  start: {quaternion: [1, 0, 0, 0]}\n  end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\n"
+    jobs.write_text(f"- samples: 300000\n{good}- samples: 3\n  parameters: {{lam: 0.1}}\n{good}")
+    out = tmp_path / "out.csv"
+    out.write_bytes(PRECIOUS)
+    result = subprocess.run(a2b_cmd("batch", jobs, "-o", out), capture_output=True, timeout=120, check=False)
+    assert result.returncode == 1
+    assert one_error_line(result.stderr).startswith("Error: job 1: ")
+    assert out.read_bytes() == PRECIOUS
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["jobs.yaml", "out.csv"]
+
+
+# -- bounded resources ------------------------------------------------------------------------
+
+#: The peak resident memory a streaming run may reach: the interpreter with numpy (~35 MB)
+#: and one chunk of 65 536 samples with its text (~120 MB).
+RSS_LIMIT_MB = 300
+
+
+def _peak_rss_mb(pid: int) -> float:
+    with open(f"/proc/{pid}/status") as f:
+        for line in f:
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024
+    return 0.0
+
+
+def _stream_through_head(args, nbytes: int):
+    """``a2b ARGS | head -c NBYTES``: seconds to the first line, peak RSS (MB), status, stderr."""
+    producer = subprocess.Popen(a2b_cmd(*args), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    head = subprocess.Popen(["head", "-c", str(nbytes)], stdin=producer.stdout, stdout=subprocess.PIPE)
+    producer.stdout.close()  # head owns the pipe now
+    start = time.monotonic()
+    first = head.stdout.readline()
+    to_first = time.monotonic() - start
+    peak, received = 0.0, len(first)
+    while True:
+        block = head.stdout.read(1 << 20)
+        if not block:
+            break
+        received += len(block)
+        try:
+            peak = max(peak, _peak_rss_mb(producer.pid))
+        except FileNotFoundError:  # pragma: no cover - already gone
+            break
+    head.wait(timeout=60)
+    _, err = producer.communicate(timeout=60)
+    return first, to_first, peak, received, producer.returncode, err
+
+
+@linux_only
+@pytest.mark.parametrize("fmt", ["csv", "mcap"])
+def test_a_billion_samples_stream_in_bounded_memory(fmt):
+    """``a2b interpolate --samples 1000000000 | head -c 80000000``."""
+    nbytes = 80_000_000 if fmt == "csv" else 20_000_000
+    first, to_first, peak, received, code, err = _stream_through_head(
+        ["interpolate", QUARTER, "--samples", 1_000_000_000, "--format", fmt], nbytes
+    )
+    if fmt == "csv":
+        assert first == b"t,tx,ty,tz,qw,qx,qy,qz\n"
+    assert to_first < 10, to_first
+    assert received == nbytes
+    assert 0 < peak < RSS_LIMIT_MB, peak
+    assert code == 0 and err == b""
+
+
+@linux_only
+def test_a_billion_sample_job_streams_in_bounded_memory(tmp_path):
+    first, to_first, peak, received, code, err = _stream_through_head(
+        ["batch", big_jobs(tmp_path / "jobs.yaml", 1_000_000_000), "--format", "matrix"], 40_000_000
+    )
+    assert first.startswith(b"job,t,r11")
+    assert to_first < 10 and 0 < peak < RSS_LIMIT_MB, (to_first, peak)
+    assert code == 0 and err == b""
