@@ -636,7 +636,7 @@ def test_batch_splits_a_large_job_into_bounded_chunks(rng, monkeypatch):
     jobs = [Job(random_pose(rng), random_pose(rng), samples=n) for n in (3, 25, 4)]
     chunks = list(batch_chunks(jobs, "darboux", 101, "quat_trans", chunk_size=256))
     assert [len(c.t) for c in chunks] == [13, 10, 9]
-    assert sum((c.job for c in chunks), []) == ["0"] * 3 + ["1"] * 25 + ["2"] * 4
+    assert [name for c in chunks for name in c.job] == ["0"] * 3 + ["1"] * 25 + ["2"] * 4
     t = np.concatenate([c.t for c in chunks])
     assert np.array_equal(t[3:28], np.linspace(0, 1, 25))
 
@@ -781,7 +781,7 @@ def test_plot_draws_curve_files(tmp_path, sample, args, title, marks):
     "args, message",
     [
         (["--mode", "cubic"], "--mode is for two poses; this file is a list of controls (a Bézier motion)"),
-        (["--delta", "0.1", "--family"], "--delta, --family are for two poses"),
+        (["--delta", "0.1", "--family"], "--family, --delta are for two poses"),
     ],
 )
 def test_plot_curve_files_refuse_options_for_two_poses(tmp_path, args, message):
@@ -791,3 +791,16 @@ def test_plot_curve_files_refuse_options_for_two_poses(tmp_path, args, message):
     result = run_split("plot", SAMPLES / "quarter-turn.yaml", "-o", tmp_path / "x.png", "--space", "study")
     assert result.exit_code == 2 and "--space is for a list of controls or poses" in result.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def test_describe_curve_files_states_their_choices():
+    result = run_split("describe", SAMPLES / "spline.yaml", "--json")
+    assert result.exit_code == 0
+    got = json.loads(result.stdout)
+    assert got["kind"] == "spline" and got["segments"] == 4 and got["space"] == "matrix"
+    assert any("Catmull–Rom" in c for c in got["choices"])
+    human = run_split("describe", SAMPLES / "planar-bezier.yaml", "--space", "study").stdout
+    assert "a2b describe: Bézier motion" in human and "study" in human
+    assert "Choices a2b made: none" in human  # the file says nothing a2b had to choose
+    result = run_split("describe", SAMPLES / "spline.yaml", "--mode", "cubic")
+    assert result.exit_code == 2 and "--mode is for two poses; this file is a list of poses (a spline)" in result.stderr

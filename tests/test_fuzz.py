@@ -109,7 +109,10 @@ QUARTER = {"quaternion": [0.7071067811865476, 0, 0, 0.7071067811865476], "transl
 POSES = [
     IDENTITY,
     QUARTER,
-    {"quaternion": {"w": 0.5, "x": 0.5, "y": -0.5, "z": 0.5}, "translation": {"x": 1, "y": -2, "z": 0.25}},
+    {
+        "quaternion": {"w": 0.5, "x": 0.5, "y": -0.5, "z": 0.5},
+        "translation": {"x": 1, "y": -2, "z": 0.25},
+    },
     {"quaternion_xyzw": [0, 0, 0.7071067811865476, 0.7071067811865476], "translation": [0, 0, 1]},
     {"matrix": [[0, -1, 0, 1], [1, 0, 0, 2], [0, 0, 1, 3], [0, 0, 0, 1]]},
     {"matrix": [[1, 0, 0, 0], [0.5, 1, 0, 0], [0.25, 0, 1, 0], [0, 0, 0, 1]], "layout": "paper"},
@@ -138,7 +141,15 @@ ENUMS = {
 }
 BOOLS = ("kappa", "long_way")
 #: Lists of a fixed length: key -> length (matrix rows too).
-LENGTHS = {"quaternion": 4, "quaternion_xyzw": 4, "translation": 3, "study": 8, "m": 4, "alpha": 6, "beta": 6}
+LENGTHS = {
+    "quaternion": 4,
+    "quaternion_xyzw": 4,
+    "translation": 3,
+    "study": 8,
+    "m": 4,
+    "alpha": 6,
+    "beta": 6,
+}
 #: Keys each mapping allows, by the key it sits under (None: the top of a file).
 POSE_KEYS = set(readers.POSE_KEYS)
 
@@ -165,7 +176,9 @@ def valid_doc(draw, kind: str):
     if kind == "poses":
         return json.loads(json.dumps(poses_doc(draw)))
     if kind == "jobs":
-        return json.loads(json.dumps([poses_doc(draw, job=True) for _ in range(draw(st.integers(1, 3)))]))
+        return json.loads(
+            json.dumps([poses_doc(draw, job=True) for _ in range(draw(st.integers(1, 3)))])
+        )
     key = draw(st.sampled_from(["controls", "poses"]))
     doc = {key: [draw(st.sampled_from(POSES[:5])) for _ in range(draw(st.integers(2, 4)))]}
     if draw(st.booleans()):
@@ -219,8 +232,22 @@ NOT_NUMBERS = st.one_of(
     st.just({"x": 1}),
 )
 NON_FINITE = st.sampled_from(
-    ["NaN", "Infinity", "-Infinity", ".inf", "-.inf", ".nan", ".NaN", "1e309", "-1e999", "1.0e+400",
-     "1" + "0" * 400, "-" + "9" * 320, "1" + "0" * 5000, "0x1" + "0" * 300]
+    [
+        "NaN",
+        "Infinity",
+        "-Infinity",
+        ".inf",
+        "-.inf",
+        ".nan",
+        ".NaN",
+        "1e309",
+        "-1e999",
+        "1.0e+400",
+        "1" + "0" * 400,
+        "-" + "9" * 320,
+        "1" + "0" * 5000,
+        "0x1" + "0" * 300,
+    ]
 ).map(Raw)
 
 
@@ -252,7 +279,9 @@ def mutated(draw, kind: str):
             return tree, how
         if how == "duplicate key" and node:
             pairs = Pairs(node.items())
-            pairs.insert(draw(st.integers(0, len(pairs))), draw(st.sampled_from(list(node.items()))))
+            pairs.insert(
+                draw(st.integers(0, len(pairs))), draw(st.sampled_from(list(node.items())))
+            )
             return replace(tree, path, pairs), how
     if how == "missing key":
         if kind in ("poses", "jobs"):
@@ -271,15 +300,29 @@ def mutated(draw, kind: str):
         return tree, how
     if how == "wrong length":
         lists = [p for p, v in nodes if isinstance(v, list) and p and p[-1] in LENGTHS]
-        rows = [p for p, v in nodes if isinstance(v, list) and p and (p[-1] == "matrix" or (len(p) > 1 and p[-2] == "matrix"))]
+        rows = [
+            p
+            for p, v in nodes
+            if isinstance(v, list)
+            and p
+            and (p[-1] == "matrix" or (len(p) > 1 and p[-2] == "matrix"))
+        ]
         if lists or rows:
             path = draw(st.sampled_from(lists + rows))
             node = get(tree, path)
             n = draw(st.integers(0, len(node) + 3).filter(lambda n: n != len(node)))
-            return replace(tree, path, (node * 3)[:n] if n <= 3 * len(node) else node + [0] * (n - len(node))), how
+            return replace(
+                tree, path, (node * 3)[:n] if n <= 3 * len(node) else node + [0] * (n - len(node))
+            ), how
     if how == "wrong container":
-        pose_paths = [p for p, v in nodes if isinstance(v, dict) and any(k in v for k in POSE_FORMS)]
-        others = [p for p, v in nodes if p and p[-1] in ("parameters", "controls", "poses") and not isinstance(v, dict)]
+        pose_paths = [
+            p for p, v in nodes if isinstance(v, dict) and any(k in v for k in POSE_FORMS)
+        ]
+        others = [
+            p
+            for p, v in nodes
+            if p and p[-1] in ("parameters", "controls", "poses") and not isinstance(v, dict)
+        ]
         path = draw(st.sampled_from(pose_paths + others + [()]))
         value = draw(st.sampled_from([[1, 2], "pose", 3.5, [[]], True]))
         if path == () and kind == "jobs":
@@ -291,13 +334,21 @@ def mutated(draw, kind: str):
         if enums or bools:
             path = draw(st.sampled_from(enums + bools))
             if path[-1] in BOOLS:
-                return replace(tree, path, draw(st.sampled_from([1, 0, "yes", "no", "on", "true", [True]]))), how
+                return replace(
+                    tree, path, draw(st.sampled_from([1, 0, "yes", "no", "on", "true", [True]]))
+                ), how
             allowed = ENUMS[path[-1]]
-            bad = draw(st.one_of(st.text(max_size=10).filter(lambda s: s not in allowed), st.integers()))
+            bad = draw(
+                st.one_of(st.text(max_size=10).filter(lambda s: s not in allowed), st.integers())
+            )
             return replace(tree, path, bad), how
     if how == "bad samples" and kind in ("poses", "jobs", "pose_list"):
         doc = tree if kind != "jobs" else tree[0]
-        doc["samples"] = draw(st.sampled_from([0, 1, -3, 2.5, True, "101", 2**53 + 1, 10**30, Raw("1_000"), Raw("1:20")]))
+        doc["samples"] = draw(
+            st.sampled_from(
+                [0, 1, -3, 2.5, True, "101", 2**53 + 1, 10**30, Raw("1_000"), Raw("1:20")]
+            )
+        )
         return tree, how
     # a pose that is no pose: zero quaternion, non-orthogonal or non-affine matrix, Study
     # parameters off the quadric, p = 0
@@ -337,8 +388,8 @@ def scalar(v, style: str) -> str:
 def flow(v, style: str) -> str:
     """JSON (``style == "json"``) or YAML flow style."""
     if isinstance(v, (dict, Pairs)):
-        key = (lambda k: json.dumps(str(k))) if style == "json" else (lambda k: json.dumps(str(k)))
-        return "{" + ", ".join(f"{key(k)}: {flow(x, style)}" for k, x in items(v)) + "}"
+        # keys double-quoted: a string in YAML too
+        return "{" + ", ".join(f"{json.dumps(str(k))}: {flow(x, style)}" for k, x in items(v)) + "}"
     if isinstance(v, list):
         return "[" + ", ".join(flow(x, style) for x in v) + "]"
     return scalar(v, style)
@@ -350,7 +401,13 @@ def block(v, indent: int = 0) -> str:
     if isinstance(v, (dict, Pairs)) and v:
         out = []
         for k, x in items(v):
-            if isinstance(x, (dict, Pairs)) and x or isinstance(x, list) and x and isinstance(x[0], (dict, Pairs)):
+            if (
+                isinstance(x, (dict, Pairs))
+                and x
+                or isinstance(x, list)
+                and x
+                and isinstance(x[0], (dict, Pairs))
+            ):
                 out.append(f"{pad}{json.dumps(str(k))}:\n{block(x, indent + 2)}")
             else:
                 out.append(f"{pad}{json.dumps(str(k))}: {flow(x, 'yaml')}\n")
@@ -365,11 +422,17 @@ def written(draw, kind: str):
     """A malformed file of ``kind``: (name, bytes, how)."""
     how = draw(st.sampled_from(["tree"] * 6 + ["truncated", "garbled", "control", "binary",
                                               "empty", "deep", "yaml-only", "json-syntax"]))  # fmt: skip
-    suffix = draw(st.sampled_from([".json", ".yaml", ".yml", ""] + ([".jsonl"] if kind == "jobs" else [])))
+    suffix = draw(
+        st.sampled_from([".json", ".yaml", ".yml", ""] + ([".jsonl"] if kind == "jobs" else []))
+    )
     name = f"input{suffix}" if suffix else "<stdin>"
 
     def text_of(tree, style=None):
-        style = style or ("json" if suffix in (".json", ".jsonl") else draw(st.sampled_from(["json", "flow", "block"])))
+        style = style or (
+            "json"
+            if suffix in (".json", ".jsonl")
+            else draw(st.sampled_from(["json", "flow", "block"]))
+        )
         if suffix == ".jsonl":
             return "\n".join(flow(job, "json") for job in tree) + "\n"
         if style == "block" and not isinstance(tree, list):
@@ -394,9 +457,21 @@ def written(draw, kind: str):
         data = text_of(draw(valid_doc(kind))).encode()
         at = draw(st.integers(0, len(data)))
         if how == "garbled":  # never UTF-8
-            bad = draw(st.sampled_from([b"\xff", b"\xfe", b"\x80", b"\xc0\x80", b"\xed\xa0\x80", b"\xf5\x80\x80\x80", b"\xe2\x82"]))
+            bad = draw(
+                st.sampled_from(
+                    [
+                        b"\xff",
+                        b"\xfe",
+                        b"\x80",
+                        b"\xc0\x80",
+                        b"\xed\xa0\x80",
+                        b"\xf5\x80\x80\x80",
+                        b"\xe2\x82",
+                    ]
+                )
+            )
         else:  # characters neither JSON nor YAML allow
-            bad = bytes([draw(st.sampled_from([*range(0, 9), 11, 12, *range(14, 32), 127]))])
+            bad = bytes([draw(st.sampled_from([*range(9), 11, 12, *range(14, 32), 127]))])
         if at == len(data) and bad == b"\xe2\x82":
             bad = b"\xe2\x82("  # a truncated sequence at the very end may read as a shorter one
         return name, data[:at] + bad + data[at:], how
@@ -405,11 +480,25 @@ def written(draw, kind: str):
         data.insert(draw(st.integers(0, len(data))), 0xFF)
         return name, bytes(data), how
     if how == "empty":
-        empties = ["", " ", "\n\n", "\ufeff", "\t\n", "# only a comment\n", "null", "~", "---\n", "...\n", "[]"]
+        empties = [
+            "",
+            " ",
+            "\n\n",
+            "\ufeff",
+            "\t\n",
+            "# only a comment\n",
+            "null",
+            "~",
+            "---\n",
+            "...\n",
+            "[]",
+        ]
         return name, draw(st.sampled_from(empties)).encode(), how
     if how == "deep":
         n = draw(st.integers(2, 3000))
-        opener, closer = draw(st.sampled_from([("[", "]"), ('{"a": ', "}"), ("{a: ", "}"), ("- ", "")]))
+        opener, closer = draw(
+            st.sampled_from([("[", "]"), ('{"a": ', "}"), ("{a: ", "}"), ("- ", "")])
+        )
         if closer == "" and suffix in (".json", ".jsonl"):
             opener, closer = "[", "]"
         if opener.startswith("{a") and suffix in (".json", ".jsonl"):
@@ -430,13 +519,43 @@ def written(draw, kind: str):
         numbers = [p for p, v in walk(tree) if is_number(v) and p and p[-1] != "name"]
         trick = draw(st.sampled_from(["tag", "alias", "1.1 number", "multi", "python"]))
         if trick == "1.1 number":
-            tree = replace(tree, draw(st.sampled_from(numbers)), Raw(draw(st.sampled_from(["1:20", "1_000", "0b11", "+.5e", "1,5", "1e", "0x", "08.5.1"]))))
+            tree = replace(
+                tree,
+                draw(st.sampled_from(numbers)),
+                Raw(
+                    draw(
+                        st.sampled_from(
+                            ["1:20", "1_000", "0b11", "+.5e", "1,5", "1e", "0x", "08.5.1"]
+                        )
+                    )
+                ),
+            )
             return name, flow(tree, "yaml").encode(), trick
         if trick == "tag":
-            tree = replace(tree, draw(st.sampled_from(numbers)), Raw(draw(st.sampled_from(["!!python/object/apply:os.system ['true']", "!!binary aGk=", "!!set {a}", "!!timestamp 2001-01-01", "!custom 1"]))))
+            tree = replace(
+                tree,
+                draw(st.sampled_from(numbers)),
+                Raw(
+                    draw(
+                        st.sampled_from(
+                            [
+                                "!!python/object/apply:os.system ['true']",
+                                "!!binary aGk=",
+                                "!!set {a}",
+                                "!!timestamp 2001-01-01",
+                                "!custom 1",
+                            ]
+                        )
+                    )
+                ),
+            )
             return name, flow(tree, "yaml").encode(), trick
         if trick == "alias":
-            text = "x: &a [1, 0, 0, 0]\n" + block(tree) if not isinstance(tree, list) else "- &a [1]\n" + block(tree)
+            text = (
+                "x: &a [1, 0, 0, 0]\n" + block(tree)
+                if not isinstance(tree, list)
+                else "- &a [1]\n" + block(tree)
+            )
             return name, text.encode(), trick
         if trick == "multi":
             text = block(tree) if not isinstance(tree, list) else flow(tree, "yaml") + "\n"
@@ -445,7 +564,9 @@ def written(draw, kind: str):
     # JSON syntax that is no JSON: a .json file
     name = "input.json"
     text = flow(draw(valid_doc(kind)), "json")
-    trick = draw(st.sampled_from(["trailing comma", "single quotes", "comment", "bare key", "two values"]))
+    trick = draw(
+        st.sampled_from(["trailing comma", "single quotes", "comment", "bare key", "two values"])
+    )
     if trick == "trailing comma":
         at = draw(st.sampled_from([m.start() for m in re.finditer(r"[\]}]", text)]))
         text = text[:at] + "," + text[at:]
@@ -501,7 +622,7 @@ RUNNER = CliRunner()
 
 def run_command(workdir: Path, args: list[str], case, stdin_name="<stdin>"):
     """Run ``a2b ARGS INPUT -o OUT`` in-process; the input is a file, or stdin for ``<stdin>``."""
-    name, data, how = case
+    name, data, _ = case
     for leftover in workdir.iterdir():
         leftover.unlink()
     if name == stdin_name:
@@ -529,7 +650,9 @@ def expect_one_line_error(result, left, how, status=(1,)):
     assert not left, (how, left)
 
 
-@pytest.mark.parametrize("command, kind", [("interpolate", "poses"), ("fiber", "pose"), ("batch", "jobs")])
+@pytest.mark.parametrize(
+    "command, kind", [("interpolate", "poses"), ("fiber", "pose"), ("batch", "jobs")]
+)
 def test_fuzz_command(workdir, command, kind):
     """a2b interpolate, fiber, batch on malformed files: status 1, one line, no output file."""
 
@@ -546,7 +669,9 @@ GOOD_JOBS = b"- " + GOOD_POSES.replace(b"\nend", b"\n  end")
 
 NOT_A_NUMBER = st.one_of(
     st.sampled_from(["nan", "inf", "-inf", "1e999", "", "one", "1,2", "0x", "--1", "NaN"]),
-    st.text(max_size=6).filter(lambda s: not re.fullmatch(r"\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*", s)),
+    st.text(max_size=6).filter(
+        lambda s: not re.fullmatch(r"\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*", s)
+    ),
 )
 
 
@@ -558,15 +683,30 @@ def bad_options(draw):
         option = draw(st.sampled_from(["--samples", "--m", "--delta", "--duration", "--start-time",
                                        "--format", "--branch", "--alpha", "--mode", "--frame"]))  # fmt: skip
         if option == "--samples":
-            value = draw(st.one_of(st.integers(max_value=1), st.integers(min_value=2**53 + 1), NOT_A_NUMBER, st.just("2.5")))
+            value = draw(
+                st.one_of(
+                    st.integers(max_value=1),
+                    st.integers(min_value=2**53 + 1),
+                    NOT_A_NUMBER,
+                    st.just("2.5"),
+                )
+            )
         elif option in ("--m", "--alpha"):
             n = 4 if option == "--m" else 6
             count = draw(st.integers(0, 8).filter(lambda k: k != n))
-            value = ",".join(["1"] * count) if draw(st.booleans()) else ",".join(["1"] * (n - 1) + [draw(NOT_A_NUMBER.filter(lambda s: "," not in s))])
+            value = (
+                ",".join(["1"] * count)
+                if draw(st.booleans())
+                else ",".join(["1"] * (n - 1) + [draw(NOT_A_NUMBER.filter(lambda s: "," not in s))])
+            )
         elif option == "--duration":
-            value = draw(st.one_of(st.sampled_from(["0", "-1", "-0.0", "inf", "nan", "1e999"]), NOT_A_NUMBER))
+            value = draw(
+                st.one_of(st.sampled_from(["0", "-1", "-0.0", "inf", "nan", "1e999"]), NOT_A_NUMBER)
+            )
         elif option == "--branch":
-            value = draw(st.one_of(st.integers().filter(lambda b: b not in (1, -1)).map(str), NOT_A_NUMBER))
+            value = draw(
+                st.one_of(st.integers().filter(lambda b: b not in (1, -1)).map(str), NOT_A_NUMBER)
+            )
         elif option in ("--format", "--mode", "--frame"):
             allowed = {"--format": ("csv", "matrix", "study", "tum", "kitti", "mcap"), "--mode": ("darboux", "cubic", "screw"),
                        "--frame": ("canonical", "given")}[option]  # fmt: skip
@@ -579,9 +719,21 @@ def bad_options(draw):
         if option == "--s":
             args = ["--s", draw(NOT_A_NUMBER)]
         elif option == "--m":
-            args = ["--map", "mu", "--m", ",".join(["1"] * draw(st.integers(0, 8).filter(lambda k: k != 4)))]
+            args = [
+                "--map",
+                "mu",
+                "--m",
+                ",".join(["1"] * draw(st.integers(0, 8).filter(lambda k: k != 4))),
+            ]
         else:
-            args = [option, draw(st.text(max_size=8).filter(lambda s: s not in ("kappa", "mu", "paper", "rref", "auto")))]
+            args = [
+                option,
+                draw(
+                    st.text(max_size=8).filter(
+                        lambda s: s not in ("kappa", "mu", "paper", "rref", "auto")
+                    )
+                ),
+            ]
         return command, args, GOOD_POSE
     option = draw(st.sampled_from(["--samples", "--chunk-size", "--format", "--mode"]))
     if option == "--samples":
@@ -589,7 +741,11 @@ def bad_options(draw):
     elif option == "--chunk-size":
         value = draw(st.one_of(st.integers(max_value=0).map(str), NOT_A_NUMBER))
     else:
-        value = draw(st.text(max_size=8).filter(lambda s: s not in ("csv", "matrix", "study", "darboux", "cubic", "screw")))
+        value = draw(
+            st.text(max_size=8).filter(
+                lambda s: s not in ("csv", "matrix", "study", "darboux", "cubic", "screw")
+            )
+        )
     return command, [option, value], GOOD_JOBS
 
 
@@ -616,9 +772,19 @@ PROCESS_CASES = [
     ("interpolate", "deep.json", b"[" * 200_000 + b"]" * 200_000),
     ("fiber", "dashes.yaml", b"- " * 100_000 + b"x\n"),
     ("batch", "garbage.yaml", bytes(range(256)) * 4),
-    ("interpolate", "huge.json", b'{"start": {"quaternion": [1' + b"0" * 5000 + b', 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}'),
+    (
+        "interpolate",
+        "huge.json",
+        b'{"start": {"quaternion": [1'
+        + b"0" * 5000
+        + b', 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}',
+    ),
     ("interpolate", "nul.yaml", GOOD_POSES.replace(b"end", b"e\x00nd")),
-    ("batch", "latin1.jsonl", b'{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}, "name": "caf\xe9"}\n'),
+    (
+        "batch",
+        "latin1.jsonl",
+        b'{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}, "name": "caf\xe9"}\n',
+    ),
 ]
 
 

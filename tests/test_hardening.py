@@ -68,7 +68,10 @@ def test_stdout_on_a_full_disk(fmt):
             check=False,
         )
     assert result.returncode == 1
-    assert one_error_line(result.stderr) == "Error: cannot write standard output: No space left on device"
+    assert (
+        one_error_line(result.stderr)
+        == "Error: cannot write standard output: No space left on device"
+    )
 
 
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
@@ -131,7 +134,9 @@ def _start_and_signal(tmp_path, args, sig):
     proc = subprocess.Popen(a2b_cmd(*args), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     deadline = time.monotonic() + 60
     while not any(p.name.endswith(".tmp") for p in tmp_path.iterdir()):  # writing has started
-        assert time.monotonic() < deadline and proc.poll() is None, proc.stderr.read() if proc.poll() is not None else ""
+        assert time.monotonic() < deadline and proc.poll() is None, (
+            proc.stderr.read() if proc.poll() is not None else ""
+        )
         time.sleep(0.02)
     time.sleep(0.2)
     proc.send_signal(sig)
@@ -141,7 +146,10 @@ def _start_and_signal(tmp_path, args, sig):
 
 INTERRUPTED_RUNS = [
     ("interpolate", lambda tmp: ["interpolate", QUARTER, "--samples", 50_000_000]),
-    ("interpolate-mcap", lambda tmp: ["interpolate", QUARTER, "--samples", 50_000_000, "--format", "mcap"]),
+    (
+        "interpolate-mcap",
+        lambda tmp: ["interpolate", QUARTER, "--samples", 50_000_000, "--format", "mcap"],
+    ),
     ("batch", lambda tmp: ["batch", big_jobs(tmp / "jobs.yaml", 50_000_000)]),
 ]
 
@@ -169,7 +177,9 @@ def test_failed_run_in_a_real_process_keeps_the_old_file(tmp_path):
     jobs.write_text(f"- samples: 300000\n{good}- samples: 3\n  parameters: {{lam: 0.1}}\n{good}")
     out = tmp_path / "out.csv"
     out.write_bytes(PRECIOUS)
-    result = subprocess.run(a2b_cmd("batch", jobs, "-o", out), capture_output=True, timeout=120, check=False)
+    result = subprocess.run(
+        a2b_cmd("batch", jobs, "-o", out), capture_output=True, timeout=120, check=False
+    )
     assert result.returncode == 1
     assert one_error_line(result.stderr).startswith("Error: job 1: ")
     assert out.read_bytes() == PRECIOUS
@@ -194,7 +204,9 @@ def _peak_rss_mb(pid: int) -> float:
 def _stream_through_head(args, nbytes: int):
     """``a2b ARGS | head -c NBYTES``: seconds to the first line, peak RSS (MB), status, stderr."""
     producer = subprocess.Popen(a2b_cmd(*args), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    head = subprocess.Popen(["head", "-c", str(nbytes)], stdin=producer.stdout, stdout=subprocess.PIPE)
+    head = subprocess.Popen(
+        ["head", "-c", str(nbytes)], stdin=producer.stdout, stdout=subprocess.PIPE
+    )
     producer.stdout.close()  # head owns the pipe now
     start = time.monotonic()
     first = head.stdout.readline()
@@ -232,7 +244,7 @@ def test_a_billion_samples_stream_in_bounded_memory(fmt):
 
 @linux_only
 def test_a_billion_sample_job_streams_in_bounded_memory(tmp_path):
-    first, to_first, peak, received, code, err = _stream_through_head(
+    first, to_first, peak, _, code, err = _stream_through_head(
         ["batch", big_jobs(tmp_path / "jobs.yaml", 1_000_000_000), "--format", "matrix"], 40_000_000
     )
     assert first.startswith(b"job,t,r11")

@@ -1,27 +1,47 @@
-"""README.md documents every command, every output format and the quick-start files."""
+"""README.md documents every command, every option, every output format and the quick-start
+files, and its command lines run."""
 
 from __future__ import annotations
 
 import re
+import shlex
+import shutil
 from pathlib import Path
 
+import click
 import pytest
+from click.testing import CliRunner
 
-from a2b.cli import COMMANDS
+from a2b.cli import COMMANDS, cli
 from a2b.cli.options import FORMATS
 
-README = (Path(__file__).resolve().parent.parent / "README.md").read_text()
+ROOT = Path(__file__).resolve().parent.parent
+README = (ROOT / "README.md").read_text()
+SH_BLOCKS = re.findall(r"```sh\n(.*?)```", README, re.DOTALL)
 
 
 def test_the_two_opening_commands_come_first():
-    blocks = re.findall(r"```sh\n(.*?)```", README, re.DOTALL)
-    assert blocks[0].strip() == "pip install . && a2b interpolate samples/quarter-turn.yaml"
-    assert blocks[1].strip() == 'pip install ".[test]" && pytest'
+    assert SH_BLOCKS[0].strip() == "pip install . && a2b interpolate samples/quarter-turn.yaml"
+    assert SH_BLOCKS[1].strip() == 'pip install ".[test]" && pytest'
 
 
 @pytest.mark.parametrize("name", list(COMMANDS))
-def test_every_command_is_in_the_readme(name):
-    assert re.search(rf"`a2b {name}\b", README), f"README.md does not document `a2b {name}`"
+def test_every_command_has_a_section_in_the_readme(name):
+    assert re.search(rf"^### .*`a2b {name}\b", README, re.MULTILINE), f"no section for `a2b {name}`"
+
+
+@pytest.mark.parametrize("name", list(COMMANDS))
+def test_every_option_is_in_the_readme(name):
+    command = cli.get_command(click.Context(cli), name)
+    options = [
+        opt
+        for param in command.params
+        if isinstance(param, click.Option)
+        for opt in param.opts
+        if opt.startswith("--") and opt != "--help"
+    ]
+    missing = [opt for opt in options if not re.search(rf"`[^`]*{re.escape(opt)}\b", README)]
+    assert not missing, f"a2b {name}: {', '.join(missing)} not in README.md"
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
@@ -30,6 +50,26 @@ def test_every_format_is_documented_with_a_sample(fmt):
 
 
 def test_sample_files_named_in_the_readme_exist():
-    root = Path(__file__).resolve().parent.parent
     for name in set(re.findall(r"samples/[\w.-]+\.yaml", README)):
-        assert (root / name).exists(), name
+        assert (ROOT / name).exists(), name
+
+
+EXAMPLES = [
+    line.strip()
+    for block in SH_BLOCKS
+    for line in block.splitlines()
+    if line.strip().startswith("a2b ") and not re.search(r"[|<>]", line)
+]
+
+
+@pytest.mark.parametrize("line", EXAMPLES)
+def test_the_readme_command_lines_run(line, tmp_path, monkeypatch):
+    """Every ``a2b ...`` line of the README's shell blocks (without pipes) exits with status 0."""
+    if " plot " in f" {line} ":
+        pytest.importorskip("matplotlib")
+    shutil.copytree(ROOT / "samples", tmp_path / "samples")
+    (tmp_path / "docs").mkdir()
+    monkeypatch.chdir(tmp_path)
+    argv = shlex.split(line.split("#")[0])[1:]
+    result = CliRunner().invoke(cli, argv, catch_exceptions=False)
+    assert result.exit_code == 0, result.output

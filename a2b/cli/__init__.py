@@ -21,11 +21,20 @@ from ..errors import A2bError
 
 #: name -> (module defining ``command``, short help shown by ``a2b --help``)
 COMMANDS = {
-    "interpolate": ("a2b.cli.interpolate", "Sample the motion between two poses to CSV, TUM, KITTI or MCAP."),
-    "describe": ("a2b.cli.describe", "Show the canonical frame and the essential parameters of a motion."),
+    "interpolate": (
+        "a2b.cli.interpolate",
+        "Sample the motion between two poses to CSV, TUM, KITTI or MCAP.",
+    ),
+    "describe": (
+        "a2b.cli.describe",
+        "Show the canonical frame and the essential parameters of a motion.",
+    ),
     "fiber": ("a2b.cli.fiber", "Show points of the fiber of a pose under κ or μ_[m]."),
     "batch": ("a2b.cli.batch", "Sample many motions from a jobs file into one CSV."),
-    "plot": ("a2b.cli.plot", "Draw the moving frame, trajectories and transmission curve to PNG, SVG or PDF."),
+    "plot": (
+        "a2b.cli.plot",
+        "Draw the moving frame, trajectories and transmission curve to PNG, SVG or PDF.",
+    ),
     "bezier": ("a2b.cli.bezier", "Sample the Bézier motion of control poses (μ_[m] or κ)."),
     "spline": ("a2b.cli.spline", "Sample a C¹ spline through many key poses."),
 }
@@ -75,7 +84,9 @@ class LazyGroup(click.Group):
 
 
 @click.group(cls=LazyGroup, context_settings=CONTEXT_SETTINGS)
-@click.version_option(__version__, "-V", "--version", prog_name="a2b", message="%(prog)s %(version)s")
+@click.version_option(
+    __version__, "-V", "--version", prog_name="a2b", message="%(prog)s %(version)s"
+)
 def cli():
     """Interpolate two rigid-body poses: vertical Darboux motions, cubic circular motions and
     screw motions (H.-P. Schröcker, From A to B: New Methods to Interpolate Two Poses).

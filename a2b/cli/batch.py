@@ -143,6 +143,7 @@ def command(jobs, mode, samples, fmt, chunk_size, output, verbose):
     def report(name, made):
         for choice in made:
             click.echo(f"  • job {name}: {choice}", err=True)
+
     job_list = read_jobs(jobs)
     with _progress(job_list.count) as progress, atomic_output(output) as stream:
         advance = None

@@ -25,6 +25,16 @@ LABELS = {
     "b": "b (essential scalar of the end)",
     "transmission_curve": "transmission curve",
     "singular_t": "singular t",
+    "kind": "kind",
+    "space": "space",
+    "degree": "degree of each segment",
+    "segments": "segments",
+    "joints": "t where segments meet",
+    "weights": "weights of the controls",
+    "offsets": "κ-fiber offsets of the controls",
+    "x0": "x0 of the controls",
+    "rotation_weights": "rotation weights 4 m·p of the controls",
+    "poses": "key poses",
 }
 
 
@@ -45,7 +55,8 @@ def render(description: dict, defaults: list | None = None) -> None:
     from rich.text import Text
 
     console = Console()
-    table = Table(title=Text(f"a2b describe: {description.get('mode', '')} motion"), show_header=True)
+    what = f"{description['mode']} motion" if "mode" in description else description.get("kind", "")
+    table = Table(title=Text(f"a2b describe: {what}"), show_header=True)
     table.add_column("quantity")
     table.add_column("value", overflow="fold")
     for key, value in description.items():
@@ -62,9 +73,11 @@ def render(description: dict, defaults: list | None = None) -> None:
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=click.File("rb"))
 @options.motion_options
+@options.space_option
 @options.json_option
-def command(poses, mode, as_json, **parameters):
-    """Describe the motion between the two poses in POSES (a file, or - for stdin).
+def command(poses, mode, space, as_json, **parameters):
+    """Describe the motion between the two poses in POSES (a file, or - for stdin), or the
+    Bézier motion or spline of a `controls:` or `poses:` file (with --space).
 
     Shows the canonical frame (rotation angle φ, translation d along the screw axis, the
     axis), the motion's essential parameters and its transmission curve (darboux: δ, z0, λ,
@@ -77,18 +90,27 @@ def command(poses, mode, as_json, **parameters):
     Example:
       a2b describe samples/quarter-turn.yaml
       a2b describe samples/canonical.yaml --lam 1.5 --branch -1 --json
+      a2b describe samples/spline.yaml --space study
     """
     import json
 
     import a2b
 
-    from ..io.readers import read_poses
+    from ..io.readers import PoseList, read_motion_file
 
-    job = read_poses(poses)
-    parameters = options.merge_parameters(job.parameters, parameters, mode)
+    job = read_motion_file(poses)
     defaults: list[str] = []
-    mode = options.pick("mode", mode, job.mode, "darboux", defaults, "--mode")
-    description = a2b.describe(job.start, job.end, mode, **parameters)
+    if isinstance(job, PoseList):
+        options.only_for_two_poses(job, mode=mode, **parameters)
+        description = options.curve_motion(job, space, defaults).describe()
+    else:
+        if space:
+            raise click.UsageError(
+                "--space is for a list of controls or poses; this is a poses file"
+            )
+        parameters = options.merge_parameters(job.parameters, parameters, mode)
+        mode = options.pick("mode", mode, job.mode, "darboux", defaults, "--mode")
+        description = a2b.describe(job.start, job.end, mode, **parameters)
     options.check_finite(description, "describe")
     if as_json:
         click.echo(json.dumps(description, indent=2, allow_nan=False))

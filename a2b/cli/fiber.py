@@ -31,7 +31,11 @@ def render(result: dict) -> None:
                 Text("Note: the paper's kernel basis (eq. 13) degenerates for this m (n0 = 0)."),
                 style="yellow",
             )
-        console.print(Text(f"μ_[m]-fiber, m = ({_fmt(result['m'])}), {result['basis_name']} basis f0 … f5 (x0, a11 … a33):"))
+        console.print(
+            Text(
+                f"μ_[m]-fiber, m = ({_fmt(result['m'])}), {result['basis_name']} basis f0 … f5 (x0, a11 … a33):"
+            )
+        )
         basis = Table(show_header=False)
         for i, f in enumerate(result["basis"]):
             basis.add_row(Text(f"f{i}"), Text(_fmt(f)))
@@ -60,7 +64,13 @@ def render(result: dict) -> None:
     show_default=True,
     help="κ (extended dual-quaternion model, points of P^7) or μ_[m] (extended matrix model, points of R^13).",
 )
-@click.option("--s", "s", type=options.FLOAT, multiple=True, help="kappa: one fiber point h + s εp per --s  [default: -1, 0, 1]")
+@click.option(
+    "--s",
+    "s",
+    type=options.FLOAT,
+    multiple=True,
+    help="kappa: one fiber point h + s εp per --s  [default: -1, 0, 1]",
+)
 @options.m_option("mu: the vector m of μ_[m] (required).")
 @options.alphas_option(
     "mu: one fiber point (1, R) + Σ α_l f_l per --alpha  [default: 0 and each unit vector]"
@@ -99,7 +109,9 @@ def command(pose, kind, s, m, alphas, basis, as_json):
     if not s:
         s = (-1.0, 0.0, 1.0)
     if not alphas:
-        alphas = [tuple(0.0 for _ in range(6))] + [tuple(float(i == j) for i in range(6)) for j in range(6)]
+        alphas = [tuple(0.0 for _ in range(6))] + [
+            tuple(float(i == j) for i in range(6)) for j in range(6)
+        ]
     from ..fibers import fiber
 
     result = fiber(read_pose(pose), kind, s=s, m=m, alphas=alphas, basis=basis)

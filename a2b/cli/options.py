@@ -118,12 +118,30 @@ def alphas_option(help_: str):
 
 #: Motion parameter options, in the order of ``a2b.motion``'s documentation.
 _MOTION_OPTIONS = [
-    click.option("--delta", type=FLOAT, help="darboux: the fiber offset δ = sB − sA, a length (default 0)."),
-    click.option("--kappa", type=FLOAT, help="darboux: the phase κ of the transmission curve z = z0 + λ sin(ω + κ), radians."),
-    click.option("--lam", type=FLOAT, help="darboux: the amplitude λ of the transmission curve (two solutions: see --branch)."),
-    click.option("--branch", type=Branch(), help="darboux: which of the two solutions for --lam, +1 or -1."),
-    click.option("--pitch-start", type=FLOAT, help="darboux: the pitch dz/dω at the start, length per radian."),
-    click.option("--pitch-end", type=FLOAT, help="darboux: the pitch dz/dω at the end, length per radian."),
+    click.option(
+        "--delta", type=FLOAT, help="darboux: the fiber offset δ = sB − sA, a length (default 0)."
+    ),
+    click.option(
+        "--kappa",
+        type=FLOAT,
+        help="darboux: the phase κ of the transmission curve z = z0 + λ sin(ω + κ), radians.",
+    ),
+    click.option(
+        "--lam",
+        type=FLOAT,
+        help="darboux: the amplitude λ of the transmission curve (two solutions: see --branch).",
+    ),
+    click.option(
+        "--branch", type=Branch(), help="darboux: which of the two solutions for --lam, +1 or -1."
+    ),
+    click.option(
+        "--pitch-start",
+        type=FLOAT,
+        help="darboux: the pitch dz/dω at the start, length per radian.",
+    ),
+    click.option(
+        "--pitch-end", type=FLOAT, help="darboux: the pitch dz/dω at the end, length per radian."
+    ),
     click.option(
         "--through",
         type=click.File("rb"),
@@ -137,9 +155,19 @@ _MOTION_OPTIONS = [
         help="darboux: go the long way round (the other sign of the end pose's Study vector).",
     ),
     m_option("cubic: the vector m of μ_[m], e.g. 1,0,0,0.5."),
-    click.option("--alpha", type=ALPHA_VECTOR, help="cubic: fiber coordinates α of the start pose in the kernel basis."),
-    click.option("--beta", type=Vector(6, "β0 … β5"), help="cubic: fiber coordinates β of the end pose in the kernel basis."),
-    click.option("--a", "a", type=FLOAT, help="cubic: the essential scalar a (instead of --alpha)."),
+    click.option(
+        "--alpha",
+        type=ALPHA_VECTOR,
+        help="cubic: fiber coordinates α of the start pose in the kernel basis.",
+    ),
+    click.option(
+        "--beta",
+        type=Vector(6, "β0 … β5"),
+        help="cubic: fiber coordinates β of the end pose in the kernel basis.",
+    ),
+    click.option(
+        "--a", "a", type=FLOAT, help="cubic: the essential scalar a (instead of --alpha)."
+    ),
     click.option("--b", "b", type=FLOAT, help="cubic: the essential scalar b (instead of --beta)."),
     click.option(
         "--frame",
@@ -219,6 +247,24 @@ space_option = click.option(
 )
 
 
+_child_frame_option = click.option(
+    "--child-frame-id",
+    default="a2b",
+    show_default=True,
+    help="mcap: the child frame of the /tf transforms (the moving body).",
+)
+_frame_option = click.option(
+    "--frame-id",
+    default="world",
+    show_default=True,
+    help="mcap: the fixed frame of /a2b/pose and the parent frame of /tf.",
+)
+
+
+def frame_options(f):
+    return _frame_option(_child_frame_option(f))
+
+
 #: The options of :func:`trajectory_options` that :func:`write_motion` takes.
 TRAJECTORY_OPTIONS = ("fmt", "output", "duration", "start_time", "frame_id", "child_frame_id")
 
@@ -239,25 +285,9 @@ def pop_trajectory(kwargs: dict) -> dict:
     return {key: kwargs.pop(key) for key in TRAJECTORY_OPTIONS}
 
 
-_child_frame_option = click.option(
-    "--child-frame-id",
-    default="a2b",
-    show_default=True,
-    help="mcap: the child frame of the /tf transforms (the moving body).",
+json_option = click.option(
+    "--json", "as_json", is_flag=True, help="Machine-readable JSON instead of a table."
 )
-_frame_option = click.option(
-    "--frame-id",
-    default="world",
-    show_default=True,
-    help="mcap: the fixed frame of /a2b/pose and the parent frame of /tf.",
-)
-
-
-def frame_options(f):
-    return _frame_option(_child_frame_option(f))
-
-
-json_option = click.option("--json", "as_json", is_flag=True, help="Machine-readable JSON instead of a table.")
 
 
 #: Parameters that choose the same thing; giving one on the command line drops the file's others.
@@ -309,7 +339,9 @@ def format_from(fmt: str | None, output: str, choices: list | None = None) -> st
                 choices.append(f"format {name}: from the -o suffix {suffix} (--format to change)")
             return name
     if choices is not None:
-        choices.append("format csv: the default (--format or an -o suffix .mcap, .tum, .kitti to change)")
+        choices.append(
+            "format csv: the default (--format or an -o suffix .mcap, .tum, .kitti to change)"
+        )
     return "csv"
 
 
@@ -321,6 +353,28 @@ def pick(what: str, given, from_file, default, choices: list, option: str):
         return from_file
     choices.append(f"{what} {default}: the default ({option} or the file to change)")
     return default
+
+
+def only_for_two_poses(curve, **given) -> None:
+    """Refuse the options ``given`` (by name) that belong to two poses, for a pose list."""
+    names = [name for name, value in given.items() if value not in (None, False, ())]
+    if names:
+        what = "a Bézier motion" if curve.key == "controls" else "a spline"
+        raise click.UsageError(
+            f"{', '.join('--' + n.replace('_', '-') for n in names)} "
+            f"{'is' if len(names) == 1 else 'are'} for two poses; this file is a list of "
+            f"{curve.key} ({what})"
+        )
+
+
+def curve_motion(curve, space: str | None, choices: list):
+    """The Bézier motion (``controls``) or spline (``poses``) of a pose list, with the file's
+    parameters; the space is ``space``, else the file's, else matrix (stated in ``choices``)."""
+    from ..motions.bezier import bezier_motion, spline_motion
+
+    space = pick("space", space, curve.space, "matrix", choices, "--space")
+    build = bezier_motion if curve.key == "controls" else spline_motion
+    return build(curve.poses, space, **curve.parameters)
 
 
 def state_choices(choices: list, verbose: bool) -> None:
@@ -414,7 +468,9 @@ def check_output(fmt: str, output: str, samples: int, duration: float, start_tim
     from ..errors import ParameterError
 
     if fmt == "mcap" and str(output) == "-" and sys.stdout.isatty():
-        raise click.UsageError("MCAP is binary: write it with -o FILE or into a pipe, not to a terminal")
+        raise click.UsageError(
+            "MCAP is binary: write it with -o FILE or into a pipe, not to a terminal"
+        )
     if fmt not in ("tum", "mcap"):
         return
     last = duration + start_time  # the time of t = 1, the latest (duration > 0)
@@ -431,9 +487,7 @@ def check_output(fmt: str, output: str, samples: int, duration: float, start_tim
             f"{MCAP_MAX_SAMPLES} samples, got {samples}"
         )
     if start_time < 0:
-        raise ParameterError(
-            f"MCAP times must not be negative; --start-time is {start_time:g} s"
-        )
+        raise ParameterError(f"MCAP times must not be negative; --start-time is {start_time:g} s")
     if not last * 1e9 < MCAP_MAX_NANOSECONDS:
         raise ParameterError(
             f"MCAP log times are nanoseconds below 2**63 (the year 2262); the time of t = 1, "

@@ -149,16 +149,13 @@ def command(
         "samples": samples,
     }
     if isinstance(job, PoseList):
-        given = [k for k, v in parameters.items() if v is not None]
-        given += [name for name, v in (("mode", mode), ("compare", compare)) if v]
-        given += [name for name, v in (("family", family), ("family-of", family_of)) if v]
-        if given:
-            raise click.UsageError(
-                f"{', '.join('--' + k.replace('_', '-') for k in given)} "
-                f"{'is' if len(given) == 1 else 'are'} for two poses; this file is a list of "
-                f"{job.key} (a {'Bézier motion' if job.key == 'controls' else 'spline'})"
-            )
-        figure = _plot_curve(job, space, style)
+        options.only_for_two_poses(
+            job, mode=mode, compare=compare, family=family, family_of=family_of, **parameters
+        )
+        motion = options.curve_motion(job, space, [])
+        prefix = "C" if job.key == "controls" else "P"
+        inner = [(f"{prefix}{i}", pose) for i, pose in enumerate(job.poses)][1:-1]
+        figure = plot_motions(job.poses[0], job.poses[-1], motion, marks=inner, **style)
         with atomic_output(output) as stream:
             write_figure(figure, stream, fmt)
         return
@@ -183,17 +180,3 @@ def command(
     figure = plot_motions(job.start, job.end, motions, family=family_of or family, **style)
     with atomic_output(output) as stream:
         write_figure(figure, stream, fmt)
-
-
-def _plot_curve(curve, space, style: dict):
-    """The figure of the Bézier motion or spline of a pose list, its inner poses marked."""
-    from ..motions.bezier import bezier_motion, spline_motion
-    from ..plot import plot_motions
-
-    space = space or curve.space or "matrix"
-    if curve.key == "controls":
-        motion, prefix = bezier_motion(curve.poses, space, **curve.parameters), "C"
-    else:
-        motion, prefix = spline_motion(curve.poses, space, **curve.parameters), "P"
-    inner = [(f"{prefix}{i}", pose) for i, pose in enumerate(curve.poses)][1:-1]
-    return plot_motions(curve.poses[0], curve.poses[-1], motion, marks=inner, **style)

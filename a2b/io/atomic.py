@@ -97,7 +97,9 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
         mode = info.st_mode & 0o7777
     with _terminate_as_exit():
         try:
-            fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(target)}.", suffix=".tmp", dir=directory)
+            fd, tmp = tempfile.mkstemp(
+                prefix=f".{os.path.basename(target)}.", suffix=".tmp", dir=directory
+            )
         except OSError as e:
             raise OutputFileError(f"cannot write {path}: {e.strerror or e}") from e
         try:

@@ -134,7 +134,9 @@ class _NonFinite:
         token = self.token.strip()
         if re.fullmatch(r"[-+]?(?:NaN|Infinity|\.(?:inf|Inf|INF|nan|NaN|NAN))", token):
             return f"{token} is not allowed; numbers must be finite"
-        return f"{_shorten(token)} is too large for a double; numbers must be finite (|x| < 1.8e308)"
+        return (
+            f"{_shorten(token)} is too large for a double; numbers must be finite (|x| < 1.8e308)"
+        )
 
 
 def _shorten(token: str) -> str:
@@ -180,7 +182,11 @@ def _format_path(path: Path | None) -> str:
     out = ""
     for el in path:
         if not isinstance(el, int):  # keys that would garble the message are quoted
-            el = el if isinstance(el, str) and el.isprintable() and el.strip() == el and el else repr(el)
+            el = (
+                el
+                if isinstance(el, str) and el.isprintable() and el.strip() == el and el
+                else repr(el)
+            )
         out += f"[{el}]" if isinstance(el, int) else (f".{el}" if out else el)
     return out
 
@@ -517,14 +523,24 @@ def _yaml_locate(root, path: Path) -> tuple[int, int] | None:
     node, mark = root, root.start_mark if root is not None else None
     for el in path:
         value = getattr(node, "value", None)
-        if isinstance(el, str) and isinstance(value, list) and value and isinstance(value[0], tuple):
+        if (
+            isinstance(el, str)
+            and isinstance(value, list)
+            and value
+            and isinstance(value[0], tuple)
+        ):
             for key_node, value_node in value:
                 if getattr(key_node, "value", None) == el:
                     node, mark = value_node, key_node.start_mark
                     break
             else:
                 break
-        elif isinstance(el, int) and isinstance(value, list) and el < len(value) and not isinstance(value[el], tuple):
+        elif (
+            isinstance(el, int)
+            and isinstance(value, list)
+            and el < len(value)
+            and not isinstance(value[el], tuple)
+        ):
             node = value[el]
             mark = node.start_mark
         else:
@@ -550,9 +566,13 @@ def _parse_yaml(text: str, name: str) -> _Document:
         problem = e.problem or e.context or "syntax error"
         raise InputFileError(f"{name}{where}: invalid YAML: {problem}") from None
     except yaml.reader.ReaderError as e:  # a character YAML does not allow
-        line, col = _offset_line_col(text, e.position, isinstance(loader, getattr(yaml, "CParser", ())))
+        line, col = _offset_line_col(
+            text, e.position, isinstance(loader, getattr(yaml, "CParser", ()))
+        )
         char = e.character if isinstance(e.character, int) else ord(e.character or "\0")
-        raise InputFileError(f"{name}:{line}:{col}: invalid YAML: {e.reason} (#x{char:04x})") from None
+        raise InputFileError(
+            f"{name}:{line}:{col}: invalid YAML: {e.reason} (#x{char:04x})"
+        ) from None
     except yaml.YAMLError as e:
         first = str(e).splitlines()[0] if str(e) else "syntax error"
         raise InputFileError(f"{name}: invalid YAML: {first}") from None
@@ -658,7 +678,10 @@ def _pose(doc: _Document, path: Path, v) -> np.ndarray:
 
     pose = _mapping(doc, path, v, "a pose mapping (matrix, quaternion, quaternion_xyzw or study)")
     if "start" in pose or "end" in pose:
-        raise doc.error(path, "expected one pose, got start and end poses (a poses file); give a file with one pose")
+        raise doc.error(
+            path,
+            "expected one pose, got start and end poses (a poses file); give a file with one pose",
+        )
     _check_keys(doc, path, pose, POSE_KEYS, "a pose")
     forms = [k for k in POSE_FORMS if k in pose]
     if len(forms) != 1:
@@ -673,18 +696,28 @@ def _pose(doc: _Document, path: Path, v) -> np.ndarray:
         if form == "matrix":
             rows = pose["matrix"]
             if not isinstance(rows, list) or len(rows) != 4:
-                got = f"{len(rows)} row{'s' * (len(rows) != 1)}" if isinstance(rows, list) else _describe(rows)
+                got = (
+                    f"{len(rows)} row{'s' * (len(rows) != 1)}"
+                    if isinstance(rows, list)
+                    else _describe(rows)
+                )
                 raise doc.error(path + ("matrix",), f"expected 4 rows of 4 numbers, got {got}")
             m = [_numbers(doc, path + ("matrix", i), r, 4, "") for i, r in enumerate(rows)]
             layout = pose.get("layout", "robotics")
             if layout not in ("robotics", "paper"):
-                raise doc.error(path + ("layout",), f"expected robotics or paper, got {_describe(layout)}")
+                raise doc.error(
+                    path + ("layout",), f"expected robotics or paper, got {_describe(layout)}"
+                )
             return check_matrices(np.array(m), layout=layout)
         if form == "study":
-            h = _numbers(doc, path + ("study",), pose["study"], 8, "(p0, p1, p2, p3, q0, q1, q2, q3)")
+            h = _numbers(
+                doc, path + ("study",), pose["study"], 8, "(p0, p1, p2, p3, q0, q1, q2, q3)"
+            )
             through = pose.get("kappa", False)
             if not isinstance(through, bool):
-                raise doc.error(path + ("kappa",), f"expected true or false, got {_describe(through)}")
+                raise doc.error(
+                    path + ("kappa",), f"expected true or false, got {_describe(through)}"
+                )
             try:
                 return matrices_from_study(np.array(h), through_kappa=through)
             except A2bError as e:
@@ -709,7 +742,9 @@ def _pose(doc: _Document, path: Path, v) -> np.ndarray:
             _check_keys(doc, path + ("translation",), t, ("x", "y", "z"), "a translation")
             missing = [k for k in "xyz" if k not in t]
             if missing:
-                raise doc.error(path + ("translation",), f"the translation lacks {', '.join(missing)}")
+                raise doc.error(
+                    path + ("translation",), f"the translation lacks {', '.join(missing)}"
+                )
             xyz = [_number(doc, path + ("translation", k), t[k]) for k in "xyz"]
         else:
             xyz = _numbers(doc, path + ("translation",), t, 3, "(x, y, z)")
@@ -727,11 +762,11 @@ def _samples(doc: _Document, path: Path, v) -> int | None:
     here = path + ("samples",)
     if not isinstance(v, int) or isinstance(v, bool):
         shown = _describe(v) if not _is_number(v) else repr(v)
-        raise doc.error(here, f"expected a whole number of samples, at least {MIN_SAMPLES}, got {shown}")
-    if v < MIN_SAMPLES:
         raise doc.error(
-            here, f"expected at least {MIN_SAMPLES} samples (t = 0 and t = 1), got {v}"
+            here, f"expected a whole number of samples, at least {MIN_SAMPLES}, got {shown}"
         )
+    if v < MIN_SAMPLES:
+        raise doc.error(here, f"expected at least {MIN_SAMPLES} samples (t = 0 and t = 1), got {v}")
     if v > MAX_SAMPLES:
         raise doc.error(
             here,
@@ -756,7 +791,10 @@ def _parameters(doc: _Document, path: Path, v) -> dict:
             out[key] = tuple(_numbers(doc, here, value, kind, ""))
         elif kind == "branch":
             if not _is_number(value) or value not in (1, -1):
-                raise doc.error(here, f"expected +1 or -1, got {_describe(value) if not _is_number(value) else value}")
+                raise doc.error(
+                    here,
+                    f"expected +1 or -1, got {_describe(value) if not _is_number(value) else value}",
+                )
             out[key] = int(value)
         elif kind == "bool":
             if not isinstance(value, bool):
@@ -764,7 +802,9 @@ def _parameters(doc: _Document, path: Path, v) -> dict:
             out[key] = value
         elif kind == "frame":
             if value not in FRAMES:
-                raise doc.error(here, f"expected one of {', '.join(FRAMES)}, got {_describe(value)}")
+                raise doc.error(
+                    here, f"expected one of {', '.join(FRAMES)}, got {_describe(value)}"
+                )
             out[key] = value
         else:  # pose
             out[key] = _pose(doc, here, value)
@@ -774,7 +814,9 @@ def _parameters(doc: _Document, path: Path, v) -> dict:
 def _job(doc: _Document, path: Path, v, allowed: tuple) -> Job:
     job = _mapping(doc, path, v, "a mapping with start and end")
     if any(k in job for k in POSE_FORMS) and "start" not in job and "end" not in job:
-        raise doc.error(path, "this is one pose, but start and end poses are needed (see a2b interpolate -h)")
+        raise doc.error(
+            path, "this is one pose, but start and end poses are needed (see a2b interpolate -h)"
+        )
     if "start" not in job and "end" not in job:
         for key, command in (("controls", "a2b bezier"), ("poses", "a2b spline")):
             if key in job:
@@ -787,7 +829,9 @@ def _job(doc: _Document, path: Path, v, allowed: tuple) -> Job:
             raise doc.error(path, f"missing {key!r}: a poses file needs start and end poses")
     mode = job.get("mode")
     if mode is not None and mode not in MODES:
-        raise doc.error(path + ("mode",), f"expected one of {', '.join(MODES)}, got {_describe(mode)}")
+        raise doc.error(
+            path + ("mode",), f"expected one of {', '.join(MODES)}, got {_describe(mode)}"
+        )
     samples = _samples(doc, path, job.get("samples"))
     name = job.get("name")
     if name is not None and not isinstance(name, (str, int)):
@@ -895,7 +939,10 @@ def read_pose_list(stream: IO, key: str, name: str | None = None) -> PoseList:
 def _pose_list(doc: _Document, key: str) -> PoseList:
     top = _mapping(doc, (), doc.data, f"a mapping with {key}")
     if "start" in top and "end" in top and key not in top:
-        raise doc.error((), f"this is a poses file (start and end); this command needs a list of poses under {key!r}")
+        raise doc.error(
+            (),
+            f"this is a poses file (start and end); this command needs a list of poses under {key!r}",
+        )
     _check_keys(doc, (), top, (key, "space", "samples", "parameters"), f"a {key} file")
     if key not in top:
         raise doc.error((), f"missing {key!r}: a list of at least two poses")
@@ -909,7 +956,9 @@ def _pose_list(doc: _Document, key: str) -> PoseList:
     if space is not None and space not in SPACES:
         raise doc.error(("space",), f"expected one of {', '.join(SPACES)}, got {_describe(space)}")
     samples = _samples(doc, (), top.get("samples"))
-    given = _mapping(doc, ("parameters",), top.get("parameters") or {}, "a mapping of curve parameters")
+    given = _mapping(
+        doc, ("parameters",), top.get("parameters") or {}, "a mapping of curve parameters"
+    )
     kinds = POSE_LIST_PARAMETERS[key]
     _check_keys(doc, ("parameters",), given, tuple(kinds), "parameters")
     parameters = {}
@@ -925,7 +974,9 @@ def _pose_list(doc: _Document, key: str) -> PoseList:
         elif kind == "per-pose-6":
             if not isinstance(value, list) or len(value) != k:
                 got = len(value) if isinstance(value, list) else _describe(value)
-                raise doc.error(here, f"expected {k} lists of 6 numbers (one per pose in {key}), got {got}")
+                raise doc.error(
+                    here, f"expected {k} lists of 6 numbers (one per pose in {key}), got {got}"
+                )
             rows = [_numbers(doc, here + (i,), row, 6, "(α0 … α5)") for i, row in enumerate(value)]
             parameters[pname] = tuple(tuple(row) for row in rows)
         else:
