@@ -1020,7 +1020,8 @@ def _near_singularities() -> tuple[str, list[str]]:
                 reasons = sorted({r.split(": ", 1)[1] for r in c.refused})
                 out.append(f"| {label} | {fmt(ratio)} | refused: {'; '.join(reasons)} | | | | | |")
             else:
-                out.append(f"| {label} | {fmt(ratio)} | sampled | {mark(c.end, TARGETS['end'])} | "
+                verdict = "sampled, warned" if c.warnings else "sampled"
+                out.append(f"| {label} | {fmt(ratio)} | {verdict} | {mark(c.end, TARGETS['end'])} | "
                            f"{mark(c.ortho, TARGETS['rigid'])} | {mark(c.det, TARGETS['rigid'])} | "
                            f"{mark(c.pose, TARGETS['pose'])} | {fmt(c.sensitivity)} |")
         out += ["", _reading_near_zero(rows)]
