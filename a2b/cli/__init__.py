@@ -27,13 +27,13 @@ COMMANDS = {
     ),
     "describe": (
         "a2b.cli.describe",
-        "Show the canonical frame and the essential parameters of a motion.",
+        "Show the essential parameters of a motion or curve and every choice made.",
     ),
     "fiber": ("a2b.cli.fiber", "Show points of the fiber of a pose under κ or μ_[m]."),
     "batch": ("a2b.cli.batch", "Sample many motions from a jobs file into one CSV."),
     "plot": (
         "a2b.cli.plot",
-        "Draw the moving frame, trajectories and transmission curve to PNG, SVG or PDF.",
+        "Draw a motion or curve: moving frame, trajectories, transmission curve.",
     ),
     "bezier": ("a2b.cli.bezier", "Sample the Bézier motion of control poses (μ_[m] or κ)."),
     "spline": ("a2b.cli.spline", "Sample a C¹ spline through many key poses."),

@@ -199,7 +199,8 @@ output_option = click.option(
     type=click.Path(allow_dash=True, dir_okay=False),
     default="-",
     show_default=True,
-    help="Where to write; '-' is standard output. Written to a temporary file and renamed into place.",
+    help="Where to write; '-' is standard output. A file is written to a temporary file and "
+    "renamed into place when complete; a device or named pipe is written directly.",
 )
 samples_option = click.option(
     "--samples",
