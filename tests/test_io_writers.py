@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from a2b.errors import ParameterError
-from a2b.io import readers, writers
+from a2b.io import parallel, readers, writers
 from a2b.io.floatrepr import format_rows, integer_words, number_words
 
 
@@ -222,7 +222,7 @@ def test_mcap_writer_needs_no_seek(rng):
 @pytest.mark.parametrize("workers", [1, 3])
 def test_many_blocks_in_order_with_threads(rng, monkeypatch, workers):
     """Blocks formatted by several threads come out in order, for plain and batch CSV."""
-    monkeypatch.setattr(writers, "WORKERS", workers)
+    monkeypatch.setattr(parallel, "WORKERS", workers)
     chunks, (t, quat, trans, _, _) = _chunks(rng, 20000, 6000)
     stream = io.BytesIO()
     writers.write_csv(stream, chunks)
@@ -242,7 +242,7 @@ def test_many_blocks_in_order_with_threads(rng, monkeypatch, workers):
 
 
 def test_formatting_error_reaches_the_caller(monkeypatch):
-    monkeypatch.setattr(writers, "WORKERS", 2)
+    monkeypatch.setattr(parallel, "WORKERS", 2)
 
     def broken(*args, **kwargs):
         raise RuntimeError("formatter failed")

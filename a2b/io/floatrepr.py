@@ -307,11 +307,12 @@ def number_words(x: np.ndarray, lengths: bool = False):
     return (out, length) if lengths else out
 
 
-def integer_words(v: np.ndarray) -> np.ndarray:
+def integer_words(v: np.ndarray, lengths: bool = False):
     """Decimal text of non-negative integers below ``10^16``, as two zero-padded words each.
 
     Leading zeros are zero bytes (``0`` itself is ``"0"``), so :meth:`bytes.translate`
-    turns the cells into the numbers' text.
+    turns the cells into the numbers' text. With ``lengths``, also return the number of
+    digits of each.
     """
     v = np.asarray(v, dtype=np.int64).reshape(-1)
     if v.size and (v.min() < 0 or v.max() >= 10**16):
@@ -331,7 +332,7 @@ def integer_words(v: np.ndarray) -> np.ndarray:
     for k in range(1, 16):
         width += v >= 10**k
     digits &= _LEADING.take(width, axis=0)
-    return digits
+    return (digits, width) if lengths else digits
 
 
 def _leading_masks() -> np.ndarray:

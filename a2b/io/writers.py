@@ -21,10 +21,7 @@ In ``tum`` and ``mcap`` the time of sample ``t`` is ``t · duration + start_time
 
 from __future__ import annotations
 
-import json
-import os
-from collections import deque
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from itertools import groupby
 from typing import IO
@@ -33,6 +30,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from .floatrepr import BLOCK, format_rows
+from .parallel import in_order
 from .readers import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER
 
 __all__ = [
@@ -116,45 +114,6 @@ def _rows(fmt: str, chunk: Chunk) -> np.ndarray:
     raise ValueError(f"no table layout for {fmt!r}")
 
 
-#: Threads that format text; ``None``: one per processor available, at most 4.
-WORKERS: int | None = None
-
-
-def _workers() -> int:
-    if WORKERS is not None:
-        return WORKERS
-    try:
-        available = len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        available = os.cpu_count() or 1
-    return max(1, min(available, 4))
-
-
-def _in_order(function: Callable, items: Iterable) -> Iterator:
-    """``function(item)`` for every item, computed by :func:`_workers` threads, in order.
-
-    The formatter spends its time in numpy, which releases the GIL, so threads use the
-    other cores. At most two items per thread are in flight, so memory stays bounded.
-    """
-    workers = _workers()
-    if workers == 1:
-        yield from map(function, items)
-        return
-    from concurrent.futures import ThreadPoolExecutor
-
-    pool = ThreadPoolExecutor(workers, thread_name_prefix="a2b-format")
-    pending: deque = deque()
-    try:
-        for item in items:
-            pending.append(pool.submit(function, item))
-            if len(pending) > 2 * workers:
-                yield pending.popleft().result()
-        while pending:
-            yield pending.popleft().result()
-    finally:
-        pool.shutdown(wait=True, cancel_futures=True)
-
-
 def _blocks(rows: np.ndarray, prefix: np.ndarray | None = None) -> Iterator[tuple]:
     """Slices of about :data:`BLOCK` numbers: the formatter's unit of work."""
     size = max(1, BLOCK // max(rows.shape[1], 1))
@@ -172,7 +131,7 @@ def _write_rows(stream: IO, tables: Iterable[tuple], sep: str = ",") -> None:
     def text(block):
         return format_rows(block[0], sep=sep, prefix=block[1])
 
-    for piece in _in_order(text, blocks()):  # noqa: FURB122 - write each block as it is done
+    for piece in in_order(text, blocks()):  # noqa: FURB122 - write each block as it is done
         stream.write(piece)
 
 
@@ -265,29 +224,6 @@ def _schema(name: str) -> bytes:
     return (files("a2b") / "schemas" / f"{name}.json").read_bytes()
 
 
-class _Counting:
-    """A write-only stream that knows its position, so MCAP goes into pipes too.
-
-    The MCAP writer asks ``tell()`` for the offsets of its indexes; a pipe cannot answer.
-    Counting the bytes written answers it for any stream that starts empty.
-    """
-
-    def __init__(self, raw: IO):
-        self._raw = raw
-        self._written = 0
-
-    def write(self, data) -> int:
-        self._raw.write(data)
-        self._written += len(data)
-        return len(data)
-
-    def tell(self) -> int:
-        return self._written
-
-    def flush(self) -> None:
-        self._raw.flush()
-
-
 def write_mcap(
     stream: IO,
     chunks: Iterable[Chunk],
@@ -304,59 +240,30 @@ def write_mcap(
     ``foxglove.FrameTransform`` (``frame_id`` → ``child_frame_id``) on ``tf_topic``, JSON-encoded
     with the JSON schemas shipped in ``a2b/schemas``. Log and publish times are
     ``t · duration + start_time`` in nanoseconds. The file is chunked (zstd) and carries only
-    chunk and message indexes. The stream needs no ``seek`` or ``tell``: pipes work.
+    chunk and message indexes. The stream needs no ``seek`` or ``tell``: pipes work. The
+    chunks are built in bulk by :mod:`a2b.io.mcapwriter`.
 
     Raises
     ------
     ParameterError
-        If a time is negative (MCAP times are unsigned).
+        If a time is negative (MCAP times are unsigned) or a pose is not finite.
     """
-    from mcap.writer import CompressionType, IndexType, Writer
-
     from .. import __version__
+    from .mcapwriter import write_pose_mcap
 
-    writer = Writer(
-        _Counting(stream),
-        compression=CompressionType.ZSTD,
-        index_types=IndexType.CHUNK | IndexType.MESSAGE,
+    names = ("foxglove.PoseInFrame", "foxglove.FrameTransform")
+    write_pose_mcap(
+        stream,
+        ((c.t, c.trans, c.quat_wxyz) for c in chunks),
+        duration=duration,
+        start_time=start_time,
+        frame_id=frame_id,
+        child_frame_id=child_frame_id,
+        pose_topic=pose_topic,
+        tf_topic=tf_topic,
+        schemas={name: _schema(name) for name in names},
+        library=f"a2b {__version__}",
     )
-    writer.start(profile="", library=f"a2b {__version__}")
-    pose_schema = writer.register_schema(
-        "foxglove.PoseInFrame", "jsonschema", _schema("foxglove.PoseInFrame")
-    )
-    tf_schema = writer.register_schema(
-        "foxglove.FrameTransform", "jsonschema", _schema("foxglove.FrameTransform")
-    )
-    pose_channel = writer.register_channel(pose_topic, "json", pose_schema)
-    tf_channel = writer.register_channel(tf_topic, "json", tf_schema)
-    frame, child = json.dumps(frame_id), json.dumps(child_frame_id)
-    pose_template = (
-        '{"timestamp":{"sec":%d,"nsec":%d},"frame_id":' + frame.replace("%", "%%") + ","
-        '"pose":{"position":{"x":%s,"y":%s,"z":%s},"orientation":{"x":%s,"y":%s,"z":%s,"w":%s}}}'
-    )
-    tf_template = (
-        '{"timestamp":{"sec":%d,"nsec":%d},"parent_frame_id":' + frame.replace("%", "%%") + ","
-        '"child_frame_id":' + child.replace("%", "%%") + ","
-        '"translation":{"x":%s,"y":%s,"z":%s},"rotation":{"x":%s,"y":%s,"z":%s,"w":%s}}'
-    )
-    sequence = 0
-    for c in chunks:
-        times = _times(c.t, duration, start_time)
-        if times.size and times.min() < 0:
-            raise ParameterError(
-                f"MCAP times must not be negative; t · duration + start_time reaches {times.min():g} s"
-            )
-        ns = np.rint(times * 1e9).astype(np.int64)
-        sec, nsec = np.divmod(ns, 1_000_000_000)
-        text = format_rows(np.column_stack([c.trans, c.quat_wxyz[:, [1, 2, 3, 0]]])).decode()
-        for s, n, t_ns, line in zip(sec.tolist(), nsec.tolist(), ns.tolist(), text.splitlines()):
-            values = (s, n, *line.split(","))
-            writer.add_message(
-                pose_channel, t_ns, (pose_template % values).encode(), t_ns, sequence
-            )
-            writer.add_message(tf_channel, t_ns, (tf_template % values).encode(), t_ns, sequence)
-            sequence += 1
-    writer.finish()
 
 
 _TABLE_WRITERS = {
