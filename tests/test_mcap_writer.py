@@ -160,6 +160,8 @@ def test_indexes_crcs_and_summary_offsets_point_at_their_records(rng):
             messages[position] = record
             position += 1 + 8 + 2 + 4 + 8 + 8 + len(record.data)  # a Message record
         assert position == chunk.uncompressed_size
+        times = [m.log_time for m in messages.values()]
+        assert (min(times), max(times)) == (chunk.message_start_time, chunk.message_end_time)
         total = 0
         for channel, offset in index.message_index_offsets.items():
             message_index = by_offset[offset]
@@ -171,6 +173,23 @@ def test_indexes_crcs_and_summary_offsets_point_at_their_records(rng):
                 assert messages[at].channel_id == channel and messages[at].log_time == time
             assert len(message_index.records) == len(messages) // 2
         assert index.message_index_length == total
+
+    # as `mcap doctor` checks: a library named, schemas and channels of the summary repeat
+    # those of the data section, before any message
+    assert records[0][1].library.startswith("a2b ")
+    kinds = [type(r).__name__ for _, r in records]
+    data_end_index = kinds.index("DataEnd")
+    assert kinds[1:5] == ["Schema", "Schema", "Channel", "Channel"]
+    assert kinds[data_end_index + 1 : data_end_index + 5] == [
+        "Schema",
+        "Schema",
+        "Channel",
+        "Channel",
+    ]
+    for k in range(1, 5):
+        first, again = records[k][0], records[data_end_index + k][0]
+        assert _body(data, first) == _body(data, again)
+    assert all(r.id != 0 and r.encoding for _, r in records[1:3])
 
     offsets = [r for _, r in records if isinstance(r, SummaryOffset)]
     assert [o.group_opcode for o in offsets] == [0x03, 0x04, 0x0B, 0x08]
