@@ -804,3 +804,18 @@ def test_describe_curve_files_states_their_choices():
     assert "Choices a2b made: none" in human  # the file says nothing a2b had to choose
     result = run_split("describe", SAMPLES / "spline.yaml", "--mode", "cubic")
     assert result.exit_code == 2 and "--mode is for two poses; this file is a list of poses (a spline)" in result.stderr
+
+
+def test_a_sensitive_result_is_one_warning_line_and_the_run_goes_on(tmp_path):
+    half = 0.5e-4  # a turn of 1e-4 rad, taken the long way round: p(½) nearly vanishes
+    path = tmp_path / "p.yaml"
+    path.write_text(
+        "start: {quaternion: [1, 0, 0, 0]}\n"
+        f"end: {{quaternion: [{math.cos(half)!r}, 0, 0, {math.sin(half)!r}], translation: [1, 0, 0]}}\n"
+        "parameters: {long_way: true}\n"
+    )
+    result = run_split("interpolate", path, "--samples", 3, "-o", tmp_path / "o.csv")
+    assert result.exit_code == 0
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("Warning: the Darboux motion passes close to p(t) = 0")
+    assert (tmp_path / "o.csv").exists()

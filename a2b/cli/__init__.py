@@ -17,7 +17,7 @@ import warnings
 import click
 
 from .. import __version__
-from ..errors import A2bError
+from ..errors import A2bError, A2bWarning
 
 #: name -> (module defining ``command``, short help shown by ``a2b --help``)
 COMMANDS = {
@@ -53,7 +53,9 @@ class LazyGroup(click.Group):
     becomes a one-line message and exit status 1. Any other exception is a bug and keeps its
     traceback. A closed output pipe (``a2b ... | head``) ends the program quietly with status 0.
     numpy's floating-point warnings (overflow, invalid value) are not shown: the commands
-    check their results and refuse non-finite ones with an error of their own.
+    check their results and refuse non-finite ones with an error of their own. An
+    :class:`a2b.errors.A2bWarning` (a result sensitive to rounding) is one line on stderr,
+    ``Warning: ...``, and the run goes on.
     """
 
     def list_commands(self, ctx):
@@ -73,6 +75,7 @@ class LazyGroup(click.Group):
         try:
             with warnings.catch_warnings():
                 warnings.filterwarnings("ignore", _NUMPY_FLOAT_WARNINGS, RuntimeWarning)
+                warnings.showwarning = _show_warning
                 return super().invoke(ctx)
         except A2bError as e:
             raise click.ClickException(str(e)) from e
@@ -81,6 +84,17 @@ class LazyGroup(click.Group):
 
             silence_stdout()
             ctx.exit(0)
+
+
+_python_showwarning = warnings.showwarning
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """``Warning: message`` for a2b's own warnings; Python's format for any other."""
+    if issubclass(category, A2bWarning):
+        click.echo(f"Warning: {message}", err=True)
+    else:
+        _python_showwarning(message, category, filename, lineno, file, line)
 
 
 @click.group(cls=LazyGroup, context_settings=CONTEXT_SETTINGS)
