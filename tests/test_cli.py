@@ -819,3 +819,20 @@ def test_a_sensitive_result_is_one_warning_line_and_the_run_goes_on(tmp_path):
     lines = result.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith("Warning: the Darboux motion passes close to p(t) = 0")
     assert (tmp_path / "o.csv").exists()
+
+
+def test_batch_warnings_name_their_job(tmp_path):
+    half = 0.5e-4
+    job = (
+        "  start: {quaternion: [1, 0, 0, 0]}\n"
+        f"  end: {{quaternion: [{math.cos(half)!r}, 0, 0, {math.sin(half)!r}], translation: [1, 0, 0]}}\n"
+        "  parameters: {long_way: true}\n"
+    )
+    path = tmp_path / "jobs.yaml"
+    path.write_text(f"- name: near\n{job}-\n{job}")
+    result = run_split("batch", path, "--samples", 3)
+    assert result.exit_code == 0
+    assert [line[:40] for line in result.stderr.splitlines()] == [
+        "Warning: job near: the Darboux motion pas",
+        "Warning: job 1: the Darboux motion passes",
+    ]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+import warnings
 from contextlib import nullcontext
 
 import click
@@ -35,12 +36,13 @@ def batch_chunks(
     A chunk also ends when it holds ``CHUNK_SAMPLES`` rows, so a job of 10⁹ samples streams
     through in bounded memory like any other. ``advance(n)`` is called after ``n`` jobs are
     done, ``report(name, choices)`` before each job is sampled. An :class:`A2bError` of a job
-    (including a sample that overflows) is re-raised naming the job.
+    (including a sample that overflows) is re-raised naming the job, and so is an
+    :class:`A2bWarning`.
     """
     import numpy as np
 
     import a2b
-    from a2b.errors import A2bError
+    from a2b.errors import A2bError, A2bWarning
 
     from ..io.writers import CHUNK_SAMPLES, Chunk
 
@@ -62,7 +64,16 @@ def batch_chunks(
     for index, job in enumerate(jobs):
         name = job.name if job.name is not None else str(index)
         try:
-            motion = a2b.motion(job.start, job.end, job.mode or mode, **job.parameters)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", A2bWarning)
+                motion = a2b.motion(job.start, job.end, job.mode or mode, **job.parameters)
+            for warning in caught:  # say which job, then show as usual
+                warnings.warn_explicit(
+                    f"job {name}: {warning.message}",
+                    warning.category,
+                    warning.filename,
+                    warning.lineno,
+                )
             if report is not None:
                 report(name, motion.choices)
             for chunk in options.motion_chunks(motion, job.samples or samples, representation):
