@@ -417,6 +417,19 @@ def block(v, indent: int = 0) -> str:
     return f"{pad}{flow(v, 'yaml')}\n"
 
 
+#: YAML that is no number where a number belongs: YAML 1.1 numbers and tags.
+YAML_TOKENS = {
+    "1.1 number": ["1:20", "1_000", "0b11", "+.5e", "1,5", "1e", "0x", "08.5.1"],
+    "tag": [
+        "!!python/object/apply:os.system ['true']",
+        "!!binary aGk=",
+        "!!set {a}",
+        "!!timestamp 2001-01-01",
+        "!custom 1",
+    ],
+}
+
+
 @st.composite
 def written(draw, kind: str):
     """A malformed file of ``kind``: (name, bytes, how)."""
@@ -517,38 +530,10 @@ def written(draw, kind: str):
         name = f"input{suffix}"
         tree = draw(valid_doc(kind))
         numbers = [p for p, v in walk(tree) if is_number(v) and p and p[-1] != "name"]
-        trick = draw(st.sampled_from(["tag", "alias", "1.1 number", "multi", "python"]))
-        if trick == "1.1 number":
-            tree = replace(
-                tree,
-                draw(st.sampled_from(numbers)),
-                Raw(
-                    draw(
-                        st.sampled_from(
-                            ["1:20", "1_000", "0b11", "+.5e", "1,5", "1e", "0x", "08.5.1"]
-                        )
-                    )
-                ),
-            )
-            return name, flow(tree, "yaml").encode(), trick
-        if trick == "tag":
-            tree = replace(
-                tree,
-                draw(st.sampled_from(numbers)),
-                Raw(
-                    draw(
-                        st.sampled_from(
-                            [
-                                "!!python/object/apply:os.system ['true']",
-                                "!!binary aGk=",
-                                "!!set {a}",
-                                "!!timestamp 2001-01-01",
-                                "!custom 1",
-                            ]
-                        )
-                    )
-                ),
-            )
+        trick = draw(st.sampled_from([*YAML_TOKENS, "alias", "multi", "python"]))
+        if trick in YAML_TOKENS:  # in place of a number
+            token = Raw(draw(st.sampled_from(YAML_TOKENS[trick])))
+            tree = replace(tree, draw(st.sampled_from(numbers)), token)
             return name, flow(tree, "yaml").encode(), trick
         if trick == "alias":
             text = (

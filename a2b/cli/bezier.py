@@ -69,16 +69,10 @@ def command(poses, space, samples, verbose, **parameters):
       a2b bezier samples/planar-bezier.yaml --weights 1,2,2,1 --format mcap -o planar.mcap
     """
     from ..io.readers import read_pose_list
-    from ..motions.bezier import bezier_motion
 
     out = options.pop_trajectory(parameters)
     curve = read_pose_list(poses, "controls")
     parameters["alphas"] = parameters["alphas"] or None
-    merged = options.merge_parameters(curve.parameters, parameters)
     choices: list[str] = []
-    space = options.pick("space", space, curve.space, "matrix", choices, "--space")
-    motion = bezier_motion(curve.poses, space, **merged)
-    samples = options.pick("samples", samples, curve.samples, 101, choices, "--samples")
-    out["fmt"] = options.format_from(out["fmt"], out["output"], choices)
-    options.state_choices(choices + motion.choices, verbose)
-    options.write_motion(motion, samples, **out)
+    motion = options.curve_motion(curve, space, choices, parameters)
+    options.sample_and_write(motion, samples, curve.samples, choices, verbose, out)

@@ -49,7 +49,4 @@ def command(poses, mode, samples, verbose, **parameters):
     choices: list[str] = []
     mode = options.pick("mode", mode, job.mode, "darboux", choices, "--mode")
     motion = a2b.motion(job.start, job.end, mode, **parameters)
-    samples = options.pick("samples", samples, job.samples, 101, choices, "--samples")
-    out["fmt"] = options.format_from(out["fmt"], out["output"], choices)
-    options.state_choices(choices + motion.choices, verbose)
-    options.write_motion(motion, samples, **out)
+    options.sample_and_write(motion, samples, job.samples, choices, verbose, out)

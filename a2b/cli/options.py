@@ -368,14 +368,28 @@ def only_for_two_poses(curve, **given) -> None:
         )
 
 
-def curve_motion(curve, space: str | None, choices: list):
-    """The Bézier motion (``controls``) or spline (``poses``) of a pose list, with the file's
-    parameters; the space is ``space``, else the file's, else matrix (stated in ``choices``)."""
+def curve_motion(curve, space: str | None, choices: list, given: dict | None = None):
+    """The Bézier motion (``controls``) or spline (``poses``) of a pose list.
+
+    Its parameters are the file's, overridden by ``given`` (from the command line); the space
+    is ``space``, else the file's, else matrix, stated in ``choices``.
+    """
     from ..motions.bezier import bezier_motion, spline_motion
 
+    parameters = merge_parameters(curve.parameters, given or {})
     space = pick("space", space, curve.space, "matrix", choices, "--space")
     build = bezier_motion if curve.key == "controls" else spline_motion
-    return build(curve.poses, space, **curve.parameters)
+    return build(curve.poses, space, **parameters)
+
+
+def sample_and_write(motion, samples, from_file, choices: list, verbose: bool, out: dict) -> None:
+    """The last steps of interpolate, bezier and spline: pick the sample count (``--samples``,
+    else the file's, else 101) and the format, state the choices with ``-v``, then
+    :func:`write_motion` with the options ``out`` of :func:`pop_trajectory`."""
+    samples = pick("samples", samples, from_file, 101, choices, "--samples")
+    out = dict(out, fmt=format_from(out["fmt"], out["output"], choices))
+    state_choices(choices + list(motion.choices), verbose)
+    write_motion(motion, samples, **out)
 
 
 def state_choices(choices: list, verbose: bool) -> None:

@@ -39,14 +39,8 @@ def command(poses, space, m, samples, verbose, **out):
       a2b spline samples/spline.yaml --format mcap -o spline.mcap
     """
     from ..io.readers import read_pose_list
-    from ..motions.bezier import spline_motion
 
     curve = read_pose_list(poses, "poses")
-    merged = options.merge_parameters(curve.parameters, {"m": m})
     choices: list[str] = []
-    space = options.pick("space", space, curve.space, "matrix", choices, "--space")
-    motion = spline_motion(curve.poses, space, **merged)
-    samples = options.pick("samples", samples, curve.samples, 101, choices, "--samples")
-    out["fmt"] = options.format_from(out["fmt"], out["output"], choices)
-    options.state_choices(choices + motion.choices, verbose)
-    options.write_motion(motion, samples, **out)
+    motion = options.curve_motion(curve, space, choices, {"m": m})
+    options.sample_and_write(motion, samples, curve.samples, choices, verbose, out)
