@@ -25,7 +25,9 @@ SAMPLES = Path(__file__).resolve().parent.parent / "samples"
 
 
 def run(*args, input=None):
-    return CliRunner().invoke(cli, [str(a) for a in args], input=input, catch_exceptions=False, prog_name="a2b")
+    return CliRunner().invoke(
+        cli, [str(a) for a in args], input=input, catch_exceptions=False, prog_name="a2b"
+    )
 
 
 def pose_json(matrix):
@@ -104,7 +106,9 @@ def test_csv_round_trip(poses, tmp_path, mode):
     assert np.array_equal(t, ts)
     assert np.array_equal(quat, want_quat)
     assert np.array_equal(trans, want_trans)
-    assert np.allclose(matrices_from_quat_trans(quat, trans), a2b.interpolate(a, b, ts, mode), atol=1e-12)
+    assert np.allclose(
+        matrices_from_quat_trans(quat, trans), a2b.interpolate(a, b, ts, mode), atol=1e-12
+    )
 
 
 def test_csv_is_the_default_on_stdout(poses):
@@ -132,7 +136,12 @@ def test_matrix_round_trip(poses, tmp_path):
 def test_study_round_trip(poses, tmp_path):
     path, a, b = poses
     out = tmp_path / "out.csv"
-    assert run("interpolate", path, "--format", "study", "--samples", 9, "-o", out, "--delta", 0.3).exit_code == 0
+    assert (
+        run(
+            "interpolate", path, "--format", "study", "--samples", 9, "-o", out, "--delta", 0.3
+        ).exit_code
+        == 0
+    )
     with open(out, "rb") as f:
         t, study = readers.read_study_csv(f)
     assert np.array_equal(study, a2b.motion(a, b, delta=0.3).study(t))
@@ -141,7 +150,9 @@ def test_study_round_trip(poses, tmp_path):
 def test_tum_round_trip(poses, tmp_path):
     path, a, b = poses
     out = tmp_path / "out.tum"
-    result = run("interpolate", path, "--samples", 11, "-o", out, "--duration", 2.5, "--start-time", 100)
+    result = run(
+        "interpolate", path, "--samples", 11, "-o", out, "--duration", 2.5, "--start-time", 100
+    )
     assert result.exit_code == 0
     text = out.read_text().splitlines()
     assert text[0].startswith("#")
@@ -169,7 +180,9 @@ def test_kitti_round_trip(poses, tmp_path):
 def test_mcap_round_trip(poses, tmp_path):
     path, a, b = poses
     out = tmp_path / "out.mcap"  # the suffix chooses the format
-    result = run("interpolate", path, "--samples", 21, "-o", out, "--duration", 3, "--start-time", 5)
+    result = run(
+        "interpolate", path, "--samples", 21, "-o", out, "--duration", 3, "--start-time", 5
+    )
     assert result.exit_code == 0
     ts = np.linspace(0, 1, 21)
     want_quat, want_trans = a2b.motion(a, b).quat_trans(ts)
@@ -186,14 +199,28 @@ def test_mcap_frame_ids_and_indexes(poses, tmp_path):
 
     path, _, _ = poses
     out = tmp_path / "out.mcap"
-    args = ("interpolate", path, "--samples", 4, "-o", out, "--frame-id", "map", "--child-frame-id", "tool")
+    args = (
+        "interpolate",
+        path,
+        "--samples",
+        4,
+        "-o",
+        out,
+        "--frame-id",
+        "map",
+        "--child-frame-id",
+        "tool",
+    )
     assert run(*args).exit_code == 0
     with open(out, "rb") as f:
         reader = make_reader(f)
         summary = reader.get_summary()
         messages = [(c.topic, json.loads(m.data)) for _, c, m in reader.iter_messages()]
     assert summary.chunk_indexes and not summary.attachment_indexes and not summary.metadata_indexes
-    assert {s.name for s in summary.schemas.values()} == {"foxglove.PoseInFrame", "foxglove.FrameTransform"}
+    assert {s.name for s in summary.schemas.values()} == {
+        "foxglove.PoseInFrame",
+        "foxglove.FrameTransform",
+    }
     assert {s.encoding for s in summary.schemas.values()} == {"jsonschema"}
     assert {c.message_encoding for c in summary.channels.values()} == {"json"}
     assert summary.statistics.message_count == 8
@@ -229,12 +256,36 @@ def test_parameters_from_file_and_command_line(tmp_path, rng):
     assert run("interpolate", path, "--samples", 5, "--format", "matrix", "-o", out).exit_code == 0
     assert np.array_equal(matrices(), a2b.interpolate(a, b, ts, delta=0.4))
     # the command line overrides the file, also across parameters that choose the same thing
-    assert run("interpolate", path, "--samples", 5, "--format", "matrix", "-o", out, "--delta", -0.2).exit_code == 0
+    assert (
+        run(
+            "interpolate", path, "--samples", 5, "--format", "matrix", "-o", out, "--delta", -0.2
+        ).exit_code
+        == 0
+    )
     assert np.array_equal(matrices(), a2b.interpolate(a, b, ts, delta=-0.2))
-    assert run("interpolate", path, "--samples", 5, "--format", "matrix", "-o", out, "--pitch-start", 0.1).exit_code == 0
+    assert (
+        run(
+            "interpolate",
+            path,
+            "--samples",
+            5,
+            "--format",
+            "matrix",
+            "-o",
+            out,
+            "--pitch-start",
+            0.1,
+        ).exit_code
+        == 0
+    )
     assert np.array_equal(matrices(), a2b.interpolate(a, b, ts, pitch_start=0.1))
     # --mode drops the file's parameters of other modes
-    assert run("interpolate", path, "--samples", 5, "--format", "matrix", "-o", out, "--mode", "screw").exit_code == 0
+    assert (
+        run(
+            "interpolate", path, "--samples", 5, "--format", "matrix", "-o", out, "--mode", "screw"
+        ).exit_code
+        == 0
+    )
     assert np.array_equal(matrices(), a2b.interpolate(a, b, ts, "screw"))
 
 
@@ -242,14 +293,27 @@ def test_cubic_vector_options(poses, tmp_path):
     path, a, b = poses
     out = tmp_path / "o.csv"
     m = (1.0, 0.5, -0.25, 0.75)
-    args = ("--mode", "cubic", "--m", "1,0.5,-0.25,0.75", "--a", 0.1, "--b", -0.2, "--frame", "canonical")
+    args = (
+        "--mode",
+        "cubic",
+        "--m",
+        "1,0.5,-0.25,0.75",
+        "--a",
+        0.1,
+        "--b",
+        -0.2,
+        "--frame",
+        "canonical",
+    )
     result = run("interpolate", path, "--samples", 7, "--format", "matrix", "-o", out, *args)
     if result.exit_code == 1:  # this m may be orthogonal to a pose in canonical coordinates
         pytest.skip(result.output)
     assert result.exit_code == 0, result.output
     with open(out, "rb") as f:
         t, mats = readers.read_matrix_csv(f)
-    assert np.array_equal(mats, a2b.interpolate(a, b, t, "cubic", m=m, a=0.1, b=-0.2, frame="canonical"))
+    assert np.array_equal(
+        mats, a2b.interpolate(a, b, t, "cubic", m=m, a=0.1, b=-0.2, frame="canonical")
+    )
 
 
 def test_through_option_reads_a_pose_file(tmp_path):
@@ -262,7 +326,21 @@ def test_through_option_reads_a_pose_file(tmp_path):
     through = tmp_path / "c.json"
     through.write_text(json.dumps({"matrix": third.tolist()}))
     out = tmp_path / "o.csv"
-    assert run("interpolate", path, "--through", through, "--format", "matrix", "--samples", 5, "-o", out).exit_code == 0
+    assert (
+        run(
+            "interpolate",
+            path,
+            "--through",
+            through,
+            "--format",
+            "matrix",
+            "--samples",
+            5,
+            "-o",
+            out,
+        ).exit_code
+        == 0
+    )
     with open(out, "rb") as f:
         t, mats = readers.read_matrix_csv(f)
     assert np.allclose(mats, a2b.interpolate(a, b, t, delta=0.25), atol=1e-9)
@@ -277,7 +355,9 @@ def test_stdin(poses):
 
 def test_a2b_error_is_one_line_exit_1(tmp_path):
     path = tmp_path / "p.yaml"
-    path.write_text("start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [1, 0, 0, 0], translation: [0, 0, 1]}\n")
+    path.write_text(
+        "start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [1, 0, 0, 0], translation: [0, 0, 1]}\n"
+    )
     out = tmp_path / "o.csv"
     result = CliRunner().invoke(cli, ["interpolate", str(path), "--lam", "0.1", "-o", str(out)])
     assert result.exit_code == 1
@@ -366,7 +446,19 @@ def test_fiber_kappa_json(pose_file):
 
 def test_fiber_mu_json(pose_file):
     path, _ = pose_file
-    result = run("fiber", path, "--map", "mu", "--m", "1,0.3,-0.2,0.5", "--alpha", "0,0,0,0,0,0", "--alpha", "1,2,0,0,0,0.5", "--json")
+    result = run(
+        "fiber",
+        path,
+        "--map",
+        "mu",
+        "--m",
+        "1,0.3,-0.2,0.5",
+        "--alpha",
+        "0,0,0,0,0,0",
+        "--alpha",
+        "1,2,0,0,0,0.5",
+        "--json",
+    )
     assert result.exit_code == 0, result.output
     got = json.loads(result.output)
     assert got["basis_name"] == "paper" and not got["paper_basis_degenerate"]
@@ -425,7 +517,9 @@ def _check_batch(jobs, out):
         start = readers._pose(readers._Document("x", None, lambda p: None), (), job["start"])
         end = readers._pose(readers._Document("x", None, lambda p: None), (), job["end"])
         ts = np.linspace(0, 1, job["samples"])
-        quat, trans = a2b.motion(start, end, job.get("mode", "darboux"), **job.get("parameters", {})).quat_trans(ts)
+        quat, trans = a2b.motion(
+            start, end, job.get("mode", "darboux"), **job.get("parameters", {})
+        ).quat_trans(ts)
         n = len(ts)
         assert names[row : row + n] == [job.get("name", str(i))] * n
         assert np.array_equal(values[row : row + n, 0], ts)
@@ -487,7 +581,12 @@ def test_batch_sample_file():
     assert result.exit_code == 0
     lines = result.output.splitlines()
     assert lines[0] == "job,t,p0,p1,p2,p3,q0,q1,q2,q3"
-    assert {line.split(",")[0] for line in lines[1:]} == {"lift", "lift-offset", "lift-cubic", "slide"}
+    assert {line.split(",")[0] for line in lines[1:]} == {
+        "lift",
+        "lift-offset",
+        "lift-cubic",
+        "slide",
+    }
 
 
 @pytest.mark.parametrize("sample", ["quarter-turn", "half-turn", "translation", "canonical"])
@@ -518,12 +617,13 @@ def test_batch_progress_bar_only_on_a_terminal(monkeypatch):
 
 def run_split(*args, input=None):
     """Run with stdout and stderr apart (``-v`` writes to stderr)."""
-    return CliRunner().invoke(cli, [str(a) for a in args], input=input, catch_exceptions=False, prog_name="a2b")
+    return CliRunner().invoke(
+        cli, [str(a) for a in args], input=input, catch_exceptions=False, prog_name="a2b"
+    )
 
 
 HALF_TURN_TRANSLATION = (
-    "start: {quaternion: [1, 0, 0, 0]}\n"
-    "end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\n"
+    "start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\n"
 )
 
 
@@ -548,14 +648,21 @@ def test_verbose_states_every_choice_on_stderr(tmp_path):
 
 def test_verbose_names_the_axis_of_a_pure_translation_and_the_default_m(tmp_path):
     path = tmp_path / "p.yaml"
-    path.write_text("start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [1, 0, 0, 0], translation: [1, 2, 3]}\n")
+    path.write_text(
+        "start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [1, 0, 0, 0], translation: [1, 2, 3]}\n"
+    )
     err = run_split("interpolate", path, "--mode", "cubic", "-o", tmp_path / "o.mcap", "-v").stderr
     assert "  • format mcap: from the -o suffix .mcap (--format to change)" in err
-    assert "  • pure translation (φ = 0): the axis is the line through A's origin along the translation" in err
+    assert (
+        "  • pure translation (φ = 0): the axis is the line through A's origin along the translation"
+        in err
+    )
     assert "  • m defaults to pA + pB in canonical coordinates, so both weights are equal" in err
     assert "mode" not in err  # given on the command line
     c, s = math.cos(math.radians(85)), math.sin(math.radians(85))  # turns of +170° and −170°
-    path.write_text(f"start: {{quaternion: [{c}, 0, 0, {s}]}}\nend: {{quaternion: [{c}, 0, 0, {-s}]}}\n")
+    path.write_text(
+        f"start: {{quaternion: [{c}, 0, 0, {s}]}}\nend: {{quaternion: [{c}, 0, 0, {-s}]}}\n"
+    )
     err = run_split("interpolate", path, "-v", "--samples", 2).stderr
     assert "flipped the sign of B's quaternion so that pA·pB ≥ 0 (the short way round)" in err
 
@@ -563,7 +670,11 @@ def test_verbose_names_the_axis_of_a_pure_translation_and_the_default_m(tmp_path
 @pytest.mark.parametrize(
     "command, sample, expected",
     [
-        ("bezier", "planar-bezier.yaml", "m defaults to the sum of the control quaternions with consistent signs"),
+        (
+            "bezier",
+            "planar-bezier.yaml",
+            "m defaults to the sum of the control quaternions with consistent signs",
+        ),
         ("spline", "spline.yaml", "inner control points by the uniform Catmull–Rom rule"),
     ],
 )
@@ -592,7 +703,10 @@ def test_describe_states_the_default_mode_and_the_choices(tmp_path):
     assert "Choices a2b made:" in out
     assert "mode darboux: the default" in out and "used branch +1" in out
     out = run("describe", path, "--mode", "screw").output
-    assert "mode darboux" not in out and "both axis orientations are short; chose the one with d > 0" in out
+    assert (
+        "mode darboux" not in out
+        and "both axis orientations are short; chose the one with d > 0" in out
+    )
 
 
 def test_fiber_states_the_kernel_basis_it_chose(pose_file):
@@ -605,13 +719,18 @@ def test_fiber_states_the_kernel_basis_it_chose(pose_file):
 # -- bounded resources and absurd requests -----------------------------------------------------
 
 
-@pytest.mark.parametrize("n", [2, 3, 7, 101, 65537, 200_003])
-@pytest.mark.parametrize("size", [1, 5, 65536])
+@pytest.mark.parametrize(
+    "n, size",
+    [
+        (n, size)
+        for n in (2, 3, 7, 101, 65537, 200_003)
+        for size in (1, 5, 65536)
+        if n // size < 50_000
+    ],
+)
 def test_evenly_spaced_chunks_are_linspace_bit_for_bit(n, size):
     from a2b.cli.options import evenly_spaced
 
-    if n // size > 50_000:
-        pytest.skip("too many chunks to be worth it")
     chunks = list(evenly_spaced(n, size))
     assert all(len(c) <= size for c in chunks)
     assert np.array_equal(np.concatenate(chunks), np.linspace(0.0, 1.0, n))
@@ -761,7 +880,12 @@ def test_output_through_a_symbolic_link_replaces_the_file_it_points_to(poses, tm
     "sample, args, title, marks",
     [
         ("planar-bezier.yaml", [], "Bézier motion of degree 3 (matrix space)", ["C1", "C2"]),
-        ("planar-bezier.yaml", ["--space", "study"], "Bézier motion of degree 3 (study space)", ["C1", "C2"]),
+        (
+            "planar-bezier.yaml",
+            ["--space", "study"],
+            "Bézier motion of degree 3 (study space)",
+            ["C1", "C2"],
+        ),
         ("spline.yaml", [], "C¹ spline of 4 cubic segments (matrix space)", ["P1", "P2", "P3"]),
     ],
 )
@@ -780,7 +904,10 @@ def test_plot_draws_curve_files(tmp_path, sample, args, title, marks):
 @pytest.mark.parametrize(
     "args, message",
     [
-        (["--mode", "cubic"], "--mode is for two poses; this file is a list of controls (a Bézier motion)"),
+        (
+            ["--mode", "cubic"],
+            "--mode is for two poses; this file is a list of controls (a Bézier motion)",
+        ),
         (["--delta", "0.1", "--family"], "--family, --delta are for two poses"),
     ],
 )
@@ -788,7 +915,9 @@ def test_plot_curve_files_refuse_options_for_two_poses(tmp_path, args, message):
     result = run_split("plot", SAMPLES / "planar-bezier.yaml", "-o", tmp_path / "x.png", *args)
     assert result.exit_code == 2
     assert f"Error: {message}" in result.stderr
-    result = run_split("plot", SAMPLES / "quarter-turn.yaml", "-o", tmp_path / "x.png", "--space", "study")
+    result = run_split(
+        "plot", SAMPLES / "quarter-turn.yaml", "-o", tmp_path / "x.png", "--space", "study"
+    )
     assert result.exit_code == 2 and "--space is for a list of controls or poses" in result.stderr
     assert list(tmp_path.iterdir()) == []
 
@@ -803,7 +932,10 @@ def test_describe_curve_files_states_their_choices():
     assert "a2b describe: Bézier motion" in human and "study" in human
     assert "Choices a2b made: none" in human  # the file says nothing a2b had to choose
     result = run_split("describe", SAMPLES / "spline.yaml", "--mode", "cubic")
-    assert result.exit_code == 2 and "--mode is for two poses; this file is a list of poses (a spline)" in result.stderr
+    assert (
+        result.exit_code == 2
+        and "--mode is for two poses; this file is a list of poses (a spline)" in result.stderr
+    )
 
 
 def test_a_sensitive_result_is_one_warning_line_and_the_run_goes_on(tmp_path):
@@ -817,7 +949,9 @@ def test_a_sensitive_result_is_one_warning_line_and_the_run_goes_on(tmp_path):
     result = run_split("interpolate", path, "--samples", 3, "-o", tmp_path / "o.csv")
     assert result.exit_code == 0
     lines = result.stderr.splitlines()
-    assert len(lines) == 1 and lines[0].startswith("Warning: the Darboux motion passes close to p(t) = 0")
+    assert len(lines) == 1 and lines[0].startswith(
+        "Warning: the Darboux motion passes close to p(t) = 0"
+    )
     assert (tmp_path / "o.csv").exists()
 
 
