@@ -970,3 +970,8 @@ def test_batch_warnings_name_their_job(tmp_path):
     assert len(lines) == 2
     assert lines[0].startswith("Warning: job near: the Darboux motion passes close to p(t) = 0")
     assert lines[1].startswith("Warning: job 1: the Darboux motion passes close to p(t) = 0")
+
+
+def test_plot_refuses_more_samples_than_a_figure_shows(tmp_path):
+    result = run_split("plot", SAMPLES / "quarter-turn.yaml", "-o", tmp_path / "x.png", "--samples", 10**9)
+    assert result.exit_code == 2 and "1000000000 is not in the range 2<=x<=100000" in result.stderr

@@ -7,6 +7,10 @@ import click
 from . import CONTEXT_SETTINGS, options
 
 
+#: More samples than a figure can show are refused rather than held in memory.
+PLOT_MAX_SAMPLES = 100_000
+
+
 class ModeList(click.ParamType):
     """Comma-separated modes, as in ``--compare darboux,cubic,screw``."""
 
@@ -90,10 +94,11 @@ class PointList(click.ParamType):
 )
 @click.option(
     "--samples",
-    type=click.IntRange(min=2),
+    type=click.IntRange(min=2, max=PLOT_MAX_SAMPLES),
     default=61,
     show_default=True,
-    help="Samples per motion, t evenly spaced in [0, 1].",
+    help="Samples per motion, t evenly spaced in [0, 1] (a figure shows no more than "
+    f"{PLOT_MAX_SAMPLES}).",
 )
 def command(
     poses,
