@@ -6,7 +6,6 @@ import click
 
 from . import CONTEXT_SETTINGS, options
 
-
 #: More samples than a figure can show are refused rather than held in memory.
 PLOT_MAX_SAMPLES = 100_000
 
