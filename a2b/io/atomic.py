@@ -80,6 +80,8 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
             yield out
             out.flush()
         return
+    if not os.fspath(path):
+        raise OutputFileError("cannot write to an empty file name")
     target = os.path.realpath(os.fspath(path))
     directory = os.path.dirname(target)
     try:
@@ -94,6 +96,9 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
             with _write_errors(os.fspath(path)), open(target, "wb") as stream:
                 yield stream
             return
+        if stat.S_ISREG(info.st_mode) and not os.access(target, os.W_OK):
+            # A rename would replace a file its owner made read-only; a write would fail.
+            raise OutputFileError(f"cannot write {path}: Permission denied (the file is read-only)")
         mode = info.st_mode & 0o7777
     with _terminate_as_exit():
         try:
