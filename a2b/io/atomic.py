@@ -135,9 +135,11 @@ def _write_errors(what: str, on_error=None) -> Iterator[None]:
 
 
 def silence_stdout() -> None:
-    """After a :class:`BrokenPipeError` on stdout: send what is left to ``/dev/null``.
+    """After a :class:`BrokenPipeError` or a failed write on stdout: send what is left to
+    ``/dev/null``.
 
-    Python flushes stdout at exit; into a closed pipe that would print a second error.
+    Python flushes stdout at exit; into a closed pipe or a full disk that would print a second
+    error.
     Pointing the file descriptor at ``/dev/null`` makes the exit quiet.
     """
     try:
