@@ -220,8 +220,8 @@ def test_mcap_writer_needs_no_seek(rng):
 
 
 @pytest.mark.parametrize("workers", [1, 3])
-def test_many_blocks_in_order_with_threads(rng, monkeypatch, workers):
-    """Blocks formatted by several threads come out in order, for plain and batch CSV."""
+def test_many_blocks_in_order_with_helpers(rng, monkeypatch, workers):
+    """Blocks formatted by helper processes come out in order, for plain and batch CSV."""
     monkeypatch.setattr(parallel, "WORKERS", workers)
     chunks, (t, quat, trans, _, _) = _chunks(rng, 20000, 6000)
     stream = io.BytesIO()
@@ -257,3 +257,63 @@ def test_batch_job_name_with_nul_is_an_error():
     chunk = writers.Chunk(np.zeros(1), np.array([[1.0, 0, 0, 0]]), np.zeros((1, 3)), job=["a\0b"])
     with pytest.raises(ParameterError, match="NUL"):
         writers.write_batch_csv(io.BytesIO(), [chunk])
+
+
+def _pid_and_square(x):
+    import os
+    import time
+
+    time.sleep(0.002 * (x % 3))  # finish out of order
+    return os.getpid(), x * x
+
+
+def _fail_at_five(x):
+    if x == 5:
+        raise ParameterError("five")
+    return x
+
+
+@pytest.mark.parametrize("workers", [2, 4])
+def test_in_order_with_helper_processes(monkeypatch, workers):
+    import os
+
+    monkeypatch.setattr(parallel, "WORKERS", workers)
+    results = list(parallel.in_order(_pid_and_square, range(40)))
+    assert [square for _, square in results] == [x * x for x in range(40)]
+    pids = {pid for pid, _ in results}
+    assert os.getpid() in pids and len(pids) > 1  # the main process and its helpers
+    assert list(parallel.in_order(_pid_and_square, [3])) == [(os.getpid(), 9)]  # no fork
+    assert list(parallel.in_order(_pid_and_square, [])) == []
+    with pytest.raises(ChildProcessError):
+        os.waitpid(-1, os.WNOHANG)  # every helper was reaped
+
+
+def test_in_order_raises_at_the_failing_item_and_reaps_helpers(monkeypatch):
+    import os
+
+    monkeypatch.setattr(parallel, "WORKERS", 2)
+    got = []
+    with pytest.raises(ParameterError, match="five"):
+        got.extend(parallel.in_order(_fail_at_five, range(20)))
+    assert got == [0, 1, 2, 3, 4]
+    stopped_early = parallel.in_order(_fail_at_five, range(4))
+    assert next(stopped_early) == 0
+    stopped_early.close()
+    with pytest.raises(ChildProcessError):
+        os.waitpid(-1, os.WNOHANG)
+
+
+def test_in_order_uses_threads_when_other_threads_run(monkeypatch):
+    import os
+    import threading
+
+    monkeypatch.setattr(parallel, "WORKERS", 2)
+    stop = threading.Event()
+    other = threading.Thread(target=stop.wait)
+    other.start()
+    try:
+        results = list(parallel.in_order(_pid_and_square, range(10)))
+    finally:
+        stop.set()
+        other.join()
+    assert results == [(os.getpid(), x * x) for x in range(10)]

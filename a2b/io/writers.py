@@ -114,9 +114,13 @@ def _rows(fmt: str, chunk: Chunk) -> np.ndarray:
     raise ValueError(f"no table layout for {fmt!r}")
 
 
+#: Numbers per task handed to a worker: a few of the formatter's blocks.
+TASK = 8 * BLOCK
+
+
 def _blocks(rows: np.ndarray, prefix: np.ndarray | None = None) -> Iterator[tuple]:
-    """Slices of about :data:`BLOCK` numbers: the formatter's unit of work."""
-    size = max(1, BLOCK // max(rows.shape[1], 1))
+    """Slices of about :data:`TASK` numbers: the unit of work of one worker."""
+    size = max(1, TASK // max(rows.shape[1], 1))
     for lo in range(0, len(rows), size):
         yield rows[lo : lo + size], None if prefix is None else prefix[lo : lo + size]
 
