@@ -6,7 +6,7 @@ import numpy as np
 
 from .errors import ParameterError
 from .frames import screw_frame
-from .motions.base import Motion
+from .motions.base import Motion, check_table
 from .poses import check_matrices
 
 MODES = ("darboux", "cubic", "screw")
@@ -56,19 +56,32 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
     b = check_matrices(end)
     if a.shape != (4, 4) or b.shape != (4, 4):
         raise ParameterError("start and end must each be one 4x4 matrix")
+    with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below, as an error
+        return _build(a, b, mode, params)
+
+
+def _build(a, b, mode, params) -> Motion:
     frame = screw_frame(a, b)
+    if not (np.isfinite(frame.d) and np.all(np.isfinite(frame.t_disp))):
+        raise ParameterError(
+            f"the displacement from start to end overflows float64 (d = {frame.d}); "
+            "use a smaller length unit"
+        )
     if mode == "darboux":
         from .motions.darboux import DarbouxMotion
 
-        return DarbouxMotion(a, b, frame, **params)
-    if mode == "cubic":
+        result = DarbouxMotion(a, b, frame, **params)
+    elif mode == "cubic":
         from .motions.cubic import CubicMotion
 
         frame_name = params.pop("frame", "canonical")
-        return CubicMotion(a, b, frame, frame_name=frame_name, **params)
-    from .motions.screw import ScrewMotion
+        result = CubicMotion(a, b, frame, frame_name=frame_name, **params)
+    else:
+        from .motions.screw import ScrewMotion
 
-    return ScrewMotion(a, b, frame)
+        result = ScrewMotion(a, b, frame)
+    check_table(result.table)
+    return result
 
 
 def interpolate(start, end, ts, mode: str = "darboux", **parameters) -> np.ndarray:

@@ -20,7 +20,7 @@ from a2b.motions.bezier import (
     spline_motion,
 )
 from a2b.cli import cli
-from a2b.cli.bezier import read_curve_file
+from a2b.io.readers import read_pose_list
 from a2b.errors import InputFileError, ParameterError, PoseError, SingularMotionError
 from a2b.extended import kernel_basis
 from a2b.motions._rational import bern_mul
@@ -227,7 +227,7 @@ def test_unequal_fiber_offsets_leave_the_plane(rng):
 
 def test_planar_sample_is_a_planar_cubic_through_its_first_and_last_control():
     with open(SAMPLES / "planar-bezier.yaml", "rb") as fh:
-        curve = read_curve_file(fh, "controls")
+        curve = read_pose_list(fh, "controls")
     assert curve.poses.shape == (4, 4, 4)
     ez = np.array([0.0, 0.0, 1.0])
     for space in SPACES:
@@ -514,7 +514,7 @@ def read_matrix_output(text):
 @pytest.mark.parametrize("space", SPACES)
 def test_cli_bezier_matches_the_library_with_options_overriding_the_file(space):
     with open(SAMPLES / "planar-bezier.yaml", "rb") as fh:
-        controls = read_curve_file(fh, "controls").poses
+        controls = read_pose_list(fh, "controls").poses
     extra = ["--weights", "1,2,2,1"]
     params = {"weights": [1.0, 2.0, 2.0, 1.0]}
     if space == "matrix":
@@ -545,7 +545,7 @@ def test_cli_bezier_matches_the_library_with_options_overriding_the_file(space):
 @pytest.mark.parametrize("space", SPACES)
 def test_cli_spline_hits_every_key_pose(space, tmp_path):
     with open(SAMPLES / "spline.yaml", "rb") as fh:
-        keys = read_curve_file(fh, "poses").poses
+        keys = read_pose_list(fh, "poses").poses
     out = tmp_path / "spline.csv"
     result = run(
         "spline",
@@ -628,7 +628,7 @@ def test_cli_errors_are_one_line_with_file_position_or_t():
     assert "space study does not take m" in result.output
 
 
-def test_read_curve_file_checks_per_control_parameters():
+def test_read_pose_list_checks_per_control_parameters():
     text = b"""controls:
   - quaternion: [1, 0, 0, 0]
   - quaternion: [1, 0, 0, 0]
@@ -638,7 +638,7 @@ parameters:
     with pytest.raises(
         InputFileError, match=r"curve.yaml:5:3: parameters.alphas: expected 2 lists of 6 numbers"
     ):
-        read_curve_file(io.BytesIO(text), "controls", name="curve.yaml")
+        read_pose_list(io.BytesIO(text), "controls", name="curve.yaml")
 
 
 def test_default_m_takes_every_pose_the_short_way_or_says_it_cannot():

@@ -639,3 +639,15 @@ def test_half_turn_within_rounding_follows_the_half_turn_rule(rng):
         assert frame.phi == pytest.approx(math.pi)
         assert any("φ = π" in choice for choice in frame.choices)
         np.testing.assert_allclose(a2b.interpolate(a, b, [1.0], "screw")[0], b, atol=1e-12)
+
+
+def test_overflow_is_an_error_not_nan(rng):
+    a, b = random_pose(rng), random_pose(rng)
+    with pytest.raises(a2b.A2bError, match="overflow"):
+        a2b.motion(a, b, "darboux", lam=1e200).matrices(TS)
+    far = b.copy()
+    far[:3, 3] = [1.5e308, -1.5e308, 1.5e308]  # 1e300 still works; this overflows
+    with pytest.raises(a2b.A2bError, match="overflow"):
+        a2b.interpolate(a, far, TS)
+    with pytest.raises(a2b.A2bError, match="overflows float64 at t = 1e\\+200"):
+        a2b.interpolate(a, b, [0.0, 1e200], "cubic")

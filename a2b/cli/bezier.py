@@ -2,20 +2,12 @@
 
 from __future__ import annotations
 
-from typing import IO
 
 import click
 
 from . import CONTEXT_SETTINGS, options
 
 BASES = ("paper", "rref", "auto")
-
-
-def read_curve_file(stream: IO, key: str, name: str | None = None):
-    """Deprecated: :func:`a2b.io.readers.read_pose_list`, kept for callers of the old name."""
-    from ..io.readers import read_pose_list
-
-    return read_pose_list(stream, key, name)
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)

@@ -21,6 +21,24 @@ def check_ts(ts) -> np.ndarray:
     return arr
 
 
+def _check_finite(ts: np.ndarray, values: np.ndarray) -> None:
+    """Raise if extrapolating to far-away ``t`` overflowed (values ``(N, ...)`` per sample)."""
+    bad = ~np.isfinite(values.reshape(len(ts), -1)).all(axis=1)
+    if bad.any():
+        raise ParameterError(
+            f"the motion overflows float64 at t = {float(ts[bad][0]):.6g}: extrapolate less far"
+        )
+
+
+def check_table(table: np.ndarray) -> None:
+    """Raise if a motion's coefficients overflowed (huge parameters or translations)."""
+    if not np.all(np.isfinite(table)):
+        raise ParameterError(
+            "the motion's coefficients overflow float64 (a parameter or a translation is too large, "
+            f"largest finite entry {float(np.max(np.abs(table[np.isfinite(table)]), initial=0.0)):.3g})"
+        )
+
+
 def _vec(a) -> list:
     return [float(x) for x in np.asarray(a, dtype=float).ravel()]
 
@@ -88,11 +106,14 @@ class Motion:
         rigid to rounding.
         """
         arr = self._prepare(ts)
-        out = evaluate_table(self._basis(arr), self.table)
+        with np.errstate(over="ignore", invalid="ignore"):  # far extrapolation: checked below
+            out = evaluate_table(self._basis(arr), self.table)
         if arr.size and self._rotation_is_fragile(min(0.0, float(arr.min())), max(1.0, float(arr.max()))):
             from ..poses import rotations_from_quaternions
 
             out[:, :3, :3] = rotations_from_quaternions(self._quats(arr))
+        if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
+            _check_finite(arr, out[:, :3, :])
         return out
 
     def quat_trans(self, ts) -> tuple[np.ndarray, np.ndarray]:
@@ -104,7 +125,11 @@ class Motion:
         arr = self._prepare(ts)
         quat = self._quats(arr)
         quat /= np.sqrt(np.einsum("ij,ij->i", quat, quat))[:, None]
-        return quat, evaluate_translations(self._basis(arr), self.table)
+        with np.errstate(over="ignore", invalid="ignore"):  # far extrapolation: checked below
+            trans = evaluate_translations(self._basis(arr), self.table)
+        if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
+            _check_finite(arr, trans)
+        return quat, trans
 
     def study(self, ts) -> np.ndarray:
         """Unit Study parameters ``(N, 8)`` of the samples (``|p| = 1``, ``q = −½ t p``)."""
