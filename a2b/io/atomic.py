@@ -96,8 +96,11 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
             with _write_errors(os.fspath(path)), open(target, "wb") as stream:
                 yield stream
             return
-        if stat.S_ISREG(info.st_mode) and not os.access(target, os.W_OK):
-            # A rename would replace a file its owner made read-only; a write would fail.
+        if stat.S_ISREG(info.st_mode) and (
+            not os.access(target, os.W_OK) or not info.st_mode & (stat.S_IWUSR | stat.S_IWGRP | stat.S_IWOTH)
+        ):
+            # A rename would replace a file its owner made read-only; a write would fail. The mode
+            # bits count even for root, who may write anything: read-only means "keep this".
             raise OutputFileError(f"cannot write {path}: Permission denied (the file is read-only)")
         mode = info.st_mode & 0o7777
     with _terminate_as_exit():
