@@ -5,7 +5,12 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ParameterError
-from .extended import kernel_basis, matrices_from_model_points, mu_fiber_points, paper_basis_degenerate
+from .extended import (
+    kernel_basis,
+    matrices_from_model_points,
+    mu_fiber_points,
+    paper_basis_degenerate,
+)
 from .poses import check_matrices, matrices_from_study, study_from_matrices
 from .study import kappa_fiber_direction, kappa_fiber_points
 

@@ -10,6 +10,11 @@ import pytest
 from click.testing import CliRunner
 
 import a2b
+from a2b.cli import cli
+from a2b.errors import InputFileError, ParameterError, PoseError, SingularMotionError
+from a2b.extended import kernel_basis
+from a2b.io.readers import read_pose_list
+from a2b.motions._rational import bern_mul
 from a2b.motions.bezier import (
     SINGULAR_TOL,
     bezier,
@@ -19,11 +24,6 @@ from a2b.motions.bezier import (
     spline,
     spline_motion,
 )
-from a2b.cli import cli
-from a2b.io.readers import read_pose_list
-from a2b.errors import InputFileError, ParameterError, PoseError, SingularMotionError
-from a2b.extended import kernel_basis
-from a2b.motions._rational import bern_mul
 from a2b.poses import matrices_from_quat_trans, quat_trans_from_matrices
 
 SPACES = ("matrix", "study")

@@ -82,9 +82,9 @@ from ..extended import (
     mu_fiber_points,
     mu_prime_matrix,
 )
-from ._rational import bern_mul, bernstein_basis
 from ..poses import check_matrices, quat_trans_from_matrices, study_from_matrices
 from ..study import kappa_fiber_points, rotation_numerators, translation_numerators
+from ._rational import bern_mul, bernstein_basis
 
 __all__ = [
     "SINGULAR_TOL",

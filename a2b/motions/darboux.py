@@ -21,7 +21,13 @@ import numpy as np
 from ..errors import ParameterError
 from ..frames import ScrewFrame
 from ..study import rotation_numerators, translation_numerators
-from ._rational import FRAGILE_TOL, bernstein_basis, check_quaternion_path, make_table, quaternion_path_minimum
+from ._rational import (
+    FRAGILE_TOL,
+    bernstein_basis,
+    check_quaternion_path,
+    make_table,
+    quaternion_path_minimum,
+)
 from .base import Motion
 
 #: Relative tolerance for a third pose to count as a member of the cylinder group of A and B.
