@@ -98,7 +98,6 @@ class _Helper:
         from multiprocessing.connection import Pipe
 
         self.connection, theirs = Pipe()
-        self.busy = False
         self.pid = os.fork()
         if self.pid == 0:  # pragma: no cover - runs in the child; its results are tested
             for other in (self, *others):  # or the other helpers would never see end-of-file
@@ -106,19 +105,13 @@ class _Helper:
             _serve(function, theirs)
         theirs.close()
 
-    def send(self, item) -> None:
-        self.connection.send(item)
-        self.busy = True
-
-    def ready(self) -> bool:
-        return self.busy and self.connection.poll()
-
-    def receive(self):
-        status, value = self.connection.recv()
-        self.busy = False
-        if status == "error":
-            raise value
-        return value
+    def run(self, item) -> tuple[str, object]:
+        """``("ok", function(item))`` or ``("error", exception)``, computed by the helper."""
+        try:
+            self.connection.send(item)
+            return self.connection.recv()
+        except (OSError, EOFError) as e:
+            return "error", RuntimeError(f"a writer's helper process ended unexpectedly: {e!r}")
 
     def close(self) -> None:
         self.connection.close()  # the helper reads end-of-file and exits
@@ -153,7 +146,12 @@ def _serve(function: Callable, connection) -> None:  # pragma: no cover - the ch
 
 
 def _with_helpers(function: Callable, items: Iterable, count: int) -> Iterator:
-    """The main process and ``count`` helpers; each item goes to whoever is free first."""
+    """The main process and ``count`` helpers take items from one queue as they get free.
+
+    A thread per helper hands it the next waiting item as soon as it is done with the last
+    (blocking on its pipe, without the GIL), so helpers never wait for the main process,
+    which formats waiting items itself and yields every result in order.
+    """
     iterator = iter(items)
     first = next(iterator, _END)
     if first is _END:
@@ -162,36 +160,76 @@ def _with_helpers(function: Callable, items: Iterable, count: int) -> Iterator:
     if second is _END:
         yield function(first)
         return
+    iterator = _chain(first, second, iterator)
+    lock = threading.Condition()
+    waiting: deque = deque()  # (index, item) not taken yet
+    done: dict = {}  # index -> (status, value)
+    state = {"stop": False}
+
+    def feed(helper: _Helper) -> None:
+        while True:
+            with lock:
+                while not waiting and not state["stop"]:
+                    lock.wait()
+                if state["stop"]:
+                    return
+                index, item = waiting.popleft()
+            result = helper.run(item)
+            with lock:
+                done[index] = result
+                lock.notify_all()
+
     helpers: list[_Helper] = []
-    slots: deque = deque()  # per item, in order: [helper] while it works, then [None, result]
+    threads: list[threading.Thread] = []
     try:
-        for _ in range(count):
+        for _ in range(count):  # fork before any thread starts
             helpers.append(_Helper(function, helpers))
-
-        def collect(block: bool) -> None:
-            for slot in slots:
-                helper = slot[0]
-                if helper is not None and (block or helper.ready()):
-                    slot[:] = [None, helper.receive()]
-                    block = False
-
-        for item in _chain(first, second, iterator):
-            idle = next((h for h in helpers if not h.busy), None)
-            if idle is not None:
-                idle.send(item)
-                slots.append([idle])
-            else:
-                slots.append([None, function(item)])
-            collect(block=False)
-            while slots and (slots[0][0] is None or len(slots) > 2 * (count + 1)):
-                if slots[0][0] is not None:
-                    collect(block=True)
-                yield slots.popleft()[1]
-        while slots:
-            if slots[0][0] is not None:
-                collect(block=True)
-            yield slots.popleft()[1]
+        for helper in helpers:
+            threads.append(threading.Thread(target=feed, args=(helper,), daemon=True))
+            threads[-1].start()
+        pulled = taken = 0  # items taken from ``items``, results yielded
+        exhausted = False
+        while True:
+            with lock:
+                result = done.pop(taken, None)
+            if result is not None:
+                status, value = result
+                if status == "error":
+                    raise value
+                yield value
+                taken += 1
+                continue
+            if not exhausted and len(waiting) < count + 1 and pulled - taken < 4 * (count + 1):
+                item = next(iterator, _END)
+                if item is _END:
+                    exhausted = True
+                else:
+                    with lock:
+                        waiting.append((pulled, item))
+                        lock.notify_all()
+                    pulled += 1
+                continue
+            if exhausted and taken == pulled:
+                return
+            with lock:
+                job = waiting.popleft() if waiting else None
+                while job is None and taken not in done:
+                    lock.wait()
+            if job is not None:
+                index, item = job
+                try:
+                    result = ("ok", function(item))
+                except Exception as e:  # noqa: BLE001 - raised when its turn comes
+                    result = ("error", e)
+                with lock:
+                    done[index] = result
     finally:
+        with lock:
+            state["stop"] = True
+            waiting.clear()
+            lock.notify_all()
+        for thread in threads:
+            thread.join()  # each finishes the item its helper has
         for helper in helpers:
             helper.close()
 
