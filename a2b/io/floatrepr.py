@@ -81,10 +81,10 @@ def _exponent_tables():
     es = range(_E_MIN, _E_MAX + 1)
     next_p10 = np.array([_power_of_ten(e + 1)[0] for e in es])
     hi, lo = np.array([_power_of_ten(16 - e) for e in es]).T
-    # first word by (c0 alone?, sign, exponent): sign and "0.000" in bytes 0-5, "." in byte 7;
-    # byte 6 takes the digit c0
-    head = np.zeros((2, 2, _NE), _U64)
-    head_len = np.zeros((2, 2, _NE), np.int64)  # the characters of everything but c1 … c16
+    # the first word, at index i + 1024 (if negative) + 2048 (if c0 stands alone): the sign and
+    # "0.000" in bytes 0-5, "." in byte 7; byte 6 takes the digit c0
+    head = np.zeros(4096, _U64)
+    head_len = np.zeros(4096, np.int64)  # the characters of everything but c1 … c16
     suffix = np.zeros(_NE, _U64)  # "e-05" in bytes 1-5 of the fourth word
     keep = np.ones(_NE, np.int8)  # c0, and if positional the digits to the point and one after
     for j, e in enumerate(es):
@@ -99,12 +99,21 @@ def _exponent_tables():
             for neg in (0, 1):
                 text = (b"-" if neg else b"") + (b"0." + b"0" * (-e - 1) if small else b"")
                 point = e == 0 or (not positional and not small and not alone)
-                head[alone, neg, j] = _word(text) | (ord(".") << 56 if point else 0)
-                head_len[alone, neg, j] = len(text) + 1 + (point or 1 <= e < 16) + len(exp_text)
-    return next_p10, hi, lo, head.reshape(-1), head_len.reshape(-1), suffix, keep
+                at = j + 1024 * neg + 2048 * alone
+                head[at] = _word(text) | (ord(".") << 56 if point else 0)
+                head_len[at] = len(text) + 1 + (point or 1 <= e < 16) + len(exp_text)
+    c = 134217729.0 * hi  # Veltkamp's split of hi into two 26-bit halves
+    hh = c - (c - hi)
+    return next_p10, hi, hh, hi - hh, lo, head, head_len, suffix, keep
 
 
-_NEXT_P10, _HI, _LO, _HEAD, _HEAD_LEN, _SUFFIX, _KEEP = _exponent_tables()
+_NEXT_P10, _HI, _HH, _HL, _LO, _HEAD, _HEAD_LEN, _SUFFIX, _KEEP = _exponent_tables()
+_ALONE = np.where(np.arange(18) == 0, 2048, 0)  # the head's offset by significant digits
+_FIRST_DIGIT = (np.arange(10, dtype=_U64) + _U64(48)) << _U64(48)  # c0 in byte 6
+#: The table index of floor(log10 |x|), or of one less, by the biased binary exponent of x.
+_FROM_BINARY = np.clip(
+    np.floor((np.arange(2048) - 1023) * _LOG10_2).astype(np.intp) - _E_MIN, 0, _NE - 2
+)
 
 #: Four digits as characters, in the low and the high half of a word.
 _GROUPS = np.arange(10000)
@@ -146,7 +155,6 @@ def _mask_tables():
 
 
 _KEEP1, _KEEP2, _LOW1, _LOW2, _POINT1, _POINT2 = _mask_tables()
-_C0 = _U64(48) << _U64(48)  # "0" in byte 6
 
 
 def number_words(x: np.ndarray, lengths: bool = False):
@@ -180,17 +188,17 @@ def number_words(x: np.ndarray, lengths: bool = False):
         ax[slow] = 1.0
         abits = ax.view(_U64)
         bexp[slow] = 1023
-    # decimal exponent e, as the index i = e − E_MIN into the tables
-    i = (bexp.astype(np.float64) * _LOG10_2 + (-1023 * _LOG10_2 - _E_MIN)).astype(np.intp)
+    # decimal exponent e, as the index i = e − E_MIN into the tables: from the binary
+    # exponent, then one comparison with the next power of ten
+    i = _FROM_BINARY.take(bexp)
     i += ax >= _NEXT_P10.take(i)
     # X = s + r = |x| · 10^(16 − e): Dekker's product of |x| = ah + al and hi = hh + hl
     hi = _HI.take(i)
     p = ax * hi
     ah = (abits & _HIGH_26).view(np.float64)
     al = ax - ah
-    hh = hi * 134217729.0  # Veltkamp's split of hi into two 26-bit halves
-    hh -= hh - hi
-    hl = hi - hh
+    hh = _HH.take(i)
+    hl = _HL.take(i)
     err = ah * hh
     err -= p
     err += ah * hl
@@ -201,8 +209,8 @@ def number_words(x: np.ndarray, lengths: bool = False):
     p -= s
     p += err
     r = p  # s is an integer (X > 2^53), r the rest: |r| <= 8
-    high = np.floor(s / 1e8)  # c0 … c8
-    s -= high * 1e8
+    high = np.floor(s * 1e-8)  # c0 … c8, or one less
+    s -= high * 1e8  # in [0, 2e8)
     step = np.rint(r)
     xl = s + r  # X − high · 1e8, within 1e-8
     low = s  # c9 … c16 of the 17-digit rounding, before carries
@@ -210,25 +218,26 @@ def number_words(x: np.ndarray, lengths: bool = False):
     r -= step  # its distance to X
     half = ((bexp - _U64(53)) << _U64(52)).view(np.float64)  # half an ulp of |x| …
     half *= hi  # … in units of the 17th digit
-    c2 = np.floor((xl + 50.0) / 100.0)
-    c2 *= 100.0  # the nearest 15-digit decimal
+    c2 = np.rint(xl * 0.01)
+    c2 *= 100.0  # the nearest 15-digit decimal (a tie is never near enough)
     d2 = np.abs(c2 - xl)
     d2 -= half
-    c1 = np.floor((xl + 5.0) / 10.0)
-    c1 *= 10.0  # the nearest 16-digit decimal
+    c1 = np.rint(xl * 0.1)
+    c1 *= 10.0  # the nearest 16-digit decimal (a tie is flagged below)
     d1 = np.abs(c1 - xl)
     d1 -= half
     low = np.where(d1 < -_MARGIN, c1, low)
     low = np.where(d2 < -_MARGIN, c2, low)
-    unsure = np.abs(d2) <= _MARGIN
-    unsure |= np.abs(d1) <= _MARGIN
-    d1 += half
+    np.abs(d2, out=d2)
+    np.abs(d1, out=d1)
+    unsure = np.minimum(d1, d2) <= _MARGIN
+    d1 = np.abs(c1 - xl)
     unsure |= d1 >= 5.0 - _MARGIN  # a tie between two 16-digit decimals
     unsure |= np.abs(r) >= 0.5 - _MARGIN  # a tie between two 17-digit decimals
     power_of_two = (abits << _U64(12)) == 0
     if power_of_two.any():
         unsure |= power_of_two & ~((r == 0.0) & (c2 == xl))
-    carry = np.floor(low / 1e8)
+    carry = np.floor(low / 1e8)  # -1, 0, 1 or 2: low is within [-8, 2e8]; exact division
     high += carry
     low -= carry * 1e8
     bad = unsure
@@ -245,16 +254,15 @@ def number_words(x: np.ndarray, lengths: bool = False):
     if any_bad:
         high[bad] = 1e8
         low[bad] = 0.0
-    c0 = np.floor(high / 1e8)
-    high -= c0 * 1e8
-    g1 = np.floor(high / 1e4)
-    high -= g1 * 1e4
-    g3 = np.floor(low / 1e4)
-    low -= g3 * 1e4
-    g1 = g1.astype(np.intp)
-    g2 = high.astype(np.intp)
-    g3 = g3.astype(np.intp)
-    g4 = low.astype(np.intp)
+    high_i = high.astype(np.int64)  # c0 … c8
+    g4 = low.astype(np.int64)  # c9 … c16
+    c0 = high_i // 100_000_000
+    high_i -= c0 * 100_000_000
+    g1 = high_i // 10_000
+    g2 = high_i
+    g2 -= g1 * 10_000
+    g3 = g4 // 10_000
+    g4 -= g3 * 10_000
     # significant digits (0: c0 alone), and the digits shown: c0, and if positional at least
     # the digits before the point and one after it, 1 + e + 1
     count = np.maximum(_COUNT1.take(g1), _COUNT2.take(g2))
@@ -268,13 +276,11 @@ def number_words(x: np.ndarray, lengths: bool = False):
     w2 = _DIGITS_LO.take(g3)
     w2 |= _DIGITS_HI.take(g4)
     w2 &= _KEEP2.take(shown)
-    head = (bits >> _U64(63)).view(np.int64)
-    head += (count == 0) * 2
-    head *= _NE
-    head += i
+    head = ((bits >> _U64(53)) & _U64(1024)).view(np.int64)  # the sign, as 1024
+    head |= i
+    head |= _ALONE.take(count)
     w0 = _HEAD.take(head)
-    w0 += c0.astype(np.int64).view(_U64) << _U64(48)
-    w0 += _C0
+    w0 |= _FIRST_DIGIT.take(c0)
     w3 = _SUFFIX.take(i)
     positional = (i - (1 - _E_MIN)).view(_U64) < _U64(15)  # 1 <= e <= 15: "123.456"
     if positional.any():
