@@ -1,11 +1,12 @@
 """Work for the writers on every core, results in order.
 
 Formatting a block of numbers is a few hundred numpy calls on small arrays: each is quick,
-and the GIL is taken between them, so threads barely help. On Linux a second core is used
+and the GIL is taken between them, so threads barely help. On Linux the other cores are used
 by forking helper processes that format blocks while the main process formats others;
 blocks go to them and text comes back through pipes, and the main process writes everything
-in order. Elsewhere (no ``fork``, or other threads running, where forking is unsafe) threads
-do the work; zstd compression, which releases the GIL, still gains from them.
+in order. A helper is forked only for a core that has nothing else to run at the time.
+Elsewhere (no ``fork``, or other threads running, where forking is unsafe) threads do the
+work; zstd compression, which releases the GIL, still gains from them.
 """
 
 from __future__ import annotations
@@ -44,30 +45,40 @@ def in_order(function: Callable, items: Iterable) -> Iterator:
     small item costs no fork.
     """
     count = workers()
-    if count > 1 and _can_fork():
-        helpers = count - 1 if WORKERS is not None else min(count - 1, _idle_processors())
-        if helpers:
-            yield from _with_helpers(function, items, helpers)
-            return
-        count = 1
     if count == 1:
         yield from map(function, items)
+    elif _can_fork():
+        yield from _with_helpers(function, items, count - 1)
     else:
         yield from _with_threads(function, items, count)
 
 
 def _idle_processors() -> int:
-    """Processors not busy with other work, judged by the one-minute load average.
+    """Processors that other programs leave idle, now (the median of three looks).
 
     A helper on a processor that another program keeps busy only adds the cost of the
-    pipes (about 10%); on an idle one it takes half the work. Setting :data:`WORKERS`
-    skips this judgement.
+    pipes (about 10%); on an idle one it takes half the work. The kernel's count of
+    runnable tasks (``/proc/loadavg``) says which, at once (the load average would remember
+    the last minute); this process's own runnable threads, such as a BLAS thread still
+    spinning after a product, are not counted. Setting :data:`WORKERS` skips this judgement.
     """
-    try:
-        load = os.getloadavg()[0]
-    except OSError:  # pragma: no cover - no load average to read
-        return 1
-    return max(0, int(workers() - load + 0.5))
+    import time
+
+    others = []
+    for look in range(3):
+        if look:
+            time.sleep(0.002)
+        try:
+            with open("/proc/loadavg") as f:
+                running = int(f.read().split()[3].split("/")[0])
+            own = 0
+            for task in os.listdir("/proc/self/task"):
+                with open(f"/proc/self/task/{task}/stat") as f:
+                    own += f.read().rpartition(")")[2].split()[0] == "R"
+        except (OSError, ValueError, IndexError):  # pragma: no cover - no such files
+            return workers()
+        others.append(max(0, running - max(own, 1)))
+    return max(0, workers() - 1 - sorted(others)[1])
 
 
 def _can_fork() -> bool:
@@ -161,6 +172,11 @@ def _with_helpers(function: Callable, items: Iterable, count: int) -> Iterator:
         yield function(first)
         return
     iterator = _chain(first, second, iterator)
+    if WORKERS is None:
+        count = min(count, _idle_processors())
+        if count == 0:
+            yield from map(function, iterator)
+            return
     lock = threading.Condition()
     waiting: deque = deque()  # (index, item) not taken yet
     done: dict = {}  # index -> (status, value)
