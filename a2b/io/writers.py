@@ -3,7 +3,9 @@
 Every writer takes a binary stream and an iterable of :class:`Chunk` (so a million samples
 never sit in memory at once), writes, and never closes the stream. Numbers are written as
 Python's ``repr`` (the shortest text that reads back bit for bit), formatted in bulk by
-:mod:`a2b.io.floatrepr`. Each ``write_x`` has a ``read_x`` in :mod:`a2b.io.readers`.
+:mod:`a2b.io.floatrepr`, on every idle core (:mod:`a2b.io.parallel`); MCAP is built a chunk
+at a time by :mod:`a2b.io.mcapwriter`. Each ``write_x`` has a ``read_x`` in
+:mod:`a2b.io.readers`.
 
 =========  ===========================================================================
 format     layout
@@ -126,7 +128,8 @@ def _blocks(rows: np.ndarray, prefix: np.ndarray | None = None) -> Iterator[tupl
 
 
 def _write_rows(stream: IO, tables: Iterable[tuple], sep: str = ",") -> None:
-    """Write ``(rows, prefix)`` tables as text, formatted in blocks by several threads."""
+    """Write ``(rows, prefix)`` tables as text, formatted task by task on every idle core
+    (:func:`a2b.io.parallel.in_order`)."""
 
     def blocks():
         for rows, prefix in tables:
