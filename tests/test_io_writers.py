@@ -317,3 +317,12 @@ def test_in_order_uses_threads_when_other_threads_run(monkeypatch):
         stop.set()
         other.join()
     assert results == [(os.getpid(), x * x) for x in range(10)]
+
+
+def test_idle_processors_and_the_default_workers(monkeypatch):
+    """Without WORKERS set, helpers go only to processors other programs leave idle."""
+    monkeypatch.setattr(parallel, "WORKERS", None)
+    assert 0 <= parallel._idle_processors() <= parallel.workers() - 1
+    assert [square for _, square in parallel.in_order(_pid_and_square, range(12))] == [
+        x * x for x in range(12)
+    ]
