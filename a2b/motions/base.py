@@ -39,6 +39,16 @@ def check_table(table: np.ndarray) -> None:
         )
 
 
+def linear_path(ts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """``(1−t) ends[0] + t ends[1]`` for every t, shape ``(len(ts), 4)``, without BLAS.
+
+    (A ``(N, 2) @ (2, 4)`` product is slow under some OpenBLAS core types; this is not.)
+    """
+    out = np.multiply.outer(1.0 - ts, ends[0])
+    out += np.multiply.outer(ts, ends[1])
+    return out
+
+
 def _vec(a) -> list:
     return [float(x) for x in np.asarray(a, dtype=float).ravel()]
 

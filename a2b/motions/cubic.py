@@ -48,7 +48,7 @@ from ._rational import (
 
 #: Relative sensitivity to rounding of the input above which a canonical cubic motion warns.
 SENSITIVITY_WARNING = 1e-9
-from .base import Motion, _vec
+from .base import Motion, _vec, linear_path
 
 FRAMES = ("canonical", "given")
 
@@ -206,7 +206,7 @@ class CubicMotion(Motion):
         return bernstein_basis(ts, 3)
 
     def _quats(self, ts):
-        return bernstein_basis(ts, 1) @ self._p
+        return linear_path(ts, self._p)
 
     def _rotation_is_fragile(self, lo, hi):
         return quaternion_path_minimum(self._p[0], self._p[1], lo, hi)[1] < FRAGILE_TOL

@@ -28,7 +28,7 @@ from ._rational import (
     make_table,
     quaternion_path_minimum,
 )
-from .base import Motion
+from .base import Motion, linear_path
 
 #: Relative tolerance for a third pose to count as a member of the cylinder group of A and B.
 CYLINDER_TOL = 1e-9
@@ -246,7 +246,7 @@ class DarbouxMotion(Motion):
         return bernstein_basis(ts, 2)
 
     def _quats(self, ts):
-        return bernstein_basis(ts, 1) @ self._p
+        return linear_path(ts, self._p)
 
     def _rotation_is_fragile(self, lo, hi):
         return quaternion_path_minimum(self._p[0], self._p[1], lo, hi)[1] < FRAGILE_TOL
