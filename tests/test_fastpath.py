@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 from math import comb
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -26,6 +27,7 @@ from a2b.motions._rational import (
     evaluate_table,
     evaluate_translations,
 )
+from a2b.motions.screw import ScrewMotion
 from a2b.poses import rotations_from_quaternions
 from a2b.study import quat_mul
 
@@ -108,7 +110,9 @@ def test_matrices_match_exact_evaluation_of_the_table(rng, mode):
             # p(t) comes close to 0: matrices() takes the rotation from the normalised p(t)
             # (rigid to rounding) and only the translation from the table.
             quat = motion._quats(ts)
-            np.testing.assert_allclose(fast[:, :3, :3], rotations_from_quaternions(quat), rtol=0, atol=1e-15)
+            np.testing.assert_allclose(
+                fast[:, :3, :3], rotations_from_quaternions(quat), rtol=0, atol=1e-15
+            )
             fast = evaluate_table(motion._basis(ts), motion.table)
         assert_matches_exact(fast, motion._basis(ts), motion.table)
 
@@ -242,18 +246,46 @@ def test_bernstein_basis_for_0_1_and_3_leading_dimensions(rng):
     np.testing.assert_array_equal(bernstein_basis(ts[0, 0, :1], 3), flat[:1])
 
 
-def test_screw_basis_and_quaternions_are_the_textbook_formulas(rng):
+def exact_screw_basis(ts, phi):
+    """``(1, t, sin tφ, 2 sin²(tφ/2))`` in extended precision, from the rounded ``tφ``."""
+    angle = (ts * phi).astype(np.longdouble)
+    return np.stack([np.ones_like(angle), ts, np.sin(angle), 2 * np.sin(angle / 2) ** 2], axis=-1)
+
+
+def test_screw_basis_is_accurate_on_0_1(rng):
+    """Computed from tan(tφ/2) there: 1e-15 relative to the exact functions, every entry."""
+    for _ in range(5):
+        motion = random_motion(rng, "screw")
+        ts = random_ts(rng, 1000)
+        basis = motion._basis(ts)
+        exact = exact_screw_basis(ts, motion.frame.phi)
+        assert np.all(np.abs(basis - exact) <= RTOL * np.abs(exact))
+    # the pole of tan at tφ = π, and tiny angles
+    for phi in (np.pi, np.nextafter(np.pi, 0), 3.0, 1e-8, 1e-300):
+        ts = np.concatenate([[0.0, 1e-9, 0.5, 1.0, -1.0, 1.01], np.linspace(0.999, 1.0, 100)])
+        basis = ScrewMotion._basis(SimpleNamespace(frame=SimpleNamespace(phi=phi)), ts)
+        exact = exact_screw_basis(ts, phi)
+        # vers (tφ)²/2 underflows for φ = 1e-300, in float64 whatever the formula
+        assert np.all(np.abs(basis - exact) <= RTOL * np.abs(exact) + np.finfo(float).tiny)
+
+
+def test_screw_basis_far_out_is_the_textbook_formula(rng):
+    """Beyond |tφ/2| = 1.6 the basis comes from np.sin, bit for bit the textbook formula."""
+    motion = random_motion(rng, "screw")
+    ts = random_ts(rng, 300, -4.0, 5.0)
+    angle = ts * motion.frame.phi
+    half = np.sin(0.5 * angle)
+    textbook = np.stack([np.ones_like(ts), ts, np.sin(angle), 2.0 * half * half], axis=-1)
+    np.testing.assert_array_equal(motion._basis(ts), textbook)
+
+
+def test_screw_quaternions_are_the_textbook_formula(rng):
     for _ in range(5):
         motion = random_motion(rng, "screw")
         ts = random_ts(rng, 300, -1.0, 2.0)
-        angle = ts * motion.frame.phi
-        half = np.sin(0.5 * angle)
-        textbook = np.stack([np.ones_like(ts), ts, np.sin(angle), 2.0 * half * half], axis=-1)
-        np.testing.assert_array_equal(motion._basis(ts), textbook)
         half_angle = 0.5 * ts * motion.frame.phi
         rel = np.empty(ts.shape + (4,))
         rel[:, 0] = np.cos(half_angle)
         rel[:, 1:] = np.sin(half_angle)[:, None] * motion.frame.axis_direction
-        np.testing.assert_allclose(
-            motion._quats(ts), quat_mul(rel, motion.frame.p_start), rtol=0, atol=1e-15
-        )
+        reference = quat_mul(rel, motion.frame.p_start)
+        np.testing.assert_allclose(motion._quats(ts), reference, rtol=0, atol=1e-15)

@@ -145,6 +145,13 @@ def evaluate_table(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
     n, k = basis.shape
     out = np.empty((n, 4, 4))
     shared = bool(np.array_equal(table[:, 12], table[:, 13]))
+    if shared and _denominator_is_one(basis, table[:, 12]):
+        # the screw motion: the first basis function is 1 and so is every denominator
+        extended = np.zeros((k, 16))
+        extended[:, :12] = table[:, :12]
+        extended[0, 15] = 1.0
+        _blocked_matmul(basis, extended, out.reshape(n, 16))
+        return out
     dens = 1 if shared else 2
     extended = np.zeros((dens * k + 1, 16))
     if shared:
@@ -169,8 +176,21 @@ def evaluate_translations(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
     basis = np.asarray(basis, dtype=float)
     table = np.asarray(table, dtype=float)
     out = np.empty((basis.shape[0], 3))
-    _scaled_products(basis, table[:, 13:14], table[:, TRANS_COLS], out, False)
+    if _denominator_is_one(basis, table[:, 13]):
+        _blocked_matmul(basis, table[:, TRANS_COLS], out)
+    else:
+        _scaled_products(basis, table[:, 13:14], table[:, TRANS_COLS], out, False)
     return out
+
+
+def _denominator_is_one(basis: np.ndarray, denominator: np.ndarray) -> bool:
+    """Whether ``basis @ denominator`` is exactly 1: ``(1, 0, …, 0)`` on a first column of 1s."""
+    return bool(
+        denominator[0] == 1.0
+        and not denominator[1:].any()
+        and basis.shape[0]
+        and (basis[:, 0] == 1.0).all()
+    )
 
 
 def blocked_product(basis: np.ndarray, coefficients: np.ndarray) -> np.ndarray:
@@ -182,12 +202,15 @@ def blocked_product(basis: np.ndarray, coefficients: np.ndarray) -> np.ndarray:
     """
     basis = np.asarray(basis, dtype=float)
     coefficients = np.asarray(coefficients, dtype=float)
-    n = basis.shape[0]
-    out = np.empty((n, coefficients.shape[1]))
-    rows = max(256, BLAS_ONE_THREAD // max(coefficients.size, 1))
-    for start in range(0, n, rows):
-        np.matmul(basis[start : start + rows], coefficients, out=out[start : start + rows])
+    out = np.empty((basis.shape[0], coefficients.shape[1]))
+    _blocked_matmul(basis, coefficients, out)
     return out
+
+
+def _blocked_matmul(basis: np.ndarray, coefficients: np.ndarray, out: np.ndarray) -> None:
+    rows = min(SAMPLE_BLOCK, max(256, BLAS_ONE_THREAD // max(coefficients.size, 1)))
+    for start in range(0, basis.shape[0], rows):
+        np.matmul(basis[start : start + rows], coefficients, out=out[start : start + rows])
 
 
 def _scaled_products(basis, denominators, coefficients, out, constant) -> bool:

