@@ -35,9 +35,9 @@ TRANS_COLS = (3, 7, 11)
 #: At most this many samples per block in :func:`evaluate_table` and
 #: :func:`evaluate_translations`: 8192 rows of 16 doubles are 1 MiB, which stays in L2 cache.
 SAMPLE_BLOCK = 8192
-#: Fewer multiply-adds than this per BLAS product: OpenBLAS then runs it on one thread (it starts
-#: a second one from 2¹⁹), and a second thread stalls whenever the other core is busy.
-BLAS_ONE_THREAD = 2**18
+#: At most this many multiply-adds per BLAS product: OpenBLAS runs it on one thread (it starts a
+#: second one from 2¹⁹), and a second thread stalls whenever the other core is busy.
+BLAS_ONE_THREAD = 2**19 - 1
 
 
 def bernstein_basis(ts: np.ndarray, degree: int) -> np.ndarray:
