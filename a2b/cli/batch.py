@@ -28,6 +28,120 @@ def _progress(total: int | None):
     )
 
 
+#: The parameters each mode's vectorised path takes (:mod:`a2b.motions.batched`); a job with
+#: others goes through :func:`a2b.motion` on its own.
+_BATCHED_PARAMETERS = {
+    "darboux": frozenset({"delta", "long_way"}),
+    "cubic": frozenset({"m", "a", "b", "frame"}),
+    "screw": frozenset(),
+}
+
+
+def _group_key(mode, parameters: dict):
+    """The vectorised path's group of a job, or ``None`` for a job to build on its own.
+
+    Jobs of one group share a mode and the shape of their parameters: darboux (``delta``,
+    ``long_way`` false), cubic by frame and whether ``m`` is given (``m``, ``a``, ``b``), screw.
+    """
+    allowed = _BATCHED_PARAMETERS.get(mode) if isinstance(mode, str) else None
+    if allowed is None or not allowed.issuperset(parameters):
+        return None
+    if mode == "darboux":
+        if parameters.get("long_way") not in (None, False):
+            return None
+        return ("darboux",) if _is_number(parameters.get("delta", 0.0)) else None
+    if mode == "cubic":
+        frame = parameters.get("frame")
+        if frame not in (None, "canonical", "given"):
+            return None
+        if not all(_is_number(parameters.get(key, 0.0)) for key in ("a", "b")):
+            return None
+        m = parameters.get("m")
+        if m is not None and not (isinstance(m, (tuple, list)) and len(m) == 4 and all(map(_is_number, m))):
+            return None
+        return ("cubic", frame or "canonical", m is None)
+    return ("screw",) if all(value is None for value in parameters.values()) else None
+
+
+def _is_number(value) -> bool:
+    return type(value) is float or type(value) is int
+
+
+def _bulk_motions(key, start, end, parameters: list):
+    """The :class:`MotionBatch` of one group of jobs."""
+    import numpy as np
+
+    from ..motions.batched import motions
+
+    def column(name):
+        return np.array([0.0 if p.get(name) is None else p[name] for p in parameters], dtype=float)
+
+    if key[0] == "darboux":
+        return motions(start, end, "darboux", delta=column("delta"))
+    if key[0] == "cubic":
+        _, frame, default_m = key
+        m = None if default_m else np.array([p["m"] for p in parameters], dtype=float)
+        return motions(start, end, "cubic", m=m, a=column("a"), b=column("b"), frame=frame)
+    return motions(start, end, "screw")
+
+
+class _Pending:
+    """Rows sampled but not yet handed on, and the chunk they make."""
+
+    def __init__(self, limit: int):
+        self.limit = limit
+        self.parts: list = []  # (job column, t, fields)
+        self.rows = 0
+
+    def add(self, job: list, t, fields: dict) -> bool:
+        """Add rows; True when they reach the limit and should be flushed."""
+        self.parts.append((job, t, fields))
+        self.rows += len(t)
+        return self.rows >= self.limit
+
+    def flush(self):
+        import numpy as np
+
+        from ..io.writers import Chunk
+
+        parts, self.parts, self.rows = self.parts, [], 0
+        fields = {}
+        for key in ("quat_wxyz", "trans", "matrices", "study"):
+            values = [f.get(key) for _, _, f in parts]
+            if values[0] is None:
+                fields[key] = None
+            else:
+                fields[key] = values[0] if len(values) == 1 else np.concatenate(values)
+        t = parts[0][1] if len(parts) == 1 else np.concatenate([p[1] for p in parts])
+        job = parts[0][0] if len(parts) == 1 else [name for p in parts for name in p[0]]
+        return Chunk(t, job=job, **fields)
+
+
+def _sample(batch, ts, representation: str) -> tuple[dict, object]:
+    """The samples of a :class:`MotionBatch` as rows ``(J·S, ...)`` of the chunk's fields, and
+    which jobs' samples are all finite ``(J,)``.
+
+    (A sum of numbers is finite only if every one of them is; it may overflow where they do
+    not, which only sends a job to the per-job path, where it turns out fine.)
+    """
+    import numpy as np
+
+    jobs = len(batch)
+    rows = jobs * len(ts)
+    if representation == "quat_trans":
+        quat, trans = batch.quat_trans(ts)
+        # quaternions are computed component by component, (4, J, S): handed on transposed
+        columns = np.moveaxis(quat, -1, 0)
+        total = columns.sum(axis=(0, 2)) + trans.sum(axis=(1, 2))
+        return {"quat_wxyz": columns.reshape(4, rows).T, "trans": trans.reshape(rows, 3)}, np.isfinite(total)
+    if representation == "matrices":
+        values = batch.matrices(ts)
+        total = values.sum(axis=(1, 2, 3))
+        return {"matrices": values.reshape(rows, 4, 4)}, np.isfinite(total)
+    values = batch.study(ts)
+    return {"study": values.reshape(rows, 8)}, np.isfinite(values.sum(axis=(1, 2)))
+
+
 def batch_chunks(
     jobs, mode: str, samples: int, representation: str, chunk_size: int, advance=None, report=None
 ):
@@ -38,62 +152,130 @@ def batch_chunks(
     done, ``report(name, choices)`` before each job is sampled. An :class:`A2bError` of a job
     (including a sample that overflows) is re-raised naming the job, and so is an
     :class:`A2bWarning`.
+
+    ``jobs`` is a :class:`a2b.io.readers.Jobs` (read block by block) or any iterable of
+    :class:`a2b.io.readers.Job`. The jobs of a block that :mod:`a2b.motions.batched` covers
+    are built and sampled together; the others, and any job that path leaves to the per-job
+    code, go through :func:`a2b.motion` one by one. The chunks, choices, warnings and errors
+    are the same either way.
     """
-    import numpy as np
+    from ..io import writers
+    from ..io.readers import Jobs, job_blocks
 
-    import a2b
-    from a2b.errors import A2bError, A2bWarning
-
-    from ..io.writers import CHUNK_SAMPLES, Chunk
-
-    parts: list = []  # (job name, chunk) not yet yielded
-    rows = 0  # their samples
+    pending = _Pending(writers.CHUNK_SAMPLES)
+    blocks = jobs.blocks(chunk_size) if isinstance(jobs, Jobs) else job_blocks(jobs, chunk_size)
+    first = 0  # index of the block's first job
     done = 0  # jobs finished since the last advance
-
-    def flush() -> Chunk:
-        nonlocal rows
-        rows = 0
-        fields = {}
-        for key in ("t", "quat_wxyz", "trans", "matrices", "study"):
-            values = [getattr(c, key) for _, c in parts]
-            fields[key] = None if values[0] is None else np.concatenate(values)
-        job_column = [name for name, c in parts for _ in range(len(c.t))]
-        parts.clear()
-        return Chunk(job=job_column, **fields)
-
-    for index, job in enumerate(jobs):
-        name = job.name if job.name is not None else str(index)
-        try:
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always", A2bWarning)
-                motion = a2b.motion(job.start, job.end, job.mode or mode, **job.parameters)
-            for warning in caught:  # say which job, then show as usual
-                warnings.warn_explicit(
-                    f"job {name}: {warning.message}",
-                    warning.category,
-                    warning.filename,
-                    warning.lineno,
-                )
-            if report is not None:
-                report(name, motion.choices)
-            for chunk in options.motion_chunks(motion, job.samples or samples, representation):
-                parts.append((name, chunk))
-                rows += len(chunk.t)
-                if rows >= CHUNK_SAMPLES:
-                    yield flush()
-        except A2bError as e:
-            raise type(e)(f"job {name}: {e}") from e
-        done += 1
-        if done == chunk_size:
-            if parts:
-                yield flush()
+    for block in blocks:
+        yield from _block_chunks(block, first, mode, samples, representation, pending, report)
+        first += len(block)
+        done += len(block)
+        if done >= chunk_size:
+            if pending.parts:
+                yield pending.flush()
             if advance is not None:
                 advance(done)
             done = 0
-    if parts:
-        yield flush()
+    if pending.parts:
+        yield pending.flush()
     if done and advance is not None:
         advance(done)
+
+
+def _block_chunks(block, first, mode, samples, representation, pending, report):
+    """The chunks that the jobs of one :class:`JobBlock` complete, in job order."""
+    import numpy as np
+
+    n = len(block)
+    names = [str(first + i) if name is None else name for i, name in enumerate(block.names)]
+    counts = [s or samples for s in block.samples]
+    modes = [m or mode for m in block.modes]
+    groups: dict = {}
+    for i in range(n):
+        if counts[i] <= pending.limit:
+            key = _group_key(modes[i], block.parameters[i])
+            if key is not None:
+                groups.setdefault(key, []).append(i)
+    source = [None] * n  # (group's batch, position) or None: on its own
+    for key, members in groups.items():
+        index = np.array(members)
+        batch = _bulk_motions(
+            key, block.start[index], block.end[index], [block.parameters[i] for i in members]
+        )
+        ok = batch.matrices_ok if representation == "matrices" else batch.ok
+        for position, i in enumerate(members):
+            if ok[position]:
+                source[i] = (batch, position)
+    i = 0
+    while i < n:
+        if source[i] is None:
+            yield from _one_job(block.job(i), names[i], mode, counts[i], representation, pending, report)
+            i += 1
+            continue
+        batch, position = source[i]
+        count = counts[i]
+        run = i + 1
+        while (
+            run < n
+            and source[run] is not None
+            and source[run][0] is batch
+            and counts[run] == count
+        ):
+            run += 1
+        ts = next(options.evenly_spaced(count, count))
+        while i < run:
+            take = min(run - i, -(-(pending.limit - pending.rows) // count))
+            piece = batch.take(slice(position, position + take))
+            fields, finite = _sample(piece, ts, representation)
+            good = take if finite.all() else int(np.argmin(finite))
+            if good:
+                if report is not None:
+                    for k in range(good):
+                        report(names[i + k], batch.choices[position + k])
+                if good < take:
+                    fields = {key: v[: good * count] for key, v in fields.items()}
+                job = [name for name in names[i : i + good] for _ in range(count)]
+                if pending.add(job, np.tile(ts, good), fields):
+                    yield pending.flush()
+            i += good
+            position += good
+            if good < take:  # its samples overflow: on its own, which says so
+                yield from _one_job(block.job(i), names[i], mode, count, representation, pending, report)
+                i += 1
+                position += 1
+
+
+def _one_job(job, name, mode, samples, representation, pending, report):
+    """Build, sample and add one job with :func:`a2b.motion`, as a single motion."""
+    import a2b
+    from a2b.errors import A2bError, A2bWarning
+
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", A2bWarning)
+            motion = a2b.motion(job.start, job.end, job.mode or mode, **job.parameters)
+        for warning in caught:  # say which job, then show as usual
+            warnings.warn_explicit(
+                f"job {name}: {warning.message}",
+                warning.category,
+                warning.filename,
+                warning.lineno,
+            )
+        if report is not None:
+            report(name, motion.choices)
+        for chunk in options.motion_chunks(motion, samples, representation):
+            if pending.add([name] * len(chunk.t), chunk.t, _fields(chunk)):
+                yield pending.flush()
+    except A2bError as e:
+        raise type(e)(f"job {name}: {e}") from e
+
+
+def _fields(chunk) -> dict:
+    return {
+        key: getattr(chunk, key)
+        for key in ("quat_wxyz", "trans", "matrices", "study")
+        if getattr(chunk, key) is not None
+    }
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)

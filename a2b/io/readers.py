@@ -40,7 +40,7 @@ import io
 import json
 import math
 import re
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from json.decoder import scanstring
@@ -52,8 +52,10 @@ from ..errors import A2bError, InputFileError
 
 __all__ = [
     "Job",
+    "JobBlock",
     "Jobs",
     "PoseList",
+    "job_blocks",
     "read_batch_csv",
     "read_csv",
     "read_jobs",
@@ -1001,17 +1003,113 @@ def read_motion_file(stream: IO, name: str | None = None) -> Job | PoseList:
 
 
 @dataclass
+class JobBlock:
+    """Consecutive jobs of a jobs file, validated, with their poses stacked.
+
+    ``start`` and ``end`` are robotics matrices ``(n, 4, 4)``; ``modes``, ``samples``,
+    ``parameters`` and ``names`` are lists of ``n`` entries, as the fields of :class:`Job`
+    (``None`` where the file does not give one).
+    """
+
+    start: np.ndarray
+    end: np.ndarray
+    modes: list
+    samples: list
+    parameters: list
+    names: list
+    _jobs: list | None = None
+
+    def __len__(self) -> int:
+        return len(self.modes)
+
+    def job(self, i: int) -> Job:
+        """Job ``i`` of the block (the object given to :meth:`from_jobs`, if any)."""
+        if self._jobs is not None:
+            return self._jobs[i]
+        return Job(
+            self.start[i], self.end[i], self.modes[i], self.samples[i], self.parameters[i], self.names[i]
+        )
+
+    def jobs(self) -> list[Job]:
+        """The jobs one by one."""
+        return [self.job(i) for i in range(len(self))]
+
+    @classmethod
+    def from_jobs(cls, jobs: list[Job]) -> JobBlock:
+        """A block of the given jobs. Poses that are no 4x4 arrays of numbers are stacked as
+        NaN; :meth:`job` still returns them as given."""
+        def stack(poses):
+            out = np.full((len(poses), 4, 4), np.nan)
+            for i, pose in enumerate(poses):
+                try:
+                    value = np.asarray(pose, dtype=float)
+                except (ValueError, TypeError):
+                    continue
+                if value.shape == (4, 4):
+                    out[i] = value
+            return out
+
+        return cls(
+            stack([j.start for j in jobs]),
+            stack([j.end for j in jobs]),
+            [j.mode for j in jobs],
+            [j.samples for j in jobs],
+            [j.parameters for j in jobs],
+            [j.name for j in jobs],
+            list(jobs),
+        )
+
+
+@dataclass
 class Jobs:
-    """The jobs of a jobs file: iterate to validate and get them one by one.
+    """The jobs of a jobs file: iterate to validate and get them one by one, or take them in
+    blocks (:meth:`blocks`); use one or the other.
 
     ``count`` is the number of jobs, or ``None`` for JSON Lines, which are read lazily.
     """
 
     count: int | None
     _iter: Iterator[Job]
+    _blocks: Callable[[int], Iterator[JobBlock]] | None = None
 
     def __iter__(self) -> Iterator[Job]:
         return self._iter
+
+    def blocks(self, size: int = 256) -> Iterator[JobBlock]:
+        """The jobs in :class:`JobBlock` s of ``size`` (the last may be shorter).
+
+        The same jobs and the same errors, raised at the same job, as iterating: a block holds
+        the jobs before an invalid one, and the error comes when the next block is asked for.
+        Blocks are read a block ahead at most, and validated in bulk: the poses of the
+        common forms (quaternion and translation, robotics matrix) with array operations,
+        anything else job by job.
+        """
+        if size < 1:
+            raise ValueError(f"a block holds at least one job, got size {size}")
+        if self._blocks is None:
+            return job_blocks(self._iter, size)
+        return self._blocks(size)
+
+
+def job_blocks(jobs: Iterable[Job], size: int) -> Iterator[JobBlock]:
+    """Any jobs in :class:`JobBlock` s of ``size``, taken from ``jobs`` a block at a time.
+
+    An :class:`A2bError` while taking them (a lazily validated file) comes after a block of
+    the jobs before it, as with :meth:`Jobs.blocks`.
+    """
+    block: list[Job] = []
+    try:
+        for job in jobs:
+            block.append(job)
+            if len(block) == size:
+                yield JobBlock.from_jobs(block)
+                block = []
+    except A2bError:
+        if block:
+            yield JobBlock.from_jobs(block)
+        raise
+    if block:
+        yield JobBlock.from_jobs(block)
 
 
 def read_jobs(stream: IO, name: str | None = None) -> Jobs:
@@ -1024,13 +1122,13 @@ def read_jobs(stream: IO, name: str | None = None) -> Jobs:
     name = _stream_name(stream, name)
     kind = _kind_from_suffix(name)
     if kind == "jsonl":
-        return Jobs(None, _json_lines(_lines(stream, name), name))
+        return _json_lines_jobs(_lines(stream, name), name)
     raw_start = stream.readline()
     first = raw_start.strip()
     if kind is None and first.startswith(b"{" if isinstance(first, bytes) else "{"):
         text_start = _decode(raw_start, name)
         if _is_complete_json(text_start):
-            return Jobs(None, _json_lines(_lines(stream, name, text_start), name))
+            return _json_lines_jobs(_lines(stream, name, text_start), name)
     doc = _parse(_decode(raw_start + stream.read(), name), name, kind)
     if not isinstance(doc.data, list):
         hint = " (one motion: a2b interpolate)" if isinstance(doc.data, dict) else ""
@@ -1043,7 +1141,25 @@ def read_jobs(stream: IO, name: str | None = None) -> Jobs:
         for i, item in enumerate(data):
             yield _job(doc, (i,), item, JOB_KEYS)
 
-    return Jobs(len(data), jobs())
+    def blocks(size: int) -> Iterator[JobBlock]:
+        builder = _BlockBuilder()
+        for i, item in enumerate(data):
+            fast = _fast_job(item)
+            if fast is None:
+                try:
+                    job = _job(doc, (i,), item, JOB_KEYS)
+                except InputFileError:
+                    yield from builder.finish()
+                    raise
+                builder.add_job(job, (doc, i, item))
+            else:
+                builder.add(fast, (doc, i, item))
+            if len(builder) == size:
+                yield from builder.finish()
+                builder = _BlockBuilder()
+        yield from builder.finish()
+
+    return Jobs(len(data), jobs(), blocks)
 
 
 def _is_complete_json(line: str) -> bool:
@@ -1064,18 +1180,352 @@ def _lines(stream: IO, name: str, first: str | None = None) -> Iterator[str]:
         yield _decode(raw, name, number)
 
 
+def _json_lines_jobs(lines: Iterator[str], name: str) -> Jobs:
+    return Jobs(
+        None, _json_lines(lines, name), lambda size: _json_lines_blocks(lines, name, size)
+    )
+
+
 def _json_lines(lines: Iterator[str], name: str) -> Iterator[Job]:
     index = 0
     for number, line in enumerate(lines, start=1):
         if not line.strip():
             continue
-        doc = _parse_json(line, name, first_line=number)
-        inner = doc.locate
-        doc.locate = lambda path, _inner=inner: _inner(path[1:])  # the job index is the line
-        yield _job(doc, (index,), doc.data, JOB_KEYS)
+        yield _json_line_job(line, name, number, index)
         index += 1
     if index == 0:
         raise InputFileError(f"{name}: no jobs: the file has no lines with a job")
+
+
+def _json_line_job(line: str, name: str, number: int, index: int) -> Job:
+    """The job on line ``number`` of a JSON Lines file, the ``index``-th job, fully checked."""
+    doc = _parse_json(line, name, first_line=number)
+    inner = doc.locate
+    doc.locate = lambda path, _inner=inner: _inner(path[1:])  # the job index is the line
+    return _job(doc, (index,), doc.data, JOB_KEYS)
+
+
+#: The C scanner of a plain decoder: no hooks, so duplicate keys are counted (see
+#: :func:`_json_lines_blocks`) and numbers that are no finite double arrive as inf or NaN,
+#: which the bulk check sends to the exact path.
+_JSON_SCAN = json.JSONDecoder().scan_once
+
+
+def _json_lines_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[JobBlock]:
+    """The jobs of JSON Lines in blocks: each line parsed by the plain C scanner and checked by
+    :func:`_fast_job`, or, if anything about it is unusual, by the exact path of
+    :func:`_json_lines` (which also makes every error message).
+
+    A duplicate key is caught by counting: the keys of the parsed mappings must number the
+    colons of the line (a duplicate drops a key; a colon inside a string sends the line to the
+    exact path, which finds duplicates itself).
+    """
+    builder = _BlockBuilder()
+    index = 0
+    for number, line in enumerate(lines, start=1):
+        if not line.strip():
+            continue
+        fast = None
+        try:
+            data, end = _JSON_SCAN(line, 0)
+        except Exception:  # noqa: BLE001 - any failure: the exact path says what is wrong
+            data = None
+        else:
+            if end == len(line) or not line[end:].strip(" \t\n\r"):
+                fast = _fast_job(data)
+                if fast is not None and fast[-1] != line.count(":"):
+                    fast = None
+        where = (line, name, number, index)
+        if fast is None:
+            try:
+                job = _json_line_job(line, name, number, index)
+            except InputFileError:
+                yield from builder.finish()
+                raise
+            builder.add_job(job, where)
+        else:
+            builder.add(fast, where)
+        index += 1
+        if len(builder) == size:
+            yield from builder.finish()
+            builder = _BlockBuilder()
+    yield from builder.finish()
+    if index == 0:
+        raise InputFileError(f"{name}: no jobs: the file has no lines with a job")
+
+
+def _exact_job(where: tuple) -> Job:
+    """The exact reading of a job that the bulk check did not accept: it raises the error."""
+    if isinstance(where[0], str):
+        return _json_line_job(*where)
+    doc, i, item = where
+    return _job(doc, (i,), item, JOB_KEYS)
+
+
+_JOB_KEY_SET = frozenset(JOB_KEYS)
+_NUMBER_TYPES = (int, float)
+
+
+def _fast_numbers(v, n: int, out: list) -> bool:
+    """Append the ``n`` numbers of list ``v`` to ``out``; False if ``v`` is anything else."""
+    if type(v) is not list or len(v) != n:
+        return False
+    for x in v:
+        if type(x) is not float and type(x) is not int:
+            return False
+    out.extend(v)
+    return True
+
+
+def _fast_mapping_numbers(v, keys: str, out: list) -> bool:
+    """``{w: .., x: .., ...}`` with exactly ``keys``: append their numbers in that order."""
+    if type(v) is not dict or len(v) != len(keys):
+        return False
+    for key in keys:
+        x = v.get(key)
+        if type(x) is not float and type(x) is not int:
+            return False
+        out.append(x)
+    return True
+
+
+def _fast_pose(v, out: list) -> int:
+    """The numbers of a pose in a common form, appended to ``out``; returns the count of keys
+    read (``-1``: not a common form, or anything unusual).
+
+    Quaternion forms append ``w, x, y, z, tx, ty, tz`` (7 numbers), a robotics matrix its 16.
+    """
+    if type(v) is not dict:
+        return -1
+    size = len(v)
+    if size == 1 or size == 2:
+        q = v.get("quaternion")
+        if q is not None:
+            keys = 1
+            if type(q) is dict:
+                if not _fast_mapping_numbers(q, "wxyz", out):
+                    return -1
+                keys += 4
+            elif not _fast_numbers(q, 4, out):
+                return -1
+        else:
+            q = v.get("quaternion_xyzw")
+            if q is None:
+                m = v.get("matrix")
+                if m is None or type(m) is not list or len(m) != 4:
+                    return -1
+                if size == 2 and v.get("layout") != "robotics":
+                    return -1
+                for row in m:
+                    if not _fast_numbers(row, 4, out):
+                        return -1
+                return size
+            xyzw: list = []
+            if not _fast_numbers(q, 4, xyzw):
+                return -1
+            out.append(xyzw[3])
+            out.extend(xyzw[:3])
+            keys = 1
+        if size == 1:
+            out.extend((0.0, 0.0, 0.0))
+            return keys
+        t = v.get("translation")
+        if type(t) is dict:
+            if not _fast_mapping_numbers(t, "xyz", out):
+                return -1
+            return keys + 4
+        if not _fast_numbers(t, 3, out):
+            return -1
+        return keys + 1
+    return -1
+
+
+def _fast_parameters(params: dict) -> dict | None:
+    """Parameters of the kinds that need no pose, checked as :func:`_parameters` does."""
+    out = {}
+    for key, value in params.items():
+        kind = PARAMETER_KINDS.get(key) if type(key) is str else None
+        if kind is None:
+            return None
+        if value is None:
+            continue
+        if kind == "number":
+            if type(value) is not float and type(value) is not int:
+                return None
+            value = float(value)
+            if not math.isfinite(value):
+                return None
+        elif type(kind) is int:
+            if type(value) is not list or len(value) != kind:
+                return None
+            numbers = []
+            for x in value:
+                if type(x) is not float and type(x) is not int:
+                    return None
+                x = float(x)
+                if not math.isfinite(x):
+                    return None
+                numbers.append(x)
+            value = tuple(numbers)
+        elif kind == "branch":
+            if type(value) not in _NUMBER_TYPES or value not in (1, -1):
+                return None
+            value = int(value)
+        elif kind == "bool":
+            if type(value) is not bool:
+                return None
+        elif kind == "frame":
+            if type(value) is not str or value not in FRAMES:
+                return None
+        else:  # a pose (through): the exact path
+            return None
+        out[key] = value
+    return out
+
+
+def _fast_job(v) -> tuple | None:
+    """A job mapping of the common forms, checked as :func:`_job` does, or ``None``.
+
+    Returns ``(numbers of start, numbers of end, mode, samples, parameters, name, keys)``
+    with the pose numbers of :func:`_fast_pose` (finiteness and the quaternion's norm are
+    checked in bulk later) and the count of mapping keys read.
+    """
+    try:
+        if type(v) is not dict:
+            return None
+        for key in v:
+            if key not in _JOB_KEY_SET:
+                return None
+        start: list = []
+        end: list = []
+        k_start = _fast_pose(v.get("start"), start)
+        k_end = _fast_pose(v.get("end"), end)
+        if k_start < 0 or k_end < 0:
+            return None
+        keys = len(v) + k_start + k_end
+        mode = v.get("mode")
+        if mode is not None and (type(mode) is not str or mode not in MODES):
+            return None
+        samples = v.get("samples")
+        if samples is not None and (
+            type(samples) is not int or not MIN_SAMPLES <= samples <= MAX_SAMPLES
+        ):
+            return None
+        name = v.get("name")
+        if name is not None:
+            if type(name) is int:
+                name = str(name)
+            elif type(name) is not str:
+                return None
+        params = v.get("parameters") or {}
+        if type(params) is not dict:
+            return None
+        if params:
+            keys += len(params)
+            params = _fast_parameters(params)
+            if params is None:
+                return None
+        return start, end, mode, samples, params, name, keys
+    except (TypeError, ValueError, OverflowError):
+        return None
+
+
+class _BlockBuilder:
+    """Collects the jobs of one block; :meth:`finish` validates the poses in bulk."""
+
+    def __init__(self):
+        self.quaternions: list = []  # 7 numbers per pose in quaternion form
+        self.matrices: list = []  # 16 numbers per pose in matrix form
+        self.slots: list = []  # per job: (start, end), each ("q" | "m", index) or a matrix
+        self.modes: list = []
+        self.samples: list = []
+        self.parameters: list = []
+        self.names: list = []
+        self.where: list = []  # per job: what _exact_job needs
+
+    def __len__(self) -> int:
+        return len(self.modes)
+
+    def _slot(self, numbers: list):
+        if len(numbers) == 7:
+            self.quaternions.extend(numbers)
+            return "q", len(self.quaternions) // 7 - 1
+        self.matrices.extend(numbers)
+        return "m", len(self.matrices) // 16 - 1
+
+    def add(self, fast: tuple, where) -> None:
+        start, end, mode, samples, params, name, _ = fast
+        self.slots.append((self._slot(start), self._slot(end)))
+        self._append(mode, samples, params, name, where)
+
+    def add_job(self, job: Job, where) -> None:
+        self.slots.append((job.start, job.end))
+        self._append(job.mode, job.samples, job.parameters, job.name, where)
+
+    def _append(self, mode, samples, params, name, where) -> None:
+        self.modes.append(mode)
+        self.samples.append(samples)
+        self.parameters.append(params)
+        self.names.append(name)
+        self.where.append(where)
+
+    def _poses(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Matrices of the quaternion and the matrix slots, and which of them are valid."""
+        from ..motions.batched import valid_poses
+        from ..poses import rotations_from_quaternions
+
+        try:
+            q = np.array(self.quaternions, dtype=float).reshape(-1, 7)
+            m = np.array(self.matrices, dtype=float).reshape(-1, 4, 4)
+        except OverflowError:  # an integer beyond the doubles: every job the exact way
+            return np.empty((0, 4, 4)), np.empty(0, bool), np.empty((0, 4, 4)), np.empty(0, bool)
+        with np.errstate(all="ignore"):
+            quat, trans = q[:, :4], q[:, 4:]
+            norm = np.linalg.norm(quat, axis=-1)
+            q_ok = np.isfinite(q).all(axis=1) & (norm != 0.0) & np.isfinite(norm)
+            q_mats = np.zeros((len(q), 4, 4))
+            q_mats[:, :3, :3] = rotations_from_quaternions(quat / norm[:, None])
+            q_mats[:, :3, 3] = trans
+            q_mats[:, 3, 3] = 1.0
+            m_ok = valid_poses(m)
+        return q_mats, q_ok, m, m_ok
+
+    def finish(self) -> Iterator[JobBlock]:
+        """Yield the block (if it has jobs); at a job the bulk check does not accept, read it
+        the exact way: if that raises, yield the jobs before it and raise."""
+        n = len(self)
+        if not n:
+            return
+        q_mats, q_ok, m_mats, m_ok = self._poses()
+        start = np.empty((n, 4, 4))
+        end = np.empty((n, 4, 4))
+        for i, slots in enumerate(self.slots):
+            good = True
+            for out, slot in zip((start, end), slots):
+                if type(slot) is tuple:
+                    kind, k = slot
+                    mats, ok = (q_mats, q_ok) if kind == "q" else (m_mats, m_ok)
+                    if k < len(ok) and ok[k]:
+                        out[i] = mats[k]
+                    else:
+                        good = False
+                else:
+                    out[i] = slot
+            if not good:
+                try:
+                    job = _exact_job(self.where[i])
+                except InputFileError:
+                    if i:
+                        yield self._block(start, end, i)
+                    raise
+                start[i], end[i] = job.start, job.end
+                self.parameters[i] = job.parameters  # the same as the fast path's
+        yield self._block(start, end, n)
+
+    def _block(self, start, end, n) -> JobBlock:
+        return JobBlock(
+            start[:n], end[:n], self.modes[:n], self.samples[:n], self.parameters[:n], self.names[:n]
+        )
 
 
 # --------------------------------------------------------------------------------------------
