@@ -228,14 +228,23 @@ def run_process(argv: list[str], rss: bool = False) -> tuple[float, int]:
 
 
 def interleaved_processes(
-    commands: dict[str, list[str]], repeats: int, rss: bool = False
+    commands: dict[str, list[str]],
+    repeats: int,
+    rss: bool = False,
+    outputs: dict[str, Path] | None = None,
 ) -> dict[str, tuple[float, int]]:
-    """Median wall-clock seconds and largest peak RSS of each command, repeats interleaved."""
+    """Median wall-clock seconds and largest peak RSS of each command, repeats interleaved.
+
+    ``outputs`` names each command's output file, removed (untimed) before every run, so that
+    a run writes a new file instead of first releasing the previous run's.
+    """
     times: dict[str, list[float]] = {name: [] for name in commands}
     peaks: dict[str, int] = {name: 0 for name in commands}
     names = list(commands)
     for round_ in range(repeats):
         for name in names[round_ % len(names) :] + names[: round_ % len(names)]:
+            if outputs and name in outputs:
+                outputs[name].unlink(missing_ok=True)
             seconds, peak = run_process(commands[name], rss)
             times[name].append(seconds)
             peaks[name] = max(peaks[name], peak)
@@ -544,7 +553,9 @@ def csv_section(n: int, repeats: int, work: Path, exe: list[str]) -> tuple[list[
         if importlib.util.find_spec(name) is not None:
             commands[name] = [sys.executable, "-c", script, str(columns), str(work / f"{name}.csv")]
     log(f"csv: {n} rows, {repeats} interleaved repeats of {', '.join(commands)}")
-    result = interleaved_processes(commands, repeats)
+    outputs = {"a2b": out_csv, "savetxt": ref_csv}
+    outputs.update({name: work / f"{name}.csv" for name in CSV_LIBRARIES})
+    result = interleaved_processes(commands, repeats, outputs=outputs)
     a2b_s, sav_s = result["a2b"][0], result["savetxt"][0]
 
     exact, mismatches, header = read_back(out_csv, expected)
@@ -633,7 +644,7 @@ def mcap_section(n: int, repeats: int, work: Path, exe: list[str]) -> list[Row]:
         str(out),
     ]
     log(f"mcap: {n} poses, {repeats} repeats")
-    seconds = interleaved_processes({"mcap": command}, repeats)["mcap"][0]
+    seconds = interleaved_processes({"mcap": command}, repeats, outputs={"mcap": out})["mcap"][0]
     counts = ""
     try:
         from mcap.reader import make_reader
@@ -696,7 +707,8 @@ def batch_section(
     out = work / "batch.csv"
     command = exe + ["batch", str(path), "--samples", str(samples), "-o", str(out)]
     log(f"batch: {jobs} jobs × {samples} samples, {repeats} repeats")
-    seconds, peak = interleaved_processes({"batch": command}, repeats, rss=True)["batch"]
+    result = interleaved_processes({"batch": command}, repeats, rss=True, outputs={"batch": out})
+    seconds, peak = result["batch"]
     with open(out, "rb") as f:
         lines = sum(1 for _ in f)
     out.unlink(missing_ok=True)
