@@ -23,7 +23,6 @@ from ..study import quat_mul
 from ._rational import blocked_product, make_table
 from .base import Motion
 
-
 #: Largest |tφ/2| for which the screw basis is computed from tan(tφ/2) (see ``_basis``); numpy's
 #: vectorised tan reduces larger arguments less accurately, and there np.sin is used.
 HALF_ANGLE_TAN = 1.6
