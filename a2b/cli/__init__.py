@@ -12,7 +12,13 @@ README.md; ``tests/test_readme.py`` checks that.
 from __future__ import annotations
 
 import importlib
+import os
 import warnings
+
+# One BLAS thread: a2b's products are small and blocked, and a second OpenBLAS thread stalls
+# badly when another process (the other end of a pipe) holds the other core. An explicit
+# setting in the environment wins.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import click
 

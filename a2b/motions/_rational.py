@@ -4,10 +4,13 @@ Every motion of a2b is written as ``basis(t) @ table``: a small ``(k, 14)`` coef
 times ``k`` basis functions of ``t``. The 14 columns are the twelve numerators of the 3x4 block
 ``[R | t]`` row by row, the denominator of the rotation entries and the denominator of the
 translation entries. Darboux and cubic motions are rational, so the basis is Bernstein's (the
-end poses are then the first and last coefficients, reproduced exactly); the screw motion uses
-``(1, t, sin tφ, 2 sin²(tφ/2))``.
+end poses are the first and last coefficients, reproduced to about one ulp); the screw motion
+uses ``(1, t, sin tφ, 2 sin²(tφ/2))``.
 
-Sampling is one matrix product and two divisions per sample, with no Python loop.
+Sampling divides the basis by the denominators and writes each block of samples with one
+single-threaded BLAS product straight into the output: no Python loop per sample, and a loop
+over blocks only. The last bits of a sample may depend on how many samples are taken at once
+(BLAS rounds a lone row differently from a full block).
 """
 
 from __future__ import annotations
