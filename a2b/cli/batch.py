@@ -46,6 +46,8 @@ def _group_key(mode, parameters: dict):
     allowed = _BATCHED_PARAMETERS.get(mode) if isinstance(mode, str) else None
     if allowed is None or not allowed.issuperset(parameters):
         return None
+    if not parameters:
+        return _NO_PARAMETERS[mode]
     if mode == "darboux":
         if parameters.get("long_way") not in (None, False):
             return None
@@ -61,6 +63,9 @@ def _group_key(mode, parameters: dict):
             return None
         return ("cubic", frame or "canonical", m is None)
     return ("screw",) if all(value is None for value in parameters.values()) else None
+
+
+_NO_PARAMETERS = {"darboux": ("darboux",), "cubic": ("cubic", "canonical", True), "screw": ("screw",)}
 
 
 def _is_number(value) -> bool:
@@ -191,58 +196,76 @@ def _block_chunks(block, first, mode, samples, representation, pending, report):
     counts = [s or samples for s in block.samples]
     modes = [m or mode for m in block.modes]
     groups: dict = {}
-    for i in range(n):
-        if counts[i] <= pending.limit:
-            key = _group_key(modes[i], block.parameters[i])
-            if key is not None:
-                groups.setdefault(key, []).append(i)
-    source = [None] * n  # (group's batch, position) or None: on its own
+    if not any(block.parameters) and len(set(modes)) == 1 and max(counts) <= pending.limit:
+        key = _group_key(modes[0], {})  # the common case: one group of every job
+        if key is not None:
+            groups[key] = range(n)
+    else:
+        for i in range(n):
+            if counts[i] <= pending.limit:
+                key = _group_key(modes[i], block.parameters[i])
+                if key is not None:
+                    groups.setdefault(key, []).append(i)
+    group = np.full(n, -1)  # the batch of each job, or -1: on its own
+    position = np.zeros(n, dtype=np.intp)  # its place in the batch
+    batches = []
     for key, members in groups.items():
-        index = np.array(members)
-        batch = _bulk_motions(
-            key, block.start[index], block.end[index], [block.parameters[i] for i in members]
-        )
+        index = np.asarray(members, dtype=np.intp)
+        start, end = (block.start, block.end) if len(index) == n else (block.start[index], block.end[index])
+        batch = _bulk_motions(key, start, end, [block.parameters[i] for i in members])
         ok = batch.matrices_ok if representation == "matrices" else batch.ok
-        for position, i in enumerate(members):
-            if ok[position]:
-                source[i] = (batch, position)
-    i = 0
-    while i < n:
-        if source[i] is None:
-            yield from _one_job(block.job(i), names[i], mode, counts[i], representation, pending, report)
-            i += 1
+        group[index[ok]] = len(batches)
+        position[index] = np.arange(len(index))
+        batches.append(batch)
+    count_of = np.array(counts)
+    # runs of consecutive jobs of one batch and one sample count
+    breaks = np.flatnonzero(
+        (group[1:] != group[:-1]) | (count_of[1:] != count_of[:-1]) | (group[1:] < 0)
+    ) + 1
+    for lo, hi in zip([0, *breaks.tolist()], [*breaks.tolist(), n]):
+        if group[lo] < 0:
+            for i in range(lo, hi):
+                yield from _one_job(
+                    block.job(i), names[i], mode, counts[i], representation, pending, report
+                )
             continue
-        batch, position = source[i]
-        count = counts[i]
-        run = i + 1
-        while (
-            run < n
-            and source[run] is not None
-            and source[run][0] is batch
-            and counts[run] == count
-        ):
-            run += 1
-        ts = next(options.evenly_spaced(count, count))
-        while i < run:
-            take = min(run - i, -(-(pending.limit - pending.rows) // count))
-            piece = batch.take(slice(position, position + take))
-            fields, finite = _sample(piece, ts, representation)
-            good = take if finite.all() else int(np.argmin(finite))
-            if good:
-                if report is not None:
-                    for k in range(good):
-                        report(names[i + k], batch.choices[position + k])
-                if good < take:
-                    fields = {key: v[: good * count] for key, v in fields.items()}
-                job = [name for name in names[i : i + good] for _ in range(count)]
-                if pending.add(job, np.tile(ts, good), fields):
-                    yield pending.flush()
-            i += good
-            position += good
-            if good < take:  # its samples overflow: on its own, which says so
-                yield from _one_job(block.job(i), names[i], mode, count, representation, pending, report)
-                i += 1
-                position += 1
+        yield from _run_chunks(
+            batches[group[lo]], int(position[lo]), names[lo:hi], counts[lo],
+            lambda i, lo=lo: block.job(lo + i), mode, representation, pending, report,
+        )  # fmt: skip
+
+
+def _run_chunks(batch, position, names, count, job, mode, representation, pending, report):
+    """Sample consecutive jobs of one batch, ``batch[position:]``, at ``count`` samples each.
+
+    Pieces end where the chunk is full, so that chunks are cut where the per-job loop cut
+    them. A job whose samples are not all finite goes through :func:`_one_job` (``job(i)``
+    gives it), which raises the error a single motion raises.
+    """
+    import numpy as np
+
+    ts = next(options.evenly_spaced(count, count))
+    i, n = 0, len(names)
+    while i < n:
+        take = min(n - i, -(-(pending.limit - pending.rows) // count))
+        piece = batch.take(slice(position + i, position + i + take))
+        fields, finite = _sample(piece, ts, representation)
+        good = take if finite.all() else int(np.argmin(finite))
+        if good:
+            if report is not None:
+                for k in range(good):
+                    report(names[i + k], piece.choices[k])
+            if good < take:
+                fields = {key: v[: good * count] for key, v in fields.items()}
+            column: list = []
+            for name in names[i : i + good]:
+                column += [name] * count
+            if pending.add(column, np.tile(ts, good), fields):
+                yield pending.flush()
+        i += good
+        if good < take:  # its samples overflow: on its own, which says so
+            yield from _one_job(job(i), names[i], mode, count, representation, pending, report)
+            i += 1
 
 
 def _one_job(job, name, mode, samples, representation, pending, report):
@@ -299,7 +322,7 @@ def _fields(chunk) -> dict:
 @click.option(
     "--chunk-size",
     type=click.IntRange(min=1),
-    default=256,
+    default=1024,
     show_default=True,
     help="Jobs sampled and written at a time; memory is bounded by one chunk.",
 )

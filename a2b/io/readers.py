@@ -1144,16 +1144,13 @@ def read_jobs(stream: IO, name: str | None = None) -> Jobs:
     def blocks(size: int) -> Iterator[JobBlock]:
         builder = _BlockBuilder()
         for i, item in enumerate(data):
-            fast = _fast_job(item)
-            if fast is None:
+            if not builder.add_fast(item, None, (doc, i, item)):
                 try:
                     job = _job(doc, (i,), item, JOB_KEYS)
                 except InputFileError:
                     yield from builder.finish()
                     raise
                 builder.add_job(job, (doc, i, item))
-            else:
-                builder.add(fast, (doc, i, item))
             if len(builder) == size:
                 yield from builder.finish()
                 builder = _BlockBuilder()
@@ -1213,7 +1210,7 @@ _JSON_SCAN = json.JSONDecoder().scan_once
 
 def _json_lines_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[JobBlock]:
     """The jobs of JSON Lines in blocks: each line parsed by the plain C scanner and checked by
-    :func:`_fast_job`, or, if anything about it is unusual, by the exact path of
+    :meth:`_BlockBuilder.add_fast`, or, if anything about it is unusual, by the exact path of
     :func:`_json_lines` (which also makes every error message).
 
     A duplicate key is caught by counting: the keys of the parsed mappings must number the
@@ -1222,31 +1219,38 @@ def _json_lines_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[J
     """
     builder = _BlockBuilder()
     index = 0
-    for number, line in enumerate(lines, start=1):
+    scan = _JSON_SCAN
+    number = 0
+    lines = iter(lines)
+    while True:
+        try:
+            line = next(lines)
+        except StopIteration:
+            break
+        except InputFileError:  # a line that is no UTF-8: after the jobs before it
+            yield from builder.finish()
+            raise
+        number += 1
         if not line.strip():
             continue
-        fast = None
-        try:
-            data, end = _JSON_SCAN(line, 0)
-        except Exception:  # noqa: BLE001 - any failure: the exact path says what is wrong
-            data = None
-        else:
-            if end == len(line) or not line[end:].strip(" \t\n\r"):
-                fast = _fast_job(data)
-                if fast is not None and fast[-1] != line.count(":"):
-                    fast = None
         where = (line, name, number, index)
-        if fast is None:
+        try:
+            data, end = scan(line, 0)
+        except Exception:  # noqa: BLE001 - any failure: the exact path says what is wrong
+            fast = False
+        else:
+            fast = (end == len(line) or not line[end:].strip(" \t\n\r")) and builder.add_fast(
+                data, line.count(":"), where
+            )
+        if not fast:
             try:
                 job = _json_line_job(line, name, number, index)
             except InputFileError:
                 yield from builder.finish()
                 raise
             builder.add_job(job, where)
-        else:
-            builder.add(fast, where)
         index += 1
-        if len(builder) == size:
+        if len(builder.modes) == size:
             yield from builder.finish()
             builder = _BlockBuilder()
     yield from builder.finish()
@@ -1263,80 +1267,60 @@ def _exact_job(where: tuple) -> Job:
 
 
 _JOB_KEY_SET = frozenset(JOB_KEYS)
-_NUMBER_TYPES = (int, float)
+_NUMBER_TYPES = frozenset({int, float})
+_ZERO_TRANSLATION = (0.0, 0.0, 0.0)
 
 
-def _fast_numbers(v, n: int, out: list) -> bool:
-    """Append the ``n`` numbers of list ``v`` to ``out``; False if ``v`` is anything else."""
-    if type(v) is not list or len(v) != n:
-        return False
-    for x in v:
-        if type(x) is not float and type(x) is not int:
-            return False
-    out.extend(v)
-    return True
+def _fast_pose(v, q: list, m: list) -> int:
+    """Append the numbers of a pose in a common form to ``q`` (quaternion forms: ``w, x, y, z,
+    tx, ty, tz``) or ``m`` (a robotics matrix: its 16 entries); return the count of mapping
+    keys read, or ``-1`` for any other form (the caller then undoes the appends).
 
-
-def _fast_mapping_numbers(v, keys: str, out: list) -> bool:
-    """``{w: .., x: .., ...}`` with exactly ``keys``: append their numbers in that order."""
-    if type(v) is not dict or len(v) != len(keys):
-        return False
-    for key in keys:
-        x = v.get(key)
-        if type(x) is not float and type(x) is not int:
-            return False
-        out.append(x)
-    return True
-
-
-def _fast_pose(v, out: list) -> int:
-    """The numbers of a pose in a common form, appended to ``out``; returns the count of keys
-    read (``-1``: not a common form, or anything unusual).
-
-    Quaternion forms append ``w, x, y, z, tx, ty, tz`` (7 numbers), a robotics matrix its 16.
+    Only the structure is checked here: that each number is an int or a float, and finite,
+    is checked in bulk by :meth:`_BlockBuilder.finish`.
     """
     if type(v) is not dict:
         return -1
     size = len(v)
-    if size == 1 or size == 2:
-        q = v.get("quaternion")
-        if q is not None:
+    if size > 2:
+        return -1
+    quat = v.get("quaternion")
+    if quat is not None:
+        if type(quat) is list and len(quat) == 4:
+            q += quat
             keys = 1
-            if type(q) is dict:
-                if not _fast_mapping_numbers(q, "wxyz", out):
-                    return -1
-                keys += 4
-            elif not _fast_numbers(q, 4, out):
-                return -1
+        elif type(quat) is dict and len(quat) == 4:
+            q += (quat.get("w"), quat.get("x"), quat.get("y"), quat.get("z"))
+            keys = 5
         else:
-            q = v.get("quaternion_xyzw")
-            if q is None:
-                m = v.get("matrix")
-                if m is None or type(m) is not list or len(m) != 4:
-                    return -1
-                if size == 2 and v.get("layout") != "robotics":
-                    return -1
-                for row in m:
-                    if not _fast_numbers(row, 4, out):
-                        return -1
-                return size
-            xyzw: list = []
-            if not _fast_numbers(q, 4, xyzw):
-                return -1
-            out.append(xyzw[3])
-            out.extend(xyzw[:3])
-            keys = 1
-        if size == 1:
-            out.extend((0.0, 0.0, 0.0))
-            return keys
-        t = v.get("translation")
-        if type(t) is dict:
-            if not _fast_mapping_numbers(t, "xyz", out):
-                return -1
-            return keys + 4
-        if not _fast_numbers(t, 3, out):
             return -1
+    else:
+        quat = v.get("quaternion_xyzw")
+        if quat is None:
+            rows = v.get("matrix")
+            if type(rows) is not list or len(rows) != 4:
+                return -1
+            if size == 2 and v.get("layout") != "robotics":
+                return -1
+            for row in rows:
+                if type(row) is not list or len(row) != 4:
+                    return -1
+                m += row
+            return size
+        if type(quat) is not list or len(quat) != 4:
+            return -1
+        q += (quat[3], quat[0], quat[1], quat[2])  # ROS order is converted here, as in _pose
+        keys = 1
+    if size == 1:
+        q += _ZERO_TRANSLATION
+        return keys
+    t = v.get("translation")
+    if type(t) is list and len(t) == 3:
+        q += t
         return keys + 1
+    if type(t) is dict and len(t) == 3:
+        q += (t.get("x"), t.get("y"), t.get("z"))
+        return keys + 4
     return -1
 
 
@@ -1350,7 +1334,7 @@ def _fast_parameters(params: dict) -> dict | None:
         if value is None:
             continue
         if kind == "number":
-            if type(value) is not float and type(value) is not int:
+            if type(value) not in _NUMBER_TYPES:
                 return None
             value = float(value)
             if not math.isfinite(value):
@@ -1360,7 +1344,7 @@ def _fast_parameters(params: dict) -> dict | None:
                 return None
             numbers = []
             for x in value:
-                if type(x) is not float and type(x) is not int:
+                if type(x) not in _NUMBER_TYPES:
                     return None
                 x = float(x)
                 if not math.isfinite(x):
@@ -1383,26 +1367,70 @@ def _fast_parameters(params: dict) -> dict | None:
     return out
 
 
-def _fast_job(v) -> tuple | None:
-    """A job mapping of the common forms, checked as :func:`_job` does, or ``None``.
+class _BlockBuilder:
+    """Collects the jobs of one block; :meth:`finish` validates the poses in bulk."""
 
-    Returns ``(numbers of start, numbers of end, mode, samples, parameters, name, keys)``
-    with the pose numbers of :func:`_fast_pose` (finiteness and the quaternion's norm are
-    checked in bulk later) and the count of mapping keys read.
-    """
-    try:
-        if type(v) is not dict:
-            return None
-        for key in v:
-            if key not in _JOB_KEY_SET:
-                return None
-        start: list = []
-        end: list = []
-        k_start = _fast_pose(v.get("start"), start)
-        k_end = _fast_pose(v.get("end"), end)
-        if k_start < 0 or k_end < 0:
-            return None
-        keys = len(v) + k_start + k_end
+    def __init__(self):
+        self.q: list = []  # 7 numbers per pose in a quaternion form
+        self.m: list = []  # 16 numbers per pose in matrix form
+        self.start: list = []  # per job: quaternion slot k >= 0, matrix slot ~k < 0, or None
+        self.end: list = []
+        self.exact: dict = {}  # job -> Job, for jobs read the exact way
+        self.modes: list = []
+        self.samples: list = []
+        self.parameters: list = []
+        self.names: list = []
+        self.where: list = []  # per job: what _exact_job needs
+
+    def __len__(self) -> int:
+        return len(self.modes)
+
+    def _slot(self, nq: int, nm: int) -> int:
+        return nq // 7 if len(self.q) > nq else ~(nm // 16)
+
+    def add_fast(self, v, colons: int | None, where) -> bool:
+        """Add the job mapping ``v`` if it has a common form, checked as :func:`_job` checks it
+        (the numbers in bulk later); False, adding nothing, for anything else.
+
+        ``colons``: the count of colons in the JSON text of ``v``, which must equal the count
+        of keys (no duplicates), or ``None`` when the parser has checked that.
+        """
+        try:
+            if type(v) is not dict:
+                return False
+            for key in v:
+                if key not in _JOB_KEY_SET:
+                    return False
+            q, m = self.q, self.m
+            nq, nm = len(q), len(m)
+            keys = _fast_pose(v.get("start"), q, m)
+            if keys >= 0:
+                start = self._slot(nq, nm)
+                nq2, nm2 = len(q), len(m)
+                more = _fast_pose(v.get("end"), q, m)
+                if more >= 0:
+                    end = self._slot(nq2, nm2)
+                    keys += more + len(v)
+                    job = self._job_fields(v, keys, colons)
+                    if job is not None:
+                        mode, samples, params, name = job
+                        self.start.append(start)
+                        self.end.append(end)
+                        self.modes.append(mode)
+                        self.samples.append(samples)
+                        self.parameters.append(params)
+                        self.names.append(name)
+                        self.where.append(where)
+                        return True
+            del q[nq:], m[nm:]
+            return False
+        except (TypeError, ValueError, OverflowError):
+            del self.q[nq:], self.m[nm:]
+            return False
+
+    @staticmethod
+    def _job_fields(v: dict, keys: int, colons: int | None):
+        """``(mode, samples, parameters, name)`` of a job mapping, or ``None``."""
         mode = v.get("mode")
         if mode is not None and (type(mode) is not str or mode not in MODES):
             return None
@@ -1417,7 +1445,7 @@ def _fast_job(v) -> tuple | None:
                 name = str(name)
             elif type(name) is not str:
                 return None
-        params = v.get("parameters") or {}
+        params = v.get("parameters") or {}  # as _job: a falsy value means none
         if type(params) is not dict:
             return None
         if params:
@@ -1425,70 +1453,40 @@ def _fast_job(v) -> tuple | None:
             params = _fast_parameters(params)
             if params is None:
                 return None
-        return start, end, mode, samples, params, name, keys
-    except (TypeError, ValueError, OverflowError):
-        return None
-
-
-class _BlockBuilder:
-    """Collects the jobs of one block; :meth:`finish` validates the poses in bulk."""
-
-    def __init__(self):
-        self.quaternions: list = []  # 7 numbers per pose in quaternion form
-        self.matrices: list = []  # 16 numbers per pose in matrix form
-        self.slots: list = []  # per job: (start, end), each ("q" | "m", index) or a matrix
-        self.modes: list = []
-        self.samples: list = []
-        self.parameters: list = []
-        self.names: list = []
-        self.where: list = []  # per job: what _exact_job needs
-
-    def __len__(self) -> int:
-        return len(self.modes)
-
-    def _slot(self, numbers: list):
-        if len(numbers) == 7:
-            self.quaternions.extend(numbers)
-            return "q", len(self.quaternions) // 7 - 1
-        self.matrices.extend(numbers)
-        return "m", len(self.matrices) // 16 - 1
-
-    def add(self, fast: tuple, where) -> None:
-        start, end, mode, samples, params, name, _ = fast
-        self.slots.append((self._slot(start), self._slot(end)))
-        self._append(mode, samples, params, name, where)
+        if colons is not None and keys != colons:
+            return None
+        return mode, samples, params, name
 
     def add_job(self, job: Job, where) -> None:
-        self.slots.append((job.start, job.end))
-        self._append(job.mode, job.samples, job.parameters, job.name, where)
-
-    def _append(self, mode, samples, params, name, where) -> None:
-        self.modes.append(mode)
-        self.samples.append(samples)
-        self.parameters.append(params)
-        self.names.append(name)
+        """Add a job read the exact way."""
+        self.exact[len(self.modes)] = job
+        self.start.append(None)
+        self.end.append(None)
+        self.modes.append(job.mode)
+        self.samples.append(job.samples)
+        self.parameters.append(job.parameters)
+        self.names.append(job.name)
         self.where.append(where)
 
-    def _poses(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Matrices of the quaternion and the matrix slots, and which of them are valid."""
+    def _poses(self) -> tuple[np.ndarray, np.ndarray]:
+        """The matrices of every slot, quaternion slots first, and which of them are valid."""
         from ..motions.batched import valid_poses
         from ..poses import rotations_from_quaternions
 
-        try:
-            q = np.array(self.quaternions, dtype=float).reshape(-1, 7)
-            m = np.array(self.matrices, dtype=float).reshape(-1, 4, 4)
-        except OverflowError:  # an integer beyond the doubles: every job the exact way
-            return np.empty((0, 4, 4)), np.empty(0, bool), np.empty((0, 4, 4)), np.empty(0, bool)
+        q, m = _numbers_of(self.q, 7), _numbers_of(self.m, 16)
+        q_ok, m_ok = q[1], m[1]
+        q, m = q[0].reshape(-1, 7), m[0].reshape(-1, 4, 4)
         with np.errstate(all="ignore"):
-            quat, trans = q[:, :4], q[:, 4:]
+            quat = q[:, :4]
             norm = np.linalg.norm(quat, axis=-1)
-            q_ok = np.isfinite(q).all(axis=1) & (norm != 0.0) & np.isfinite(norm)
-            q_mats = np.zeros((len(q), 4, 4))
-            q_mats[:, :3, :3] = rotations_from_quaternions(quat / norm[:, None])
-            q_mats[:, :3, 3] = trans
-            q_mats[:, 3, 3] = 1.0
-            m_ok = valid_poses(m)
-        return q_mats, q_ok, m, m_ok
+            q_ok &= np.isfinite(q).all(axis=1) & (norm != 0.0) & np.isfinite(norm)
+            mats = np.zeros((len(q) + len(m), 4, 4))
+            mats[: len(q), :3, :3] = rotations_from_quaternions(quat / norm[:, None])
+            mats[: len(q), :3, 3] = q[:, 4:]
+            mats[: len(q), 3, 3] = 1.0
+            mats[len(q) :] = m
+            m_ok &= valid_poses(m)
+        return mats, np.concatenate([q_ok, m_ok])
 
     def finish(self) -> Iterator[JobBlock]:
         """Yield the block (if it has jobs); at a job the bulk check does not accept, read it
@@ -1496,36 +1494,53 @@ class _BlockBuilder:
         n = len(self)
         if not n:
             return
-        q_mats, q_ok, m_mats, m_ok = self._poses()
-        start = np.empty((n, 4, 4))
-        end = np.empty((n, 4, 4))
-        for i, slots in enumerate(self.slots):
-            good = True
-            for out, slot in zip((start, end), slots):
-                if type(slot) is tuple:
-                    kind, k = slot
-                    mats, ok = (q_mats, q_ok) if kind == "q" else (m_mats, m_ok)
-                    if k < len(ok) and ok[k]:
-                        out[i] = mats[k]
-                    else:
-                        good = False
-                else:
-                    out[i] = slot
-            if not good:
+        mats, ok = self._poses()
+        quaternions = len(self.q) // 7
+        ok = np.append(ok, False)  # where the jobs read the exact way point
+
+        def index(slots):
+            arr = np.array([len(mats) if s is None else s for s in slots], dtype=np.intp)
+            return np.where(arr >= 0, arr, quaternions + ~arr)
+
+        start_at, end_at = index(self.start), index(self.end)
+        mats = np.concatenate([mats, np.zeros((1, 4, 4))])
+        start, end = mats[start_at], mats[end_at]
+        for i in np.flatnonzero(~(ok[start_at] & ok[end_at])).tolist():
+            job = self.exact.get(i)
+            if job is None:
                 try:
                     job = _exact_job(self.where[i])
                 except InputFileError:
                     if i:
                         yield self._block(start, end, i)
                     raise
-                start[i], end[i] = job.start, job.end
-                self.parameters[i] = job.parameters  # the same as the fast path's
+            start[i], end[i] = job.start, job.end
         yield self._block(start, end, n)
 
     def _block(self, start, end, n) -> JobBlock:
         return JobBlock(
             start[:n], end[:n], self.modes[:n], self.samples[:n], self.parameters[:n], self.names[:n]
         )
+
+
+def _numbers_of(values: list, width: int) -> tuple[np.ndarray, np.ndarray]:
+    """``values`` as a float array, and which groups of ``width`` are all ints and floats.
+
+    A group with anything else (a bool, a string, ``None``, a YAML number that is no finite
+    double) is zeroed and marked, as are all groups if an integer is beyond the doubles.
+    """
+    groups = len(values) // width
+    ok = np.ones(groups, dtype=bool)
+    if not _NUMBER_TYPES.issuperset(map(type, values)):
+        values = list(values)
+        for g in range(groups):
+            if not _NUMBER_TYPES.issuperset(map(type, values[g * width : (g + 1) * width])):
+                ok[g] = False
+                values[g * width : (g + 1) * width] = [0.0] * width
+    try:
+        return np.array(values, dtype=float), ok
+    except OverflowError:  # an integer beyond the doubles
+        return np.zeros(len(values)), np.zeros(groups, dtype=bool)
 
 
 # --------------------------------------------------------------------------------------------

@@ -328,7 +328,12 @@ class MotionBatch:
         return _screw_basis(self.frames.phi, ts)
 
     def _quats(self, ts: np.ndarray) -> np.ndarray:
-        """``p(t)`` of every job, ``(J, S, 4)``, not normalised."""
+        """``p(t)`` of every job, ``(J, S, 4)``, not normalised.
+
+        Darboux and cubic: ``(1−t) q0 + t q1``, computed component by component (a view of a
+        ``(4, J, S)`` array, whose inner loops run over the samples). Screw: one ``(S, 2) @
+        (2, 4)`` product per job, as ``ScrewMotion._quats``.
+        """
         ends = self.quat_ends
         if self.mode == "screw":
             half = np.empty((2, len(self), len(ts)))
@@ -336,20 +341,21 @@ class MotionBatch:
             np.cos(half[1], out=half[0])
             np.sin(half[1], out=half[1])
             return np.matmul(np.moveaxis(half, 0, -1), ends)
-        out = np.multiply((1.0 - ts)[None, :, None], ends[:, None, 0])
-        out += np.multiply(ts[None, :, None], ends[:, None, 1])
-        return out
+        columns = np.moveaxis(ends, -1, 0)  # (4, J, 2)
+        out = np.multiply(1.0 - ts, columns[:, :, 0, None])
+        out += np.multiply(ts, columns[:, :, 1, None])
+        return np.moveaxis(out, 0, -1)
 
     def quat_trans(self, ts) -> tuple[np.ndarray, np.ndarray]:
         """Unit quaternions ``(J, S, 4)`` and translations ``(J, S, 3)`` at ``ts`` ``(S,)``.
 
         As :meth:`a2b.motions.base.Motion.quat_trans` for each job (``ts`` in ``[0, 1]``).
+        The quaternions of darboux and cubic motions are a view of a ``(4, J, S)`` array.
         """
         ts = _check_ts(ts)
         with np.errstate(all="ignore"):
             quat = self._quats(ts)
-            flat = quat.reshape(-1, 4)
-            flat /= np.sqrt(np.einsum("ij,ij->i", flat, flat))[:, None]
+            _normalise(quat)
             basis = self._basis(ts)
             coefficients = self.table[:, :, TRANS_COLS]
             if self.mode == "screw":
@@ -399,7 +405,42 @@ class MotionBatch:
     def study(self, ts) -> np.ndarray:
         """Unit Study parameters ``(J, S, 8)`` at ``ts``, as ``Motion.study`` per job."""
         quat, trans = self.quat_trans(ts)
-        return study_from_quat_trans(quat, trans)
+        with np.errstate(all="ignore"):
+            return study_from_quat_trans(quat, trans)
+
+
+def _normalise(quat: np.ndarray) -> None:
+    """Divide quaternions ``(J, S, 4)`` by their norms in place, as ``Motion.quat_trans`` does
+    with ``np.einsum("ij,ij->i", q, q)``.
+
+    On a ``(4, J, S)`` view the squared norm is summed component by component in the order
+    that einsum sums each row's four squares (checked once, see :func:`_einsum_order`); if
+    einsum's order is another, the rows are copied and summed by einsum itself.
+    """
+    columns = np.moveaxis(quat, -1, 0)
+    if quat.flags.c_contiguous or not _einsum_order():
+        flat = quat.reshape(-1, 4)
+        norm = np.sqrt(np.einsum("ij,ij->i", flat, flat)).reshape(quat.shape[:-1])
+    else:
+        square = columns * columns
+        norm = np.sqrt((square[0] + square[2]) + (square[1] + square[3]))
+    columns /= norm
+
+
+_EINSUM_ORDER: list = []
+
+
+def _einsum_order() -> bool:
+    """Whether ``np.einsum("ij,ij->i", q, q)`` sums ``(q0² + q2²) + (q1² + q3²)`` here."""
+    if not _EINSUM_ORDER:
+        rng = np.random.default_rng(0)
+        q = rng.normal(size=(512, 4)) * np.exp(rng.normal(size=(512, 4)) * 4)
+        square = q * q
+        pairs = (square[:, 0] + square[:, 2]) + (square[:, 1] + square[:, 3])
+        _EINSUM_ORDER.append(
+            all(np.array_equal(np.einsum("ij,ij->i", q[:n], q[:n]), pairs[:n]) for n in (1, 101, 512))
+        )
+    return _EINSUM_ORDER[0]
 
 
 def _check_ts(ts) -> np.ndarray:
