@@ -120,7 +120,7 @@ def check_batch(pairs, mode, params_of, **batch_params):
         if not batch.ok[j]:
             continue
         label = f"{mode} job {j} ({what})"
-        assert batch.choices[j] == motion.choices, label
+        assert list(batch.choices[j]) == motion.choices, label
         assert_close(batch.table[j], motion.table, label + " table")
         q1, t1 = motion.quat_trans(TS)
         assert_close(quat[j], q1, label + " quaternions")
@@ -203,7 +203,7 @@ def test_the_frame_choices_are_those_of_screw_frame(rng):
         if not frames.ok[j]:
             continue
         frame = screw_frame(check_matrices(a), check_matrices(b))
-        assert frames.choices[j] == frame.choices, what
+        assert list(frames.choices[j]) == frame.choices, what
         for name in ("phi", "d", "axis_direction", "axis_point", "r", "p_start", "p_end", "h_start",
                      "h_end", "t_start", "t_end", "t_disp"):  # fmt: skip
             np.testing.assert_array_equal(getattr(frames, name)[j], getattr(frame, name), err_msg=what)
@@ -222,7 +222,7 @@ def test_half_turn_rule_chooses_like_the_single_frame():
     assert frames.ok.all()
     for j, (a, b) in enumerate(cases):
         frame = screw_frame(a, b)
-        assert frames.choices[j] == frame.choices
+        assert list(frames.choices[j]) == frame.choices
         assert frames.phi[j] == frame.phi == math.pi
         assert frames.d[j] == frame.d and frames.d[j] >= 0
         np.testing.assert_array_equal(frames.axis_direction[j], frame.axis_direction)

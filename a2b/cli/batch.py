@@ -72,7 +72,7 @@ def _is_number(value) -> bool:
     return type(value) is float or type(value) is int
 
 
-def _bulk_motions(key, start, end, parameters: list):
+def _bulk_motions(key, start, end, parameters: list, checked: bool):
     """The :class:`MotionBatch` of one group of jobs."""
     import numpy as np
 
@@ -82,21 +82,40 @@ def _bulk_motions(key, start, end, parameters: list):
         return np.array([0.0 if p.get(name) is None else p[name] for p in parameters], dtype=float)
 
     if key[0] == "darboux":
-        return motions(start, end, "darboux", delta=column("delta"))
+        return motions(start, end, "darboux", delta=column("delta"), checked=checked)
     if key[0] == "cubic":
         _, frame, default_m = key
         m = None if default_m else np.array([p["m"] for p in parameters], dtype=float)
-        return motions(start, end, "cubic", m=m, a=column("a"), b=column("b"), frame=frame)
-    return motions(start, end, "screw")
+        return motions(
+            start, end, "cubic", m=m, a=column("a"), b=column("b"), frame=frame, checked=checked
+        )
+    return motions(start, end, "screw", checked=checked)
 
 
 class _Pending:
-    """Rows sampled but not yet handed on, and the chunk they make."""
+    """Rows sampled but not yet handed on, and the chunk they make.
 
-    def __init__(self, limit: int):
+    A chunk ends once it holds ``limit`` rows (``CHUNK_SAMPLES``), and before a job that would
+    take it past ``balance`` rows: one task of the writer's workers (``TASK`` numbers). Chunks
+    of about one task keep the work of the main process (reading, building and sampling the
+    next chunk) in small steps between those of the writer, so that its helper processes are
+    never left waiting for long.
+    """
+
+    def __init__(self, limit: int, balance: int):
         self.limit = limit
+        self.balance = balance
         self.parts: list = []  # (job column, t, fields)
         self.rows = 0
+
+    def full_before(self, rows: int) -> bool:
+        """Whether the chunk should end before ``rows`` more rows."""
+        return self.rows > 0 and self.rows + rows > self.balance
+
+    def fits(self, count: int) -> int:
+        """How many more jobs of ``count`` rows the chunk takes (at least one)."""
+        to_limit = -(-(self.limit - self.rows) // count)
+        return max(1, min(to_limit, (self.balance - self.rows) // count))
 
     def add(self, job: list, t, fields: dict) -> bool:
         """Add rows; True when they reach the limit and should be flushed."""
@@ -122,6 +141,70 @@ class _Pending:
         return Chunk(t, job=job, **fields)
 
 
+#: Columns of each representation's CSV layout (without the job column).
+_COLUMNS = {"quat_trans": 8, "matrices": 13, "study": 9}
+#: Jobs read at a time between chunks (see :class:`_Reader`).
+READ_STEP = 128
+
+
+class _Reader:
+    """The jobs, read :data:`READ_STEP` at a time and handed out in blocks of ``size``.
+
+    Between chunks the caller reads one step ahead (:meth:`step`), so that reading the next
+    block is spread over the chunks of this one. An error while reading is raised once the
+    jobs before it have been handed out.
+    """
+
+    def __init__(self, jobs, size: int):
+        from ..io.readers import Jobs, job_blocks
+
+        step = min(READ_STEP, size)
+        self._blocks = jobs.blocks(step) if isinstance(jobs, Jobs) else job_blocks(jobs, step)
+        self.size = size
+        self.buffer: list = []  # JobBlocks read ahead
+        self.count = 0  # their jobs
+        self.error = None
+        self.done = False
+
+    def step(self) -> bool:
+        """Read one step ahead, unless a block's worth is read; False if nothing was read."""
+        if self.done or self.error is not None or self.count >= self.size:
+            return False
+        try:
+            block = next(self._blocks)
+        except StopIteration:
+            self.done = True
+            return False
+        except Exception as e:  # noqa: BLE001 - raised in turn, after the jobs before it
+            self.error = e
+            return False
+        self.buffer.append(block)
+        self.count += len(block)
+        return True
+
+    def take(self):
+        """The next block of at most ``size`` jobs, or ``None`` after the last."""
+        from ..io.readers import JobBlock
+
+        while self.step():
+            pass
+        if not self.buffer:
+            if self.error is not None:
+                error, self.error = self.error, None
+                raise error
+            return None
+        blocks, taken = [], 0
+        while self.buffer and taken < self.size:
+            block = self.buffer.pop(0)
+            if taken + len(block) > self.size:  # the rest goes back
+                block, rest = block.split(self.size - taken)
+                self.buffer.insert(0, rest)
+            blocks.append(block)
+            taken += len(block)
+        self.count -= taken
+        return JobBlock.concatenate(blocks)
+
+
 def _sample(batch, ts, representation: str) -> tuple[dict, object]:
     """The samples of a :class:`MotionBatch` as rows ``(J·S, ...)`` of the chunk's fields, and
     which jobs' samples are all finite ``(J,)``.
@@ -137,14 +220,26 @@ def _sample(batch, ts, representation: str) -> tuple[dict, object]:
         quat, trans = batch.quat_trans(ts)
         # quaternions are computed component by component, (4, J, S): handed on transposed
         columns = np.moveaxis(quat, -1, 0)
-        total = columns.sum(axis=(0, 2)) + trans.sum(axis=(1, 2))
-        return {"quat_wxyz": columns.reshape(4, rows).T, "trans": trans.reshape(rows, 3)}, np.isfinite(total)
+        fields = {"quat_wxyz": columns.reshape(4, rows).T, "trans": trans.reshape(rows, 3)}
+        return fields, _finite(quat, trans)
     if representation == "matrices":
         values = batch.matrices(ts)
-        total = values.sum(axis=(1, 2, 3))
-        return {"matrices": values.reshape(rows, 4, 4)}, np.isfinite(total)
+        return {"matrices": values.reshape(rows, 4, 4)}, _finite(values)
     values = batch.study(ts)
-    return {"study": values.reshape(rows, 8)}, np.isfinite(values.sum(axis=(1, 2)))
+    return {"study": values.reshape(rows, 8)}, _finite(values)
+
+
+def _finite(*arrays):
+    """Which jobs have finite values in every array (each with the job axis first)."""
+    import numpy as np
+
+    jobs = len(arrays[0])
+    ok = np.ones(jobs, dtype=bool)
+    if all(np.isfinite(np.add.reduce(a, axis=None)) for a in arrays):
+        return ok  # a sum is finite only if every term is (it may overflow where they do not)
+    for a in arrays:
+        ok &= np.isfinite(a).reshape(jobs, -1).all(axis=1)
+    return ok
 
 
 def batch_chunks(
@@ -165,14 +260,19 @@ def batch_chunks(
     are the same either way.
     """
     from ..io import writers
-    from ..io.readers import Jobs, job_blocks
 
-    pending = _Pending(writers.CHUNK_SAMPLES)
-    blocks = jobs.blocks(chunk_size) if isinstance(jobs, Jobs) else job_blocks(jobs, chunk_size)
+    balance = max(1, writers.TASK // _COLUMNS.get(representation, 8))
+    pending = _Pending(writers.CHUNK_SAMPLES, balance)
+    reader = _Reader(jobs, chunk_size)
     first = 0  # index of the block's first job
     done = 0  # jobs finished since the last advance
-    for block in blocks:
-        yield from _block_chunks(block, first, mode, samples, representation, pending, report)
+    while True:
+        block = reader.take()
+        if block is None:
+            break
+        for chunk in _block_chunks(block, first, mode, samples, representation, pending, report):
+            yield chunk
+            reader.step()
         first += len(block)
         done += len(block)
         if done >= chunk_size:
@@ -212,7 +312,9 @@ def _block_chunks(block, first, mode, samples, representation, pending, report):
     for key, members in groups.items():
         index = np.asarray(members, dtype=np.intp)
         start, end = (block.start, block.end) if len(index) == n else (block.start[index], block.end[index])
-        batch = _bulk_motions(key, start, end, [block.parameters[i] for i in members])
+        batch = _bulk_motions(
+            key, start, end, [block.parameters[i] for i in members], block.checked
+        )
         ok = batch.matrices_ok if representation == "matrices" else batch.ok
         group[index[ok]] = len(batches)
         position[index] = np.arange(len(index))
@@ -247,7 +349,9 @@ def _run_chunks(batch, position, names, count, job, mode, representation, pendin
     ts = next(options.evenly_spaced(count, count))
     i, n = 0, len(names)
     while i < n:
-        take = min(n - i, -(-(pending.limit - pending.rows) // count))
+        if pending.full_before(count):
+            yield pending.flush()
+        take = min(n - i, pending.fits(count))
         piece = batch.take(slice(position + i, position + i + take))
         fields, finite = _sample(piece, ts, representation)
         good = take if finite.all() else int(np.argmin(finite))
@@ -287,6 +391,8 @@ def _one_job(job, name, mode, samples, representation, pending, report):
         if report is not None:
             report(name, motion.choices)
         for chunk in options.motion_chunks(motion, samples, representation):
+            if pending.full_before(len(chunk.t)):
+                yield pending.flush()
             if pending.add([name] * len(chunk.t), chunk.t, _fields(chunk)):
                 yield pending.flush()
     except A2bError as e:

@@ -1008,7 +1008,8 @@ class JobBlock:
 
     ``start`` and ``end`` are robotics matrices ``(n, 4, 4)``; ``modes``, ``samples``,
     ``parameters`` and ``names`` are lists of ``n`` entries, as the fields of :class:`Job`
-    (``None`` where the file does not give one).
+    (``None`` where the file does not give one). ``checked``: every pose passed
+    :func:`a2b.poses.check_matrices` (true for the blocks of a jobs file).
     """
 
     start: np.ndarray
@@ -1018,6 +1019,7 @@ class JobBlock:
     parameters: list
     names: list
     _jobs: list | None = None
+    checked: bool = False
 
     def __len__(self) -> int:
         return len(self.modes)
@@ -1033,6 +1035,38 @@ class JobBlock:
     def jobs(self) -> list[Job]:
         """The jobs one by one."""
         return [self.job(i) for i in range(len(self))]
+
+    def split(self, n: int) -> tuple[JobBlock, JobBlock]:
+        """The first ``n`` jobs and the rest."""
+        def part(sl):
+            return JobBlock(
+                self.start[sl], self.end[sl], self.modes[sl], self.samples[sl],
+                self.parameters[sl], self.names[sl], None if self._jobs is None else self._jobs[sl],
+                self.checked,
+            )  # fmt: skip
+
+        return part(slice(None, n)), part(slice(n, None))
+
+    @classmethod
+    def concatenate(cls, blocks: list[JobBlock]) -> JobBlock:
+        """One block of the jobs of ``blocks``, in order."""
+        if len(blocks) == 1:
+            return blocks[0]
+        jobs = None
+        if all(b._jobs is not None for b in blocks):
+            jobs = [job for b in blocks for job in b._jobs]
+        elif any(b._jobs is not None for b in blocks):
+            jobs = [job for b in blocks for job in b.jobs()]
+        return cls(
+            np.concatenate([b.start for b in blocks]),
+            np.concatenate([b.end for b in blocks]),
+            [m for b in blocks for m in b.modes],
+            [s for b in blocks for s in b.samples],
+            [p for b in blocks for p in b.parameters],
+            [n for b in blocks for n in b.names],
+            jobs,
+            all(b.checked for b in blocks),
+        )
 
     @classmethod
     def from_jobs(cls, jobs: list[Job]) -> JobBlock:
@@ -1174,7 +1208,13 @@ def _lines(stream: IO, name: str, first: str | None = None) -> Iterator[str]:
         yield first
     for raw in stream:
         number += 1
-        yield _decode(raw, name, number)
+        if number > 1 and type(raw) is bytes:
+            try:
+                yield raw.decode("utf-8")
+                continue
+            except UnicodeDecodeError:
+                pass
+        yield _decode(raw, name, number)  # the first line (a byte-order mark), text, an error
 
 
 def _json_lines_jobs(lines: Iterator[str], name: str) -> Jobs:
@@ -1239,7 +1279,8 @@ def _json_lines_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[J
         except Exception:  # noqa: BLE001 - any failure: the exact path says what is wrong
             fast = False
         else:
-            fast = (end == len(line) or not line[end:].strip(" \t\n\r")) and builder.add_fast(
+            tail = line[end:]
+            fast = (tail == "\n" or not tail.strip(" \t\n\r")) and builder.add_fast(
                 data, line.count(":"), where
             )
         if not fast:
@@ -1385,9 +1426,6 @@ class _BlockBuilder:
     def __len__(self) -> int:
         return len(self.modes)
 
-    def _slot(self, nq: int, nm: int) -> int:
-        return nq // 7 if len(self.q) > nq else ~(nm // 16)
-
     def add_fast(self, v, colons: int | None, where) -> bool:
         """Add the job mapping ``v`` if it has a common form, checked as :func:`_job` checks it
         (the numbers in bulk later); False, adding nothing, for anything else.
@@ -1395,38 +1433,47 @@ class _BlockBuilder:
         ``colons``: the count of colons in the JSON text of ``v``, which must equal the count
         of keys (no duplicates), or ``None`` when the parser has checked that.
         """
+        q, m = self.q, self.m
+        nq, nm = len(q), len(m)
         try:
             if type(v) is not dict:
                 return False
             for key in v:
                 if key not in _JOB_KEY_SET:
                     return False
-            q, m = self.q, self.m
-            nq, nm = len(q), len(m)
-            keys = _fast_pose(v.get("start"), q, m)
-            if keys >= 0:
-                start = self._slot(nq, nm)
-                nq2, nm2 = len(q), len(m)
-                more = _fast_pose(v.get("end"), q, m)
-                if more >= 0:
-                    end = self._slot(nq2, nm2)
-                    keys += more + len(v)
-                    job = self._job_fields(v, keys, colons)
-                    if job is not None:
-                        mode, samples, params, name = job
-                        self.start.append(start)
-                        self.end.append(end)
-                        self.modes.append(mode)
-                        self.samples.append(samples)
-                        self.parameters.append(params)
-                        self.names.append(name)
-                        self.where.append(where)
-                        return True
-            del q[nq:], m[nm:]
-            return False
+            keys = len(v)
+            slots = []
+            for pose in (v.get("start"), v.get("end")):
+                if type(pose) is dict and len(pose) == 2:  # the commonest form, inline
+                    quat, t = pose.get("quaternion"), pose.get("translation")
+                    if type(quat) is list and len(quat) == 4 and type(t) is list and len(t) == 3:
+                        slots.append(len(q) // 7)
+                        q += quat
+                        q += t
+                        keys += 2
+                        continue
+                before_q, before_m = len(q), len(m)
+                more = _fast_pose(pose, q, m)
+                if more < 0:
+                    break
+                slots.append(before_q // 7 if len(q) > before_q else ~(before_m // 16))
+                keys += more
+            else:
+                job = self._job_fields(v, keys, colons)
+                if job is not None:
+                    self.start.append(slots[0])
+                    self.end.append(slots[1])
+                    mode, samples, params, name = job
+                    self.modes.append(mode)
+                    self.samples.append(samples)
+                    self.parameters.append(params)
+                    self.names.append(name)
+                    self.where.append(where)
+                    return True
         except (TypeError, ValueError, OverflowError):
-            del self.q[nq:], self.m[nm:]
-            return False
+            pass
+        del q[nq:], m[nm:]
+        return False
 
     @staticmethod
     def _job_fields(v: dict, keys: int, colons: int | None):
@@ -1519,8 +1566,9 @@ class _BlockBuilder:
 
     def _block(self, start, end, n) -> JobBlock:
         return JobBlock(
-            start[:n], end[:n], self.modes[:n], self.samples[:n], self.parameters[:n], self.names[:n]
-        )
+            start[:n], end[:n], self.modes[:n], self.samples[:n], self.parameters[:n],
+            self.names[:n], checked=True,
+        )  # fmt: skip
 
 
 def _numbers_of(values: list, width: int) -> tuple[np.ndarray, np.ndarray]:

@@ -122,7 +122,7 @@ class ScrewFrames:
 
     Attributes are those of ``ScrewFrame`` with a leading axis ``J``: ``phi, d (J,)``,
     ``axis_direction, axis_point, t_start, t_end, t_disp (J, 3)``, ``r, p_start, p_end (J, 4)``,
-    ``h_start, h_end (J, 8)`` and ``choices``, a list of ``J`` lists of str. ``ok (J,)`` is
+    ``h_start, h_end (J, 8)`` and ``choices``, a list of ``J`` tuples of str. ``ok (J,)`` is
     False for a job whose frame this path does not decide safely (see the module docstring).
     """
 
@@ -217,22 +217,22 @@ def _screw_frames(start, end) -> ScrewFrames:
         & np.isfinite(t_disp).all(axis=-1)
         & np.isfinite(axis_point).all(axis=-1)
     )
-    choices = [[] for _ in range(len(s))]
-    for j in np.flatnonzero(flip):
-        choices[j].append(_FLIP)
-    for j in np.flatnonzero((s > 0.0) & ~rotating):
-        choices[j].append(
+    choices: list = [()] * len(s)
+    for j in np.flatnonzero(flip).tolist():
+        choices[j] += (_FLIP,)
+    for j in np.flatnonzero((s > 0.0) & ~rotating).tolist():
+        choices[j] += (
             f"the rotations of A and B differ by |sin(φ/2)| = {float(s[j]):.3g}, within rounding "
-            f"({ROTATION_NOISE:.3g}): treated as a pure translation"
+            f"({ROTATION_NOISE:.3g}): treated as a pure translation",
         )
-    for j in np.flatnonzero(half_turn):
-        choices[j].append(
+    for j in np.flatnonzero(half_turn).tolist():
+        choices[j] += (
             f"φ = π (|pA·pB| = {float(c[j]):.3g} ≤ {ROTATION_NOISE:.3g}): both axis orientations "
             "are short; chose the one with "
-            + ("d > 0" if d[j] > 0 else "d = 0 and the first non-zero axis component positive")
+            + ("d > 0" if d[j] > 0 else "d = 0 and the first non-zero axis component positive"),
         )
-    for j in np.flatnonzero(~rotating):
-        choices[j].append(_PURE_TRANSLATION if moving[j] else _SAME_POSE)
+    for j in np.flatnonzero(~rotating).tolist():
+        choices[j] += (_PURE_TRANSLATION if moving[j] else _SAME_POSE,)
     return ScrewFrames(
         phi=phi,
         d=d,
@@ -268,7 +268,7 @@ class MotionBatch:
         False where :func:`a2b.motion` must build the job instead (it raises, warns, or makes a
         choice that this path does not decide safely). The other attributes of such a job are
         meaningless.
-    choices : list of J lists of str
+    choices : list of J tuples of str
         What ``a2b.motion(...).choices`` states, job by job.
     quat_ends : ndarray, shape (J, 2, 4)
         Darboux and cubic: the end points of ``p(t) = (1−t) q0 + t q1``. Screw: ``pA`` and
@@ -298,24 +298,29 @@ class MotionBatch:
         return self.ok & ~_near(self.path_ratio, FRAGILE_TOL)
 
     def take(self, index) -> MotionBatch:
-        """The motions ``index`` (an index array, a slice or a mask) as a new batch."""
-        idx = np.arange(len(self))[index]
+        """The motions ``index`` (a slice: views; an index array or a mask) as a new batch."""
+        if not isinstance(index, slice):
+            index = np.arange(len(self))[index]
+
+        def part(values: list) -> list:
+            return values[index] if isinstance(index, slice) else [values[j] for j in index]
+
         frames = ScrewFrames(
             **{
-                name: getattr(self.frames, name)[idx]
+                name: getattr(self.frames, name)[index]
                 for name in ("phi", "d", "axis_direction", "axis_point", "r", "p_start", "p_end",
                              "h_start", "h_end", "t_start", "t_end", "t_disp", "ok")
             },  # fmt: skip
-            choices=[self.frames.choices[j] for j in idx],
+            choices=part(self.frames.choices),
         )
         return MotionBatch(
             self.mode,
             frames,
-            self.table[idx],
-            self.ok[idx],
-            [self.choices[j] for j in idx],
-            self.quat_ends[idx],
-            self.path_ratio[idx],
+            self.table[index],
+            self.ok[index],
+            part(self.choices),
+            self.quat_ends[index],
+            self.path_ratio[index],
         )
 
     # -- sampling -------------------------------------------------------------------------
@@ -341,9 +346,13 @@ class MotionBatch:
             np.cos(half[1], out=half[0])
             np.sin(half[1], out=half[1])
             return np.matmul(np.moveaxis(half, 0, -1), ends)
-        columns = np.moveaxis(ends, -1, 0)  # (4, J, 2)
-        out = np.multiply(1.0 - ts, columns[:, :, 0, None])
-        out += np.multiply(ts, columns[:, :, 1, None])
+        u = 1.0 - ts
+        out = np.empty((4, len(self), len(ts)))
+        term = np.empty((len(self), len(ts)))
+        for c in range(4):  # (J, S) at a time: numpy is slow at broadcasting three axes
+            np.multiply.outer(ends[:, 0, c], u, out=out[c])
+            np.multiply.outer(ends[:, 1, c], ts, out=term)
+            out[c] += term
         return np.moveaxis(out, 0, -1)
 
     def quat_trans(self, ts) -> tuple[np.ndarray, np.ndarray]:
@@ -466,7 +475,8 @@ def _scaled_products(basis, denominators, coefficients, constant):
     if constant:
         scaled[:, -1] = 1.0
     for j in range(m):
-        np.multiply(columns, inverse[:, j : j + 1, :], out=scaled[:, j * k : (j + 1) * k])
+        for i in range(k):  # (J, S) at a time: numpy is slow at broadcasting three axes
+            np.multiply(inverse[:, j], columns[i], out=scaled[:, j * k + i])
     return np.matmul(np.swapaxes(scaled, 1, 2), coefficients)
 
 
@@ -520,6 +530,7 @@ def motions(
     a=None,
     b=None,
     frame: str = "canonical",
+    checked: bool = False,
 ) -> MotionBatch:
     """The motions of one mode between ``start[j]`` and ``end[j]``, for every ``j`` at once.
 
@@ -537,6 +548,9 @@ def motions(
         cubic: the essential scalars of each job (default 0).
     frame : {"canonical", "given"}
         cubic: the frame of every job.
+    checked : bool
+        The poses are known to pass :func:`a2b.poses.check_matrices` (as a jobs file's do),
+        so :func:`valid_poses` is not asked again.
 
     Returns
     -------
@@ -554,10 +568,13 @@ def motions(
     end = np.asarray(end, dtype=float)
     if start.ndim != 3 or start.shape[1:] != (4, 4) or end.shape != start.shape:
         raise ValueError(f"start and end must be (J, 4, 4) arrays, got {start.shape} and {end.shape}")
-    ok = valid_poses(start) & valid_poses(end)
-    eye = np.eye(4)
-    start = np.where(ok[:, None, None], start, eye)
-    end = np.where(ok[:, None, None], end, eye)
+    if checked:
+        ok = np.ones(len(start), dtype=bool)
+    else:
+        ok = valid_poses(start) & valid_poses(end)
+        eye = np.eye(4)
+        start = np.where(ok[:, None, None], start, eye)
+        end = np.where(ok[:, None, None], end, eye)
     with np.errstate(all="ignore"):
         frames = _screw_frames(start, end)
         ok &= frames.ok
@@ -590,9 +607,9 @@ def _darboux(frames: ScrewFrames, delta, ok) -> MotionBatch:
     )
     ratio = _path_ratio(p_a, p_b)
     ok &= ratio >= PATH_RATIO_MIN
-    choices = [list(c) for c in frames.choices]
-    for j in np.flatnonzero((frames.phi == 0.0) & (delta != 0.0)):
-        choices[j].append("δ has no effect on a pure translation")
+    choices = list(frames.choices)
+    for j in np.flatnonzero((frames.phi == 0.0) & (delta != 0.0)).tolist():
+        choices[j] += ("δ has no effect on a pure translation",)
     table = _tables(rot, den, trans, den)
     return MotionBatch("darboux", frames, table, ok, choices, np.stack([p_a, p_b], axis=1), ratio)
 
@@ -668,11 +685,10 @@ def _cubic(frames: ScrewFrames, m, a, b, frame_name: str, ok) -> MotionBatch:
     ratio = _path_ratio(pa_w, pb_w)
     ok &= ratio >= PATH_RATIO_MIN
     table = _tables(bern_elevate(rot, 3), bern_elevate(delta, 3), trans, trans_den)
-    choices = [list(ch) for ch in frames.choices]
+    choices = list(frames.choices)
     if m is None:
-        made = f"m defaults to pA + pB in {frame_name} coordinates, so both weights are equal"
-        for ch in choices:
-            ch.append(made)
+        made = (f"m defaults to pA + pB in {frame_name} coordinates, so both weights are equal",)
+        choices = [ch + made for ch in choices]
     quat_ends = np.stack([pa_w, pb_w], axis=1)
     return MotionBatch("cubic", frames, table, ok, choices, quat_ends, ratio)
 
@@ -718,7 +734,7 @@ def _screw(frames: ScrewFrames, ok) -> MotionBatch:
         frames,
         _tables(rot, unit, trans, unit),
         ok,
-        [list(c) for c in frames.choices],
+        list(frames.choices),
         np.stack([frames.p_start, u_p_a], axis=1),
         np.full(jobs, np.inf),
     )
