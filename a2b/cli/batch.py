@@ -95,18 +95,20 @@ def _bulk_motions(key, start, end, parameters: list, checked: bool):
 class _Pending:
     """Rows sampled but not yet handed on, and the chunk they make.
 
-    A chunk ends once it holds ``limit`` rows (``CHUNK_SAMPLES``), and before a job that would
-    take it past ``balance`` rows: one task of the writer's workers (``TASK`` numbers). Chunks
-    of about one task keep the work of the main process (reading, building and sampling the
-    next chunk) in small steps between those of the writer, so that its helper processes are
-    never left waiting for long.
+    A chunk ends once it holds ``limit`` rows (``CHUNK_SAMPLES``) or ``jobs`` jobs
+    (``--chunk-size``), and before a job that would take it past ``balance`` rows: one task of
+    the writer's workers (``TASK`` numbers). Chunks of about one task keep the work of the main
+    process (reading, building and sampling the next chunk) in small steps between those of
+    the writer, so that its helper processes are never left waiting for long.
     """
 
-    def __init__(self, limit: int, balance: int):
+    def __init__(self, limit: int, balance: int, jobs: int):
         self.limit = limit
         self.balance = balance
+        self.max_jobs = jobs
         self.parts: list = []  # (job column, t, fields)
         self.rows = 0
+        self.jobs = 0
 
     def full_before(self, rows: int) -> bool:
         """Whether the chunk should end before ``rows`` more rows."""
@@ -115,20 +117,23 @@ class _Pending:
     def fits(self, count: int) -> int:
         """How many more jobs of ``count`` rows the chunk takes (at least one)."""
         to_limit = -(-(self.limit - self.rows) // count)
-        return max(1, min(to_limit, (self.balance - self.rows) // count))
+        room = min(to_limit, (self.balance - self.rows) // count, self.max_jobs - self.jobs)
+        return max(1, room)
 
-    def add(self, job: list, t, fields: dict) -> bool:
-        """Add rows; True when they reach the limit and should be flushed."""
+    def add(self, job: list, t, fields: dict, jobs: int) -> bool:
+        """Add the rows of ``jobs`` more jobs (0: more rows of the last one); True when the
+        chunk is full and should be flushed."""
         self.parts.append((job, t, fields))
         self.rows += len(t)
-        return self.rows >= self.limit
+        self.jobs += jobs
+        return self.rows >= self.limit or self.jobs >= self.max_jobs
 
     def flush(self):
         import numpy as np
 
         from ..io.writers import Chunk
 
-        parts, self.parts, self.rows = self.parts, [], 0
+        parts, self.parts, self.rows, self.jobs = self.parts, [], 0, 0
         fields = {}
         for key in ("quat_wxyz", "trans", "matrices", "study"):
             values = [f.get(key) for _, _, f in parts]
@@ -248,8 +253,10 @@ def batch_chunks(
     """Sample the jobs and yield :class:`Chunk` s of at most ``chunk_size`` jobs.
 
     A chunk also ends when it holds ``CHUNK_SAMPLES`` rows, so a job of 10⁹ samples streams
-    through in bounded memory like any other. ``advance(n)`` is called after ``n`` jobs are
-    done, ``report(name, choices)`` before each job is sampled. An :class:`A2bError` of a job
+    through in bounded memory like any other, and before a job that would take it past one
+    task of the writer's workers (see :class:`_Pending`). Jobs are read and built
+    ``chunk_size`` at a time. ``advance(n)`` is called after ``n`` jobs are done,
+    ``report(name, choices)`` before each job is sampled. An :class:`A2bError` of a job
     (including a sample that overflows) is re-raised naming the job, and so is an
     :class:`A2bWarning`.
 
@@ -262,7 +269,7 @@ def batch_chunks(
     from ..io import writers
 
     balance = max(1, writers.TASK // _COLUMNS.get(representation, 8))
-    pending = _Pending(writers.CHUNK_SAMPLES, balance)
+    pending = _Pending(writers.CHUNK_SAMPLES, balance, chunk_size)
     reader = _Reader(jobs, chunk_size)
     first = 0  # index of the block's first job
     done = 0  # jobs finished since the last advance
@@ -276,8 +283,6 @@ def batch_chunks(
         first += len(block)
         done += len(block)
         if done >= chunk_size:
-            if pending.parts:
-                yield pending.flush()
             if advance is not None:
                 advance(done)
             done = 0
@@ -364,7 +369,7 @@ def _run_chunks(batch, position, names, count, job, mode, representation, pendin
             column: list = []
             for name in names[i : i + good]:
                 column += [name] * count
-            if pending.add(column, np.tile(ts, good), fields):
+            if pending.add(column, np.tile(ts, good), fields, good):
                 yield pending.flush()
         i += good
         if good < take:  # its samples overflow: on its own, which says so
@@ -390,11 +395,14 @@ def _one_job(job, name, mode, samples, representation, pending, report):
             )
         if report is not None:
             report(name, motion.choices)
+        first = 1
         for chunk in options.motion_chunks(motion, samples, representation):
             if pending.full_before(len(chunk.t)):
                 yield pending.flush()
-            if pending.add([name] * len(chunk.t), chunk.t, _fields(chunk)):
+            starts = first or not pending.parts  # (the rest of a job begins a chunk: a job too)
+            if pending.add([name] * len(chunk.t), chunk.t, _fields(chunk), int(starts)):
                 yield pending.flush()
+            first = 0
     except A2bError as e:
         raise type(e)(f"job {name}: {e}") from e
 

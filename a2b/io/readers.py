@@ -1258,19 +1258,14 @@ def _json_lines_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[J
     exact path, which finds duplicates itself).
     """
     builder = _BlockBuilder()
+    records = builder.records
+    add_fast = builder.add_fast
     index = 0
     scan = _JSON_SCAN
-    number = 0
-    lines = iter(lines)
-    while True:
-        try:
-            line = next(lines)
-        except StopIteration:
-            break
-        except InputFileError:  # a line that is no UTF-8: after the jobs before it
+    for number, line in enumerate(_guarded(lines), start=1):
+        if type(line) is not str:  # a line that is no UTF-8: after the jobs before it
             yield from builder.finish()
-            raise
-        number += 1
+            raise line
         if not line.strip():
             continue
         where = (line, name, number, index)
@@ -1280,7 +1275,7 @@ def _json_lines_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[J
             fast = False
         else:
             tail = line[end:]
-            fast = (tail == "\n" or not tail.strip(" \t\n\r")) and builder.add_fast(
+            fast = (tail == "\n" or not tail.strip(" \t\n\r")) and add_fast(
                 data, line.count(":"), where
             )
         if not fast:
@@ -1291,12 +1286,22 @@ def _json_lines_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[J
                 raise
             builder.add_job(job, where)
         index += 1
-        if len(builder.modes) == size:
+        if len(records) == size:
             yield from builder.finish()
             builder = _BlockBuilder()
+            records = builder.records
+            add_fast = builder.add_fast
     yield from builder.finish()
     if index == 0:
         raise InputFileError(f"{name}: no jobs: the file has no lines with a job")
+
+
+def _guarded(lines: Iterator[str]) -> Iterator:
+    """The lines, and in place of the rest an :class:`InputFileError` that reading raised."""
+    try:
+        yield from lines
+    except InputFileError as e:
+        yield e
 
 
 def _exact_job(where: tuple) -> Job:
@@ -1414,17 +1419,14 @@ class _BlockBuilder:
     def __init__(self):
         self.q: list = []  # 7 numbers per pose in a quaternion form
         self.m: list = []  # 16 numbers per pose in matrix form
-        self.start: list = []  # per job: quaternion slot k >= 0, matrix slot ~k < 0, or None
-        self.end: list = []
+        #: per job: (start slot, end slot, mode, samples, parameters, name, where): a slot is
+        #: k >= 0 for the k-th pose in q, ~k < 0 for the k-th in m, None for a job read the
+        #: exact way; ``where`` is what _exact_job needs
+        self.records: list = []
         self.exact: dict = {}  # job -> Job, for jobs read the exact way
-        self.modes: list = []
-        self.samples: list = []
-        self.parameters: list = []
-        self.names: list = []
-        self.where: list = []  # per job: what _exact_job needs
 
     def __len__(self) -> int:
-        return len(self.modes)
+        return len(self.records)
 
     def add_fast(self, v, colons: int | None, where) -> bool:
         """Add the job mapping ``v`` if it has a common form, checked as :func:`_job` checks it
@@ -1459,61 +1461,37 @@ class _BlockBuilder:
                 slots.append(before_q // 7 if len(q) > before_q else ~(before_m // 16))
                 keys += more
             else:
-                job = self._job_fields(v, keys, colons)
-                if job is not None:
-                    self.start.append(slots[0])
-                    self.end.append(slots[1])
-                    mode, samples, params, name = job
-                    self.modes.append(mode)
-                    self.samples.append(samples)
-                    self.parameters.append(params)
-                    self.names.append(name)
-                    self.where.append(where)
-                    return True
+                # the checks of _job, in the cases it accepts
+                mode = v.get("mode")
+                samples = v.get("samples")
+                name = v.get("name")
+                params = v.get("parameters") or {}  # as _job: a falsy value means none
+                if (
+                    (mode is None or (type(mode) is str and mode in MODES))
+                    and (
+                        samples is None
+                        or (type(samples) is int and MIN_SAMPLES <= samples <= MAX_SAMPLES)
+                    )
+                    and (name is None or type(name) is str or type(name) is int)
+                    and type(params) is dict
+                ):
+                    if params:
+                        keys += len(params)
+                        params = _fast_parameters(params)
+                    if params is not None and (colons is None or keys == colons):
+                        if type(name) is int:
+                            name = str(name)
+                        self.records.append((slots[0], slots[1], mode, samples, params, name, where))
+                        return True
         except (TypeError, ValueError, OverflowError):
             pass
         del q[nq:], m[nm:]
         return False
 
-    @staticmethod
-    def _job_fields(v: dict, keys: int, colons: int | None):
-        """``(mode, samples, parameters, name)`` of a job mapping, or ``None``."""
-        mode = v.get("mode")
-        if mode is not None and (type(mode) is not str or mode not in MODES):
-            return None
-        samples = v.get("samples")
-        if samples is not None and (
-            type(samples) is not int or not MIN_SAMPLES <= samples <= MAX_SAMPLES
-        ):
-            return None
-        name = v.get("name")
-        if name is not None:
-            if type(name) is int:
-                name = str(name)
-            elif type(name) is not str:
-                return None
-        params = v.get("parameters") or {}  # as _job: a falsy value means none
-        if type(params) is not dict:
-            return None
-        if params:
-            keys += len(params)
-            params = _fast_parameters(params)
-            if params is None:
-                return None
-        if colons is not None and keys != colons:
-            return None
-        return mode, samples, params, name
-
     def add_job(self, job: Job, where) -> None:
         """Add a job read the exact way."""
-        self.exact[len(self.modes)] = job
-        self.start.append(None)
-        self.end.append(None)
-        self.modes.append(job.mode)
-        self.samples.append(job.samples)
-        self.parameters.append(job.parameters)
-        self.names.append(job.name)
-        self.where.append(where)
+        self.exact[len(self.records)] = job
+        self.records.append((None, None, job.mode, job.samples, job.parameters, job.name, where))
 
     def _poses(self) -> tuple[np.ndarray, np.ndarray]:
         """The matrices of every slot, quaternion slots first, and which of them are valid."""
@@ -1544,31 +1522,32 @@ class _BlockBuilder:
         mats, ok = self._poses()
         quaternions = len(self.q) // 7
         ok = np.append(ok, False)  # where the jobs read the exact way point
+        starts, ends, modes, samples, parameters, names, where = map(list, zip(*self.records))
 
         def index(slots):
             arr = np.array([len(mats) if s is None else s for s in slots], dtype=np.intp)
             return np.where(arr >= 0, arr, quaternions + ~arr)
 
-        start_at, end_at = index(self.start), index(self.end)
+        start_at, end_at = index(starts), index(ends)
         mats = np.concatenate([mats, np.zeros((1, 4, 4))])
         start, end = mats[start_at], mats[end_at]
+
+        def block(k: int) -> JobBlock:
+            return JobBlock(
+                start[:k], end[:k], modes[:k], samples[:k], parameters[:k], names[:k], checked=True
+            )
+
         for i in np.flatnonzero(~(ok[start_at] & ok[end_at])).tolist():
             job = self.exact.get(i)
             if job is None:
                 try:
-                    job = _exact_job(self.where[i])
+                    job = _exact_job(where[i])
                 except InputFileError:
                     if i:
-                        yield self._block(start, end, i)
+                        yield block(i)
                     raise
             start[i], end[i] = job.start, job.end
-        yield self._block(start, end, n)
-
-    def _block(self, start, end, n) -> JobBlock:
-        return JobBlock(
-            start[:n], end[:n], self.modes[:n], self.samples[:n], self.parameters[:n],
-            self.names[:n], checked=True,
-        )  # fmt: skip
+        yield block(n)
 
 
 def _numbers_of(values: list, width: int) -> tuple[np.ndarray, np.ndarray]:

@@ -430,10 +430,18 @@ def _normalise(quat: np.ndarray) -> None:
     if quat.flags.c_contiguous or not _einsum_order():
         flat = quat.reshape(-1, 4)
         norm = np.sqrt(np.einsum("ij,ij->i", flat, flat)).reshape(quat.shape[:-1])
-    else:
-        square = columns * columns
-        norm = np.sqrt((square[0] + square[2]) + (square[1] + square[3]))
-    columns /= norm
+    else:  # (q0² + q2²) + (q1² + q3²), two axes at a time
+        c0, c1, c2, c3 = columns
+        norm = np.multiply(c0, c0)
+        term = np.multiply(c2, c2)
+        norm += term
+        other = np.multiply(c1, c1)
+        np.multiply(c3, c3, out=term)
+        other += term
+        norm += other
+        np.sqrt(norm, out=norm)
+    for column in columns:
+        column /= norm
 
 
 _EINSUM_ORDER: list = []
