@@ -1151,7 +1151,9 @@ def read_jobs(stream: IO, name: str | None = None) -> Jobs:
 
     A job has ``start``, ``end`` and optionally ``name``, ``mode``, ``samples`` and
     ``parameters``. JSON Lines are read line by line as the jobs are consumed, so a large file
-    never sits in memory; a list is parsed at once and validated job by job.
+    never sits in memory. A list is parsed and validated at once (the parsed tree is then
+    dropped, before Python's cyclic collector would walk it); the error of an invalid job is
+    raised when the jobs before it have been taken.
     """
     name = _stream_name(stream, name)
     kind = _kind_from_suffix(name)
@@ -1163,34 +1165,57 @@ def read_jobs(stream: IO, name: str | None = None) -> Jobs:
         text_start = _decode(raw_start, name)
         if _is_complete_json(text_start):
             return _json_lines_jobs(_lines(stream, name, text_start), name)
-    doc = _parse(_decode(raw_start + stream.read(), name), name, kind)
-    if not isinstance(doc.data, list):
-        hint = " (one motion: a2b interpolate)" if isinstance(doc.data, dict) else ""
-        raise doc.error((), f"expected a list of jobs, got {_describe(doc.data)}{hint}")
-    if not doc.data:
-        raise doc.error((), "expected a list of jobs, got an empty list")
-    data = doc.data
+    with _gc_paused():
+        doc = _parse(_decode(raw_start + stream.read(), name), name, kind)
+        if not isinstance(doc.data, list):
+            hint = " (one motion: a2b interpolate)" if isinstance(doc.data, dict) else ""
+            raise doc.error((), f"expected a list of jobs, got {_describe(doc.data)}{hint}")
+        if not doc.data:
+            raise doc.error((), "expected a list of jobs, got an empty list")
+        count = len(doc.data)
+        block, error = _list_jobs(doc)
+        del doc
 
     def jobs() -> Iterator[Job]:
-        for i, item in enumerate(data):
-            yield _job(doc, (i,), item, JOB_KEYS)
+        for i in range(len(block)):
+            yield block.job(i)
+        if error is not None:
+            raise error
 
     def blocks(size: int) -> Iterator[JobBlock]:
-        builder = _BlockBuilder()
-        for i, item in enumerate(data):
-            if not builder.add_fast(item, None, (doc, i, item)):
-                try:
-                    job = _job(doc, (i,), item, JOB_KEYS)
-                except InputFileError:
-                    yield from builder.finish()
-                    raise
-                builder.add_job(job, (doc, i, item))
-            if len(builder) == size:
-                yield from builder.finish()
-                builder = _BlockBuilder()
-        yield from builder.finish()
+        rest = block
+        while len(rest):
+            piece, rest = rest.split(size)
+            yield piece
+        if error is not None:
+            raise error
 
-    return Jobs(len(data), jobs(), blocks)
+    return Jobs(count, jobs(), blocks)
+
+
+def _list_jobs(doc: _Document) -> tuple[JobBlock, InputFileError | None]:
+    """The jobs of a parsed list before the first invalid one, and that one's error."""
+    builder = _BlockBuilder()
+    for i, item in enumerate(doc.data):
+        if not builder.add_fast(item, None, (doc, i, item)):
+            try:
+                job = _job(doc, (i,), item, JOB_KEYS)
+            except InputFileError as e:
+                return _finished(builder, e)
+            builder.add_job(job, (doc, i, item))
+    return _finished(builder, None)
+
+
+def _finished(builder: _BlockBuilder, error):
+    """:meth:`_BlockBuilder.finish` as one block and the error that comes first."""
+    blocks = []
+    try:
+        blocks.extend(builder.finish())
+    except InputFileError as e:
+        error = e
+    if not blocks:
+        return JobBlock(np.empty((0, 4, 4)), np.empty((0, 4, 4)), [], [], [], [], checked=True), error
+    return blocks[0], error
 
 
 def _is_complete_json(line: str) -> bool:
