@@ -59,13 +59,19 @@ def _group_key(mode, parameters: dict):
         if not all(_is_number(parameters.get(key, 0.0)) for key in ("a", "b")):
             return None
         m = parameters.get("m")
-        if m is not None and not (isinstance(m, (tuple, list)) and len(m) == 4 and all(map(_is_number, m))):
+        if m is not None and not (
+            isinstance(m, (tuple, list)) and len(m) == 4 and all(map(_is_number, m))
+        ):
             return None
         return ("cubic", frame or "canonical", m is None)
     return ("screw",) if all(value is None for value in parameters.values()) else None
 
 
-_NO_PARAMETERS = {"darboux": ("darboux",), "cubic": ("cubic", "canonical", True), "screw": ("screw",)}
+_NO_PARAMETERS = {
+    "darboux": ("darboux",),
+    "cubic": ("cubic", "canonical", True),
+    "screw": ("screw",),
+}
 
 
 def _is_number(value) -> bool:
@@ -316,7 +322,9 @@ def _block_chunks(block, first, mode, samples, representation, pending, report):
     batches = []
     for key, members in groups.items():
         index = np.asarray(members, dtype=np.intp)
-        start, end = (block.start, block.end) if len(index) == n else (block.start[index], block.end[index])
+        start, end = (
+            (block.start, block.end) if len(index) == n else (block.start[index], block.end[index])
+        )
         batch = _bulk_motions(
             key, start, end, [block.parameters[i] for i in members], block.checked
         )
@@ -326,9 +334,12 @@ def _block_chunks(block, first, mode, samples, representation, pending, report):
         batches.append(batch)
     count_of = np.array(counts)
     # runs of consecutive jobs of one batch and one sample count
-    breaks = np.flatnonzero(
-        (group[1:] != group[:-1]) | (count_of[1:] != count_of[:-1]) | (group[1:] < 0)
-    ) + 1
+    breaks = (
+        np.flatnonzero(
+            (group[1:] != group[:-1]) | (count_of[1:] != count_of[:-1]) | (group[1:] < 0)
+        )
+        + 1
+    )
     for lo, hi in zip([0, *breaks.tolist()], [*breaks.tolist(), n]):
         if group[lo] < 0:
             for i in range(lo, hi):

@@ -1029,7 +1029,12 @@ class JobBlock:
         if self._jobs is not None:
             return self._jobs[i]
         return Job(
-            self.start[i], self.end[i], self.modes[i], self.samples[i], self.parameters[i], self.names[i]
+            self.start[i],
+            self.end[i],
+            self.modes[i],
+            self.samples[i],
+            self.parameters[i],
+            self.names[i],
         )
 
     def jobs(self) -> list[Job]:
@@ -1214,7 +1219,8 @@ def _finished(builder: _BlockBuilder, error):
     except InputFileError as e:
         error = e
     if not blocks:
-        return JobBlock(np.empty((0, 4, 4)), np.empty((0, 4, 4)), [], [], [], [], checked=True), error
+        empty = np.empty((0, 4, 4))
+        return JobBlock(empty, empty, [], [], [], [], checked=True), error
     return blocks[0], error
 
 
@@ -1506,7 +1512,8 @@ class _BlockBuilder:
                     if params is not None and (colons is None or keys == colons):
                         if type(name) is int:
                             name = str(name)
-                        self.records.append((slots[0], slots[1], mode, samples, params, name, where))
+                        record = (slots[0], slots[1], mode, samples, params, name, where)
+                        self.records.append(record)
                         return True
         except (TypeError, ValueError, OverflowError):
             pass

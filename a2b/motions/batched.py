@@ -38,8 +38,19 @@ import numpy as np
 
 from ..extended import ORTHOGONAL_TOL
 from ..frames import ROTATION_NOISE
-from ..poses import ORTHO_TOL, canonical_sign, quaternions_from_rotations, rotations_from_quaternions
-from ..study import quat_conj, quat_mul, rotation_numerators, study_from_quat_trans, translation_numerators
+from ..poses import (
+    ORTHO_TOL,
+    canonical_sign,
+    quaternions_from_rotations,
+    rotations_from_quaternions,
+)
+from ..study import (
+    quat_conj,
+    quat_mul,
+    rotation_numerators,
+    study_from_quat_trans,
+    translation_numerators,
+)
 from ._rational import (
     EPS,
     FRAGILE_TOL,
@@ -51,7 +62,15 @@ from ._rational import (
     bernstein_basis,
 )
 
-__all__ = ["MODES", "FRAMES", "MotionBatch", "ScrewFrames", "motions", "screw_frames", "valid_poses"]
+__all__ = [
+    "FRAMES",
+    "MODES",
+    "MotionBatch",
+    "ScrewFrames",
+    "motions",
+    "screw_frames",
+    "valid_poses",
+]
 
 MODES = ("darboux", "cubic", "screw")
 FRAMES = ("canonical", "given")
@@ -222,14 +241,18 @@ def _screw_frames(start, end) -> ScrewFrames:
         choices[j] += (_FLIP,)
     for j in np.flatnonzero((s > 0.0) & ~rotating).tolist():
         choices[j] += (
-            f"the rotations of A and B differ by |sin(φ/2)| = {float(s[j]):.3g}, within rounding "
-            f"({ROTATION_NOISE:.3g}): treated as a pure translation",
+            (
+                f"the rotations of A and B differ by |sin(φ/2)| = {float(s[j]):.3g}, within "
+                f"rounding ({ROTATION_NOISE:.3g}): treated as a pure translation"
+            ),
         )
     for j in np.flatnonzero(half_turn).tolist():
+        side = "d > 0" if d[j] > 0 else "d = 0 and the first non-zero axis component positive"
         choices[j] += (
-            f"φ = π (|pA·pB| = {float(c[j]):.3g} ≤ {ROTATION_NOISE:.3g}): both axis orientations "
-            "are short; chose the one with "
-            + ("d > 0" if d[j] > 0 else "d = 0 and the first non-zero axis component positive"),
+            (
+                f"φ = π (|pA·pB| = {float(c[j]):.3g} ≤ {ROTATION_NOISE:.3g}): both axis "
+                f"orientations are short; chose the one with {side}"
+            ),
         )
     for j in np.flatnonzero(~rotating).tolist():
         choices[j] += (_PURE_TRANSLATION if moving[j] else _SAME_POSE,)
@@ -252,6 +275,12 @@ def _screw_frames(start, end) -> ScrewFrames:
 
 
 # -- the motions ------------------------------------------------------------------------------
+
+#: The array attributes of :class:`ScrewFrames`.
+_FRAME_ARRAYS = (
+    "phi", "d", "axis_direction", "axis_point", "r", "p_start", "p_end",
+    "h_start", "h_end", "t_start", "t_end", "t_disp", "ok",
+)  # fmt: skip
 
 
 @dataclass
@@ -306,11 +335,7 @@ class MotionBatch:
             return values[index] if isinstance(index, slice) else [values[j] for j in index]
 
         frames = ScrewFrames(
-            **{
-                name: getattr(self.frames, name)[index]
-                for name in ("phi", "d", "axis_direction", "axis_point", "r", "p_start", "p_end",
-                             "h_start", "h_end", "t_start", "t_end", "t_disp", "ok")
-            },  # fmt: skip
+            **{name: getattr(self.frames, name)[index] for name in _FRAME_ARRAYS},
             choices=part(self.frames.choices),
         )
         return MotionBatch(
@@ -455,7 +480,10 @@ def _einsum_order() -> bool:
         square = q * q
         pairs = (square[:, 0] + square[:, 2]) + (square[:, 1] + square[:, 3])
         _EINSUM_ORDER.append(
-            all(np.array_equal(np.einsum("ij,ij->i", q[:n], q[:n]), pairs[:n]) for n in (1, 101, 512))
+            all(
+                np.array_equal(np.einsum("ij,ij->i", q[:n], q[:n]), pairs[:n])
+                for n in (1, 101, 512)
+            )
         )
     return _EINSUM_ORDER[0]
 
@@ -501,7 +529,9 @@ def _path_ratio(p_a: np.ndarray, p_b: np.ndarray) -> np.ndarray:
     """``quaternion_path_minimum(p_a, p_b, 0, 1)[1]`` for every row of ``(J, 4)`` arrays."""
     diff = p_b - p_a
     dd = _dot(diff, diff)
-    t_min = np.where(dd == 0.0, 0.0, np.clip(-_dot(p_a, diff) / np.where(dd == 0.0, 1.0, dd), 0.0, 1.0))
+    t_min = np.where(
+        dd == 0.0, 0.0, np.clip(-_dot(p_a, diff) / np.where(dd == 0.0, 1.0, dd), 0.0, 1.0)
+    )
     p_min = p_a + t_min[:, None] * diff
     scale = np.maximum(_dot(p_a, p_a), _dot(p_b, p_b))
     return _dot(p_min, p_min) / scale
@@ -575,7 +605,9 @@ def motions(
     start = np.asarray(start, dtype=float)
     end = np.asarray(end, dtype=float)
     if start.ndim != 3 or start.shape[1:] != (4, 4) or end.shape != start.shape:
-        raise ValueError(f"start and end must be (J, 4, 4) arrays, got {start.shape} and {end.shape}")
+        raise ValueError(
+            f"start and end must be (J, 4, 4) arrays, got {start.shape} and {end.shape}"
+        )
     if checked:
         ok = np.ones(len(start), dtype=bool)
     else:
@@ -604,7 +636,9 @@ def _darboux(frames: ScrewFrames, delta, ok) -> MotionBatch:
     h_a, h_b = frames.h_start, frames.h_end
     p_a, q_a = h_a[:, :4], h_a[:, 4:] + s_a[:, None] * h_a[:, :4]
     p_b, q_b = h_b[:, :4], h_b[:, 4:] + s_b[:, None] * h_b[:, :4]
-    rot = np.stack([rotation_numerators(p_a), rotation_numerators(p_a, p_b), rotation_numerators(p_b)])
+    rot = np.stack(
+        [rotation_numerators(p_a), rotation_numerators(p_a, p_b), rotation_numerators(p_b)]
+    )
     den = np.stack([_dot(p_a, p_a), _dot(p_a, p_b), _dot(p_b, p_b)])
     trans = np.stack(
         [
@@ -653,11 +687,15 @@ def _cubic(frames: ScrewFrames, m, a, b, frame_name: str, ok) -> MotionBatch:
     else:
         dot_a, dot_b = _dot(m_arr, p_a), _dot(m_arr, p_b)
     m_norm = _norm(m_arr)
-    ok &= (np.abs(dot_a) > 2 * ORTHOGONAL_TOL * m_norm) & (np.abs(dot_b) > 2 * ORTHOGONAL_TOL * m_norm)
+    ok &= (np.abs(dot_a) > 2 * ORTHOGONAL_TOL * m_norm) & (
+        np.abs(dot_b) > 2 * ORTHOGONAL_TOL * m_norm
+    )
     ok &= psi_a * psi_b > 0.0
     w_a, w_b = 4.0 * dot_a, 4.0 * dot_b
     pa_w, pb_w = w_a[:, None] * p_a, w_b[:, None] * p_b
-    rot = np.stack([rotation_numerators(pa_w), rotation_numerators(pa_w, pb_w), rotation_numerators(pb_w)])
+    rot = np.stack(
+        [rotation_numerators(pa_w), rotation_numerators(pa_w, pb_w), rotation_numerators(pb_w)]
+    )
     delta = np.stack([_dot(pa_w, pa_w), _dot(pa_w, pb_w), _dot(pb_w, pb_w)])  # (3, J)
     x0 = np.stack([psi_a, psi_b])  # (2, J)
     t_a = frames.t_start
@@ -669,7 +707,11 @@ def _cubic(frames: ScrewFrames, m, a, b, frame_name: str, ok) -> MotionBatch:
         rho_a[:, 0] = w_a
         rho_b = w_b[:, None] * r
         n_rho = np.stack(
-            [rotation_numerators(rho_a), rotation_numerators(rho_a, rho_b), rotation_numerators(rho_b)],
+            [
+                rotation_numerators(rho_a),
+                rotation_numerators(rho_a, rho_b),
+                rotation_numerators(rho_b),
+            ],
             axis=1,
         )  # (J, 3, 9)
         rotated_start = np.moveaxis(_matvec(n_rho.reshape(jobs, 3, 3, 3), t_a[:, None, :]), 1, 0)
@@ -683,9 +725,7 @@ def _cubic(frames: ScrewFrames, m, a, b, frame_name: str, ok) -> MotionBatch:
             ]
         )
         first = bern_mul(rotated_start + n_disp, x0[:, :, None])
-        z_num = np.stack(
-            [np.zeros((jobs, 3)), (frames.d * psi_b)[:, None] * frames.axis_direction]
-        )
+        z_num = np.stack([np.zeros((jobs, 3)), (frames.d * psi_b)[:, None] * frames.axis_direction])
         second = bern_mul(z_num, delta[:, :, None])
         trans = first + second
         trans_den = bern_mul(delta, x0)
