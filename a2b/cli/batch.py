@@ -449,7 +449,8 @@ def _fields(chunk) -> dict:
     type=click.IntRange(min=1),
     default=1024,
     show_default=True,
-    help="Jobs sampled and written at a time; memory is bounded by one chunk.",
+    help="Jobs read and built together, and the most in one chunk of output; memory is "
+    "bounded by them.",
 )
 @options.output_option
 @options.verbose_option
@@ -458,9 +459,11 @@ def command(jobs, mode, samples, fmt, chunk_size, output, verbose):
 
     JOBS is a YAML or JSON list of jobs, or JSON Lines (one job per line, read as it goes).
     A job has start and end poses and, optionally, name (default: its index), mode, samples
-    and parameters, as in a poses file. Jobs are processed in chunks; a progress bar shows
-    on stderr when stderr is a terminal. A job that fails stops the run with its name, and
-    with -o no file is written. -v states every choice a2b makes, job by job.
+    and parameters, as in a poses file. Jobs are read, built and sampled in chunks, the
+    common kinds (darboux with delta, cubic with m, a, b, screw) all at once, with the
+    results of building each alone; a progress bar shows on stderr when stderr is a
+    terminal. A job that fails stops the run with its name, and with -o no file is written.
+    -v states every choice a2b makes, job by job.
 
     \b
     Example:
