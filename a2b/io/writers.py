@@ -210,7 +210,7 @@ def _job_column(job: list[str]) -> np.ndarray:
         if "\0" in name:
             raise ParameterError(f"job name {name!r} contains a NUL character")
         names.append(_csv_field(name).encode() + b",")
-        counts.append(sum(1 for _ in run))
+        counts.append(len(list(run)))
     return np.repeat(np.array(names, dtype=bytes), counts)
 
 
