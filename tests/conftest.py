@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import io
+
 import numpy as np
 import pytest
 
@@ -43,3 +45,23 @@ def commutator(matrices):
     """Largest ``|D_i D_j − D_j D_i|`` of the relative displacements ``C(t) C(0)⁻¹``."""
     rel = matrices @ inverse_matrices(matrices[0])
     return np.abs(rel[:, None] @ rel[None, :] - rel[None, :] @ rel[:, None]).max()
+
+
+class NonSeekableStream(io.RawIOBase):
+    """A writable stream like a pipe: no ``seek``, and ``tell`` fails. Collects what is written."""
+
+    def __init__(self):
+        self.data = bytearray()
+
+    def writable(self):
+        return True
+
+    def write(self, b):
+        self.data += b
+        return len(b)
+
+    def seekable(self):
+        return False
+
+    def tell(self):
+        raise OSError("illegal seek")

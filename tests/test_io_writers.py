@@ -11,6 +11,8 @@ from a2b.errors import ParameterError
 from a2b.io import parallel, readers, writers
 from a2b.io.floatrepr import format_rows, integer_words, number_words
 
+from .conftest import NonSeekableStream
+
 
 def _reprs(values, sep=","):
     return "".join(sep.join(repr(float(v)) for v in row) + "\n" for row in values)
@@ -195,24 +197,7 @@ def test_batch_csv_quotes_job_names(rng):
 
 
 def test_mcap_writer_needs_no_seek(rng):
-    class PipeLike(io.RawIOBase):
-        def __init__(self):
-            self.data = bytearray()
-
-        def writable(self):
-            return True
-
-        def write(self, b):
-            self.data += b
-            return len(b)
-
-        def seekable(self):
-            return False
-
-        def tell(self):
-            raise OSError("illegal seek")
-
-    pipe = PipeLike()
+    pipe = NonSeekableStream()
     chunks, _ = _chunks(rng, 10, 4)
     writers.write_mcap(pipe, chunks)
     got_time, _, _ = readers.read_mcap(io.BytesIO(bytes(pipe.data)))

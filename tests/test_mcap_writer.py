@@ -22,6 +22,8 @@ from a2b.errors import ParameterError
 from a2b.io import mcapwriter, parallel, writers
 from a2b.io.mcapwriter import MAGIC
 
+from .conftest import NonSeekableStream
+
 
 def _samples(rng, n, sizes):
     t = np.sort(rng.random(n))
@@ -207,25 +209,8 @@ def _body(data: bytes, offset: int) -> bytes:
 
 
 def test_into_a_non_seekable_stream(rng):
-    class Pipe(io.RawIOBase):
-        def __init__(self):
-            self.data = bytearray()
-
-        def writable(self):
-            return True
-
-        def write(self, b):
-            self.data += b
-            return len(b)
-
-        def seekable(self):
-            return False
-
-        def tell(self):
-            raise OSError("illegal seek")
-
     chunks, _, quat, _ = _samples(rng, 5000, [5000])
-    pipe = Pipe()
+    pipe = NonSeekableStream()
     writers.write_mcap(pipe, chunks)
     assert bytes(pipe.data) == _write(chunks)
     reader = make_reader(io.BufferedReader(io.BytesIO(bytes(pipe.data))))

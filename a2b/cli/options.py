@@ -10,6 +10,8 @@ import math
 
 import click
 
+#: A copy of :data:`a2b.api.MODES`, so that ``--help`` need not import the core (a test keeps
+#: them equal).
 MODES = ("darboux", "cubic", "screw")
 FORMATS = ("csv", "matrix", "study", "tum", "kitti", "mcap")
 SPACES = ("matrix", "study")

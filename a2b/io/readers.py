@@ -48,7 +48,9 @@ from typing import IO, Any
 
 import numpy as np
 
+from ..api import MODES
 from ..errors import A2bError, InputFileError
+from ..motions.cubic import FRAMES
 
 __all__ = [
     "Job",
@@ -70,8 +72,6 @@ __all__ = [
     "read_tum",
 ]
 
-MODES = ("darboux", "cubic", "screw")
-FRAMES = ("canonical", "given")
 POSE_FORMS = ("matrix", "quaternion", "quaternion_xyzw", "study")
 POSE_KEYS = POSE_FORMS + ("layout", "translation", "kappa")
 POSES_KEYS = ("start", "end", "mode", "samples", "parameters")

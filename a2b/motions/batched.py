@@ -36,6 +36,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from ..api import MODES
 from ..extended import ORTHOGONAL_TOL
 from ..frames import ROTATION_NOISE
 from ..poses import (
@@ -61,6 +62,7 @@ from ._rational import (
     bern_mul,
     bernstein_basis,
 )
+from .cubic import FRAMES
 
 __all__ = [
     "FRAMES",
@@ -71,9 +73,6 @@ __all__ = [
     "screw_frames",
     "valid_poses",
 ]
-
-MODES = ("darboux", "cubic", "screw")
-FRAMES = ("canonical", "given")
 
 #: A job whose smallest ``|p(t)|² / max|p|²`` on ``[0, 1]`` is below this goes to
 #: :func:`a2b.motion`: twice the ratio at which a single motion warns (or refuses).
