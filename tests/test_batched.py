@@ -754,3 +754,21 @@ def test_a_job_whose_vectorised_samples_are_not_finite_is_sampled_on_its_own(rng
     expected = run_chunks(reference_chunks, jobs, "darboux", 4, "quat_trans", 6)
     assert got[1:] == expected[1:]
     assert_same_rows(got[0], expected[0])
+
+
+def test_einsum_order_check_tells_the_orders_apart():
+    """The values the einsum check uses give another sum for each other order of the four
+    squares, so the check can fail; and it agrees with einsum here."""
+    from a2b.motions import batched
+
+    k = np.arange(2048.0)
+    q = (np.sin(1.7 * k) * np.exp(4.0 * np.cos(0.37 * k))).reshape(512, 4)
+    s = q * q
+    pairs = (s[:, 0] + s[:, 2]) + (s[:, 1] + s[:, 3])
+    others = [
+        ((s[:, 0] + s[:, 1]) + s[:, 2]) + s[:, 3],
+        (s[:, 0] + s[:, 1]) + (s[:, 2] + s[:, 3]),
+        (s[:, 0] + s[:, 3]) + (s[:, 1] + s[:, 2]),
+    ]
+    assert all((other != pairs).any() for other in others)
+    assert batched._einsum_order() == np.array_equal(np.einsum("ij,ij->i", q, q), pairs)

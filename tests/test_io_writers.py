@@ -9,7 +9,8 @@ import pytest
 
 from a2b.errors import ParameterError
 from a2b.io import parallel, readers, writers
-from a2b.io.floatrepr import format_rows, integer_words, number_words
+from a2b.io.floatrepr import format_rows, integer_words, number_words, text_words
+from a2b.poses import rotations_from_quaternions
 
 from .conftest import NonSeekableStream
 
@@ -311,3 +312,140 @@ def test_idle_processors_and_the_default_workers(monkeypatch):
     assert [square for _, square in parallel.in_order(_pid_and_square, range(12))] == [
         x * x for x in range(12)
     ]
+
+
+def test_format_rows_takes_prefix_words():
+    """A prefix of text words, as number_words makes them, is the same text as strings."""
+    values = np.array([[0.25, -3.0], [1e-07, 2.0], [5.5, 0.0]])
+    names = ["a", "long name, 17 ch", "é"]
+    words = text_words(np.array([n.encode() + b"," for n in names]))
+    assert words.dtype == np.uint64 and words.shape == (3, 3)
+    assert format_rows(values, prefix=words) == format_rows(values, prefix=names)
+    spaced = np.zeros((3, 2), np.uint64)  # zero bytes anywhere are skipped
+    spaced[:, 1] = words[:, 0]
+    assert format_rows(values, prefix=spaced).startswith(b"a,0.25,")
+    with pytest.raises(ValueError, match="prefixes for 3 rows"):
+        format_rows(values, prefix=words[:2])
+
+
+def test_job_runs_stand_for_the_list_of_names():
+    runs = writers.JobRuns(["a", "b", "a"], [2, 1, 3])
+    assert list(runs) == ["a", "a", "b", "a", "a", "a"] and len(runs) == 6
+    assert writers.JobRuns.of(list(runs)).names == ["a", "b", "a"]
+    assert writers.JobRuns.of(runs) is runs
+    joined = writers.JobRuns.join([runs, writers.JobRuns(["c"], [4])])
+    assert list(joined) == list(runs) + ["c"] * 4
+    with pytest.raises(ValueError, match="2 names for 1 runs"):
+        writers.JobRuns(["a", "b"], [1])
+
+
+def _lead_rows(chunk):
+    """Each row's job and t fields, spelled out one by one: what the lead must give."""
+    return [
+        writers._csv_field(name).encode() + b"," + repr(float(t)).encode() + b","
+        for name, t in zip(chunk.job, chunk.t)
+    ]
+
+
+@pytest.mark.parametrize("pattern", ["shared", "differing", "signed zero", "one run", "uneven"])
+def test_batch_lead_spells_out_every_row(rng, pattern):
+    """The job and t fields, formatted once per run and pattern, come out row by row as if
+    formatted one by one, for any slice a worker takes."""
+    counts = {"one run": [40], "uneven": [7, 7, 9, 7]}.get(pattern, [7] * 6)
+    names = [f"job {i}" if i % 2 else f'"{i}", quoted' for i in range(len(counts))]
+    count = counts[0]
+    pattern_t = np.linspace(0.0, 1.0, count)
+    t = np.concatenate([pattern_t[:c] if c <= count else np.linspace(0, 1, c) for c in counts])
+    if pattern == "differing":
+        t[-1] = 0.5
+    if pattern == "signed zero":
+        t[count] = -0.0  # equal to 0.0, but another text
+    n = len(t)
+    chunk = writers.Chunk(
+        t, quat_wxyz=np.tile([1.0, 0, 0, 0], (n, 1)), trans=rng.normal(size=(n, 3)),
+        job=writers.JobRuns(names, counts),
+    )  # fmt: skip
+    lead = writers._lead(chunk)
+    assert (lead.times is not None) == (pattern == "shared")
+    expected = _lead_rows(chunk)
+    slices = [(0, n), (0, 1), (n - 1, n), (3, 17), (count, 2 * count), (1, n - 2)]
+    for lo, hi in [(lo, min(hi, n)) for lo, hi in slices if lo < min(hi, n)]:
+        words = lead.words(lo, hi)
+        got = [row.tobytes().replace(b"\0", b"") for row in words]
+        if lead.times is None:  # t is then formatted as a column with the numbers
+            got = [g + repr(float(x)).encode() + b"," for g, x in zip(got, t[lo:hi])]
+        assert got == expected[lo:hi]
+
+
+@pytest.mark.parametrize("fmt", ["csv", "matrix", "study"])
+def test_batch_csv_is_the_rows_formatted_one_by_one(rng, fmt):
+    """With the lead or without it, every line is the job, then repr of every number."""
+    counts = [5, 5, 5, 3, 5]
+    t = np.concatenate([np.linspace(0.0, 1.0, c) for c in counts])
+    n = len(t)
+    quat = rng.normal(size=(n, 4))
+    quat /= np.linalg.norm(quat, axis=1)[:, None]
+    trans = rng.normal(size=(n, 3)) * 10.0 ** rng.integers(-8, 8, size=(n, 1))
+    mats = np.zeros((n, 4, 4))
+    mats[:, :3, :3] = rotations_from_quaternions(quat)
+    mats[:, :3, 3] = trans
+    mats[:, 3, 3] = 1.0
+    study = rng.normal(size=(n, 8))
+    names = ["a", "b, c", "d", "e", "f"]
+    job = writers.JobRuns(names, counts)
+    # one chunk with one pattern of t and one without; and a list of names for a job column
+    chunks = [
+        writers.Chunk(t[:15], quat[:15], trans[:15], mats[:15], study[:15], job=writers.JobRuns(names[:3], counts[:3])),
+        writers.Chunk(t[15:], quat[15:], trans[15:], mats[15:], study[15:], job=list(writers.JobRuns(names[3:], counts[3:]))),
+    ]  # fmt: skip
+    stream = io.BytesIO()
+    writers.write_batch_csv(stream, chunks, fmt)
+    columns = {
+        "csv": np.column_stack([t, trans, quat]),
+        "matrix": np.column_stack([t, mats[:, :3, :].reshape(n, 12)]),
+        "study": np.column_stack([t, study]),
+    }[fmt]
+    lines = stream.getvalue().decode().splitlines()[1:]
+    assert lines == [
+        ",".join([writers._csv_field(name), *(repr(float(v)) for v in row)])
+        for name, row in zip(job, columns)
+    ]
+
+
+def _sized(n):
+    return b"x" * n
+
+
+def _an_array_back(a):
+    return a * 2.0
+
+
+@pytest.mark.parametrize("size", [10, parallel.BOX, parallel.BOX + 1])
+def test_helpers_pass_items_and_results_of_any_size(monkeypatch, size):
+    """Bytes that fit come back through shared memory, larger ones and other objects through
+    the pipe; arrays go out through shared memory if they fit."""
+    monkeypatch.setattr(parallel, "WORKERS", 2)
+    sizes = [size, 3, size - 1, 5]
+    assert [len(b) for b in parallel.in_order(_sized, sizes)] == sizes
+    arrays = [np.full(n, float(n)) for n in (1, size // 8 + 1, 7, 2)]
+    for got, a in zip(parallel.in_order(_an_array_back, arrays), arrays):
+        assert np.array_equal(got, 2.0 * a)
+
+
+class _Unpicklable(Exception):
+    def __reduce__(self):
+        raise TypeError("no pickling")
+
+
+def _raise_unpicklable(x):
+    if x == 1:
+        raise _Unpicklable("odd")
+    return x
+
+
+def test_helper_errors_that_do_not_pickle_still_arrive(monkeypatch):
+    monkeypatch.setattr(parallel, "WORKERS", 2)
+    got = []
+    with pytest.raises(Exception, match="odd"):
+        got.extend(parallel.in_order(_raise_unpicklable, range(6)))
+    assert got == [0]

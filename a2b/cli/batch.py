@@ -112,7 +112,7 @@ class _Pending:
         self.limit = limit
         self.balance = balance
         self.max_jobs = jobs
-        self.parts: list = []  # (job column, t, fields)
+        self.parts: list = []  # (JobRuns, t, fields)
         self.rows = 0
         self.jobs = 0
 
@@ -126,7 +126,7 @@ class _Pending:
         room = min(to_limit, (self.balance - self.rows) // count, self.max_jobs - self.jobs)
         return max(1, room)
 
-    def add(self, job: list, t, fields: dict, jobs: int) -> bool:
+    def add(self, job, t, fields: dict, jobs: int) -> bool:
         """Add the rows of ``jobs`` more jobs (0: more rows of the last one); True when the
         chunk is full and should be flushed."""
         self.parts.append((job, t, fields))
@@ -137,7 +137,7 @@ class _Pending:
     def flush(self):
         import numpy as np
 
-        from ..io.writers import Chunk
+        from ..io.writers import Chunk, JobRuns
 
         parts, self.parts, self.rows, self.jobs = self.parts, [], 0, 0
         fields = {}
@@ -148,7 +148,7 @@ class _Pending:
             else:
                 fields[key] = values[0] if len(values) == 1 else np.concatenate(values)
         t = parts[0][1] if len(parts) == 1 else np.concatenate([p[1] for p in parts])
-        job = parts[0][0] if len(parts) == 1 else [name for p in parts for name in p[0]]
+        job = parts[0][0] if len(parts) == 1 else JobRuns.join(p[0] for p in parts)
         return Chunk(t, job=job, **fields)
 
 
@@ -362,6 +362,8 @@ def _run_chunks(batch, position, names, count, job, mode, representation, pendin
     """
     import numpy as np
 
+    from ..io.writers import JobRuns
+
     ts = next(options.evenly_spaced(count, count))
     i, n = 0, len(names)
     while i < n:
@@ -377,9 +379,7 @@ def _run_chunks(batch, position, names, count, job, mode, representation, pendin
                     report(names[i + k], piece.choices[k])
             if good < take:
                 fields = {key: v[: good * count] for key, v in fields.items()}
-            column: list = []
-            for name in names[i : i + good]:
-                column += [name] * count
+            column = JobRuns(names[i : i + good], [count] * good)
             if pending.add(column, np.tile(ts, good), fields, good):
                 yield pending.flush()
         i += good
@@ -392,6 +392,8 @@ def _one_job(job, name, mode, samples, representation, pending, report):
     """Build, sample and add one job with :func:`a2b.motion`, as a single motion."""
     import a2b
     from a2b.errors import A2bError, A2bWarning
+
+    from ..io.writers import JobRuns
 
     try:
         with warnings.catch_warnings(record=True) as caught:
@@ -411,7 +413,8 @@ def _one_job(job, name, mode, samples, representation, pending, report):
             if pending.full_before(len(chunk.t)):
                 yield pending.flush()
             starts = first or not pending.parts  # (the rest of a job begins a chunk: a job too)
-            if pending.add([name] * len(chunk.t), chunk.t, _fields(chunk), int(starts)):
+            column = JobRuns([name], [len(chunk.t)])
+            if pending.add(column, chunk.t, _fields(chunk), int(starts)):
                 yield pending.flush()
             first = 0
     except A2bError as e:

@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["BLOCK", "format_rows", "integer_words", "number_words"]
+__all__ = ["BLOCK", "format_rows", "integer_words", "number_words", "text_words"]
 
 #: Numbers formatted per pass: large enough to amortise numpy's per-call cost, small enough
 #: for the temporaries to stay in the processor's cache.
@@ -377,9 +377,11 @@ def format_rows(values, sep: str = ",", prefix=None) -> bytes:
         Any floats, including NaN, infinity, zero and subnormals.
     sep : str
         The one-character field separator.
-    prefix : sequence of str, or ndarray of bytes (dtype ``S``), optional
-        A first field per row (for example a job name), written before the numbers and a
-        separator. An ``S`` array is taken as already encoded, separator included.
+    prefix : sequence of str, or ndarray, optional
+        Leading fields per row (for example a job name), written before the numbers. Strings
+        get a separator after them. An ``S`` array is taken as already encoded, separators
+        included, and so is a ``uint64`` array ``(n, w)`` of text words as
+        :func:`number_words` makes them (little-endian, zero bytes skipped).
 
     Returns
     -------
@@ -395,19 +397,39 @@ def format_rows(values, sep: str = ",", prefix=None) -> bytes:
     n, k = a.shape
     if n == 0:
         return b""
-    if prefix is not None:
-        if not isinstance(prefix, np.ndarray):
-            if any("\0" in p for p in set(prefix)):
-                raise ValueError("a prefix contains a NUL character")
-            prefix = np.array([p.encode() + sep_b for p in prefix], dtype=bytes)
-        if len(prefix) != n:
-            raise ValueError(f"{len(prefix)} prefixes for {n} rows")
+    head = None if prefix is None else _prefix_words(prefix, sep_b)
+    if head is not None and len(head) != n:
+        raise ValueError(f"{len(head)} prefixes for {n} rows")
     rows = max(1, BLOCK // max(k, 1))
     parts = []
     for lo in range(0, n, rows):
-        cells = _row_cells(a[lo : lo + rows], sep_b[0]).view(np.uint8)
-        if prefix is not None:
-            head = prefix[lo : lo + rows]
-            cells = np.hstack([head.view(np.uint8).reshape(len(head), -1), cells])
+        cells = _row_cells(a[lo : lo + rows], sep_b[0])
+        if head is not None:
+            lead = head[lo : lo + rows]
+            line = np.empty((len(cells), lead.shape[1] + cells.shape[1]), _U64)
+            line[:, : lead.shape[1]] = lead
+            line[:, lead.shape[1] :] = cells
+            cells = line
         parts.append(cells.tobytes().translate(None, b"\0"))
     return parts[0] if len(parts) == 1 else b"".join(parts)
+
+
+def text_words(texts: np.ndarray) -> np.ndarray:
+    """An ``S`` array's entries as zero-padded little-endian words ``(n, w)``."""
+    width = -(-max(texts.itemsize, 1) // 8)
+    padded = np.ascontiguousarray(texts, dtype=f"S{8 * width}")
+    return padded.view(_U64).reshape(len(texts), width)
+
+
+def _prefix_words(prefix, sep: bytes) -> np.ndarray:
+    if isinstance(prefix, np.ndarray) and prefix.dtype == _U64:
+        if prefix.ndim != 2:
+            raise ValueError(f"prefix words must be 2-d, got shape {prefix.shape}")
+        return prefix
+    if not isinstance(prefix, np.ndarray):
+        if any("\0" in p for p in set(prefix)):
+            raise ValueError("a prefix contains a NUL character")
+        prefix = np.array([p.encode() + sep for p in prefix], dtype=bytes)
+    if prefix.dtype.kind != "S":
+        raise ValueError(f"a prefix array must be of bytes or uint64 words, got {prefix.dtype}")
+    return text_words(prefix)

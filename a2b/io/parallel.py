@@ -102,58 +102,133 @@ def _with_threads(function: Callable, items: Iterable, count: int) -> Iterator:
         pool.shutdown(wait=True, cancel_futures=True)
 
 
+#: Bytes of each helper's two shared buffers (items in, results out). Larger items and
+#: results, and anything but bytes coming back, go through the pipe as pickles.
+BOX = 16 << 20
+
+
 class _Helper:
-    """A forked process that applies ``function`` to the items it is sent, one at a time."""
+    """A forked process that applies ``function`` to the items it is sent, one at a time.
+
+    Items and results cross in two shared-memory buffers, so only a few bytes go through the
+    pipe: an item's arrays are copied into the inbox (pickle protocol 5, out of band) and the
+    helper formats from views of it; a result of bytes comes back in the outbox. Through a
+    pipe they would cross in 64 KiB pieces, each of which the main process's feeding thread
+    takes only when it gets the GIL, leaving the helper waiting.
+    """
 
     def __init__(self, function: Callable, others: list[_Helper]):
+        import mmap
         from multiprocessing.connection import Pipe
 
+        self.inbox = mmap.mmap(-1, BOX)  # anonymous and shared: the child sees the same pages
+        self.outbox = mmap.mmap(-1, BOX)
         self.connection, theirs = Pipe()
         self.pid = os.fork()
         if self.pid == 0:  # pragma: no cover - runs in the child; its results are tested
             for other in (self, *others):  # or the other helpers would never see end-of-file
                 other.connection.close()
-            _serve(function, theirs)
+            _serve(function, theirs, self.inbox, self.outbox)
         theirs.close()
 
     def run(self, item) -> tuple[str, object]:
         """``("ok", function(item))`` or ``("error", exception)``, computed by the helper."""
         try:
-            self.connection.send(item)
-            return self.connection.recv()
+            self.connection.send_bytes(_pack(item, self.inbox))
+            reply = self.connection.recv_bytes()
         except (OSError, EOFError) as e:
             return "error", RuntimeError(f"a writer's helper process ended unexpectedly: {e!r}")
+        if reply[:1] == b"B":  # bytes in the outbox
+            return "ok", self.outbox[: int(reply[1:])]
+        return _loads(reply[1:])
 
     def close(self) -> None:
         self.connection.close()  # the helper reads end-of-file and exits
         os.waitpid(self.pid, 0)
+        self.inbox.close()
+        self.outbox.close()
 
 
-def _serve(function: Callable, connection) -> None:  # pragma: no cover - the child's loop
+def _pack(item, box) -> bytes:
+    """The message that sends ``item``: its pickle, its large buffers copied into ``box``."""
+    import pickle
+
+    buffers: list = []
+    data = pickle.dumps(item, protocol=5, buffer_callback=buffers.append)
+    views = [b.raw() for b in buffers]
+    if sum(v.nbytes for v in views) > len(box):
+        return b"P" + pickle.dumps(item, protocol=5)  # too large: all through the pipe
+    offset, sizes = 0, []
+    for view in views:
+        box[offset : offset + view.nbytes] = view
+        offset += view.nbytes
+        sizes.append(view.nbytes)
+    return b"O" + pickle.dumps((data, sizes), protocol=5)
+
+
+def _unpack(message: bytes, box):
+    """The item of a :func:`_pack` message; its buffers are views of ``box``."""
+    import pickle
+
+    if message[:1] == b"P":
+        return pickle.loads(message[1:])
+    data, sizes = pickle.loads(message[1:])
+    whole = memoryview(box)
+    views, offset = [], 0
+    for size in sizes:
+        views.append(whole[offset : offset + size])
+        offset += size
+    return pickle.loads(data, buffers=views)
+
+
+def _loads(data: bytes):
+    import pickle
+
+    return pickle.loads(data)
+
+
+def _serve(function: Callable, connection, inbox, outbox) -> None:  # pragma: no cover - child
     """The helper's life: items in, results out, until the pipe closes; then ``_exit``.
 
     Ctrl-C goes to the whole process group; the main process handles it, the helper ignores
     it. ``os._exit`` skips the parent's atexit handlers and stdio buffers, which the fork
     copied and which are not the helper's to flush.
     """
+    import pickle
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     with contextlib.suppress(BaseException):  # the main process went away
         while True:
             try:
-                item = connection.recv()
+                message = connection.recv_bytes()
             except EOFError:
                 break
             try:
-                reply = ("ok", function(item))
+                result = function(_unpack(message, inbox))
             except Exception as e:  # noqa: BLE001 - handed to the main process to raise
-                reply = ("error", e)
-            try:
-                connection.send(reply)
-            except Exception as e:  # noqa: BLE001 - an exception that does not pickle
-                connection.send(("error", RuntimeError(f"{type(e).__name__}: {e}")))
+                reply = b"R" + _dumps_error(e)
+            else:
+                if type(result) is bytes and len(result) <= len(outbox):
+                    outbox[: len(result)] = result
+                    reply = b"B%d" % len(result)
+                else:
+                    try:
+                        reply = b"R" + pickle.dumps(("ok", result), protocol=5)
+                    except Exception as e:  # noqa: BLE001 - a result that does not pickle
+                        reply = b"R" + _dumps_error(e)
+            connection.send_bytes(reply)
     os._exit(0)
+
+
+def _dumps_error(e: Exception) -> bytes:
+    """``("error", e)`` pickled, or a ``RuntimeError`` that says what ``e`` was."""
+    import pickle
+
+    try:
+        return pickle.dumps(("error", e), protocol=5)
+    except Exception:  # noqa: BLE001 - an exception that does not pickle
+        return pickle.dumps(("error", RuntimeError(f"{type(e).__name__}: {e}")), protocol=5)
 
 
 def _with_helpers(function: Callable, items: Iterable, count: int) -> Iterator:

@@ -25,13 +25,13 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
-from itertools import groupby
+from itertools import groupby, repeat
 from typing import IO
 
 import numpy as np
 
 from ..errors import ParameterError
-from .floatrepr import BLOCK, format_rows
+from .floatrepr import BLOCK, format_rows, number_words, text_words
 from .parallel import in_order
 from .readers import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER
 
@@ -39,6 +39,7 @@ __all__ = [
     "FORMATS",
     "REPRESENTATION",
     "Chunk",
+    "JobRuns",
     "sample_chunks",
     "write_batch_csv",
     "write_csv",
@@ -67,7 +68,53 @@ class Chunk:
     trans: np.ndarray | None = None
     matrices: np.ndarray | None = None
     study: np.ndarray | None = None
-    job: list[str] | None = None
+    job: list[str] | JobRuns | None = None
+
+
+class JobRuns:
+    """A ``job`` column in runs: ``names[0]`` for ``counts[0]`` rows, then ``names[1]`` …
+
+    Iterating gives the name of every row, as the list it stands for would.
+    """
+
+    __slots__ = ("counts", "names")
+
+    def __init__(self, names: list[str], counts: list[int]):
+        if len(names) != len(counts):
+            raise ValueError(f"{len(names)} names for {len(counts)} runs")
+        self.names = names
+        self.counts = counts
+
+    @classmethod
+    def of(cls, job: Iterable[str]) -> JobRuns:
+        """``job`` as runs (a :class:`JobRuns` is returned as it is)."""
+        if isinstance(job, JobRuns):
+            return job
+        names, counts = [], []
+        for name, run in groupby(job):
+            names.append(name)
+            counts.append(sum(1 for _ in run))
+        return cls(names, counts)
+
+    @classmethod
+    def join(cls, parts: Iterable[JobRuns]) -> JobRuns:
+        """The runs of ``parts`` one after the other."""
+        names: list[str] = []
+        counts: list[int] = []
+        for part in parts:
+            names += part.names
+            counts += part.counts
+        return cls(names, counts)
+
+    def __len__(self) -> int:
+        return sum(self.counts)
+
+    def __iter__(self) -> Iterator[str]:
+        for name, count in zip(self.names, self.counts):
+            yield from repeat(name, count)
+
+    def __repr__(self) -> str:
+        return f"JobRuns({self.names!r}, {self.counts!r})"
 
 
 #: What each format needs from the motion: ``quat_trans``, ``matrices`` or ``study``.
@@ -103,16 +150,18 @@ def sample_chunks(
             raise ValueError(f"unknown representation {representation!r}")
 
 
-def _rows(fmt: str, chunk: Chunk) -> np.ndarray:
-    """The numeric columns of one chunk in the layout of ``fmt`` (without tum's time)."""
+def _rows(fmt: str, chunk: Chunk, time: bool = True) -> np.ndarray:
+    """The numeric columns of one chunk in the layout of ``fmt`` (without tum's time, and
+    without ``t`` if not ``time``)."""
     n = len(chunk.t)
+    t = [chunk.t] if time else []
     if fmt == "csv":
-        return np.column_stack([chunk.t, chunk.trans, chunk.quat_wxyz])
+        return np.column_stack([*t, chunk.trans, chunk.quat_wxyz])
     if fmt in ("matrix", "kitti"):
         flat = chunk.matrices[:, :3, :].reshape(n, 12)
-        return flat if fmt == "kitti" else np.column_stack([chunk.t, flat])
+        return flat if fmt == "kitti" or not time else np.column_stack([*t, flat])
     if fmt == "study":
-        return np.column_stack([chunk.t, chunk.study])
+        return np.column_stack([*t, chunk.study])
     raise ValueError(f"no table layout for {fmt!r}")
 
 
@@ -120,23 +169,27 @@ def _rows(fmt: str, chunk: Chunk) -> np.ndarray:
 TASK = 8 * BLOCK
 
 
-def _blocks(rows: np.ndarray, prefix: np.ndarray | None = None) -> Iterator[tuple]:
-    """Slices of about :data:`TASK` numbers: the unit of work of one worker."""
+def _blocks(rows: np.ndarray, lead: _Lead | None = None) -> Iterator[tuple]:
+    """Slices of about :data:`TASK` numbers, the unit of work of one worker, with the
+    ``lead`` of their chunk and their first row."""
     size = max(1, TASK // max(rows.shape[1], 1))
     for lo in range(0, len(rows), size):
-        yield rows[lo : lo + size], None if prefix is None else prefix[lo : lo + size]
+        yield rows[lo : lo + size], lead, lo
 
 
 def _write_rows(stream: IO, tables: Iterable[tuple], sep: str = ",") -> None:
-    """Write ``(rows, prefix)`` tables as text, formatted task by task on every idle core
-    (:func:`a2b.io.parallel.in_order`)."""
+    """Write ``(rows, lead)`` tables as text, formatted task by task on every idle core
+    (:func:`a2b.io.parallel.in_order`); ``lead`` (a :class:`_Lead` or ``None``) gives the
+    first fields of each row."""
 
     def blocks():
-        for rows, prefix in tables:
-            yield from _blocks(rows, prefix)
+        for rows, lead in tables:
+            yield from _blocks(rows, lead)
 
     def text(block):
-        return format_rows(block[0], sep=sep, prefix=block[1])
+        rows, lead, lo = block
+        prefix = None if lead is None else lead.words(lo, lo + len(rows))
+        return format_rows(rows, sep=sep, prefix=prefix)
 
     for piece in in_order(text, blocks()):  # noqa: FURB122 - write each block as it is done
         stream.write(piece)
@@ -200,29 +253,71 @@ def _csv_field(name: str) -> str:
     return name
 
 
-def _job_column(job: list[str]) -> np.ndarray:
-    """The ``job`` field of every row, quoted as CSV needs and encoded, with its comma.
+@dataclass
+class _Lead:
+    """The first fields of a batch chunk's rows, as text words (:mod:`a2b.io.floatrepr`):
+    the job, and ``t`` too when every job repeats the same times.
 
-    Rows of one job come in runs, so each name is quoted and encoded once per run.
+    Runs of rows share a job, and the jobs of a chunk mostly share their times, so each name
+    and each ``t`` is formatted once, not once per row; a worker spells out the rows of its
+    task (:meth:`words`). ``t`` is taken out of the columns only if the chunk has two runs or
+    more, all of the same times, bit for bit.
     """
-    names, counts = [], []
-    for name, run in groupby(job):
-        if "\0" in name:
-            raise ParameterError(f"job name {name!r} contains a NUL character")
-        names.append(_csv_field(name).encode() + b",")
-        counts.append(len(list(run)))
-    return np.repeat(np.array(names, dtype=bytes), counts)
+
+    names: np.ndarray  # (runs, w): "name," of each run
+    ends: np.ndarray  # (runs,): the row after each run
+    times: np.ndarray | None  # (c, 4): "t," of each row of a run; None: t is a column
+
+    def words(self, lo: int, hi: int) -> np.ndarray:
+        """The words of rows ``lo`` to ``hi``, ``(hi − lo, w [+ 4])``."""
+        first, last = np.searchsorted(self.ends, [lo, hi - 1], side="right").tolist()
+        counts = np.minimum(self.ends[first : last + 1], hi)
+        counts[1:] -= self.ends[first:last]
+        counts[0] -= lo
+        names = np.repeat(self.names[first : last + 1], counts, axis=0)
+        if self.times is None:
+            return names
+        times = self.times.take(np.arange(lo, hi) % len(self.times), axis=0)
+        return np.concatenate([names, times], axis=1)
+
+
+def _lead(chunk: Chunk) -> _Lead:
+    """The :class:`_Lead` of a batch chunk: names quoted as CSV needs, with their commas."""
+    runs = JobRuns.of(chunk.job)
+    if any("\0" in name for name in runs.names):
+        name = next(name for name in runs.names if "\0" in name)
+        raise ParameterError(f"job name {name!r} contains a NUL character")
+    names = text_words(np.array([_csv_field(name).encode() + b"," for name in runs.names]))
+    ends = np.cumsum(runs.counts)
+    if len(ends) == 0 or ends[-1] != len(chunk.t):
+        raise ValueError(f"a job column of {len(runs)} rows for {len(chunk.t)} samples")
+    times = None
+    count = runs.counts[0]
+    if len(runs.counts) > 1 and all(c == count for c in runs.counts):
+        t = np.ascontiguousarray(chunk.t, dtype=np.float64)
+        bits = t.view(np.uint64).reshape(-1, count)  # bit for bit: -0.0 is not 0.0
+        if (bits == bits[0]).all():
+            times = number_words(t[:count])
+            times[:, 3] |= np.uint64(ord(",")) << np.uint64(56)
+    return _Lead(names, ends, times)
 
 
 def write_batch_csv(stream: IO, chunks: Iterable[Chunk], fmt: str = "csv") -> None:
     """Write many motions into one CSV whose first column, ``job``, names the motion of each row.
 
     ``fmt`` is one of the CSV layouts ``csv``, ``matrix``, ``study``; every chunk needs
-    ``job`` and the representation of that layout.
+    ``job`` (a list of names, one per row, or :class:`JobRuns`) and the representation of
+    that layout.
     """
     header = {"csv": CSV_HEADER, "matrix": MATRIX_HEADER, "study": STUDY_HEADER}[fmt]
     stream.write(b"job," + header.encode() + b"\n")
-    _write_rows(stream, ((_rows(fmt, chunk), _job_column(chunk.job)) for chunk in chunks))
+
+    def tables():
+        for chunk in chunks:
+            lead = _lead(chunk)
+            yield _rows(fmt, chunk, time=lead.times is None), lead
+
+    _write_rows(stream, tables())
 
 
 def _schema(name: str) -> bytes:

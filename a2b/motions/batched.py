@@ -474,8 +474,10 @@ _EINSUM_ORDER: list = []
 def _einsum_order() -> bool:
     """Whether ``np.einsum("ij,ij->i", q, q)`` sums ``(q0² + q2²) + (q1² + q3²)`` here."""
     if not _EINSUM_ORDER:
-        rng = np.random.default_rng(0)
-        q = rng.normal(size=(512, 4)) * np.exp(rng.normal(size=(512, 4)) * 4)
+        # values of wide-ranging size, on which the orders of summation disagree; made
+        # without numpy.random, whose import would add to every start-up
+        k = np.arange(2048.0)
+        q = (np.sin(1.7 * k) * np.exp(4.0 * np.cos(0.37 * k))).reshape(512, 4)
         square = q * q
         pairs = (square[:, 0] + square[:, 2]) + (square[:, 1] + square[:, 3])
         _EINSUM_ORDER.append(
