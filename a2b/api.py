@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ParameterError
+from .names import MODES
 from .frames import screw_frame
 from .motions.base import Motion, check_table
 from .poses import check_matrices
 
-MODES = ("darboux", "cubic", "screw")
 
 PARAMETERS = {
     "darboux": ("delta", "kappa", "lam", "branch", "pitch_start", "pitch_end", "through", "long_way"),

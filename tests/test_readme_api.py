@@ -16,10 +16,3 @@ def test_python_api_example_runs():
     assert namespace["study"].shape == (101, 8)
     assert len(namespace["fiber"]["points"][0]) == 13
     assert {"m0", "m3", "a", "b"} <= set(namespace["info"])
-
-
-def test_the_cli_copy_of_the_modes_matches_the_core():
-    from a2b.api import MODES
-    from a2b.cli import options
-
-    assert options.MODES == MODES

@@ -473,6 +473,14 @@ def command(jobs, mode, samples, fmt, chunk_size, output, verbose):
       a2b batch samples/jobs.yaml -o motions.csv
       a2b batch jobs.jsonl --samples 1001 --format matrix > motions.csv
     """
+    from ..io import jobscan
+
+    # JSON Lines are scanned by a helper process from here on, while numpy and the core load
+    sniffed = jobscan.sniff(jobs)
+    scanned = None
+    if sniffed.json_lines:
+        scanned = jobscan.scan_ahead(jobs, sniffed, min(READ_STEP, chunk_size))
+
     from ..io.atomic import atomic_output
     from ..io.readers import read_jobs
     from ..io.writers import REPRESENTATION, write_batch_csv
@@ -491,7 +499,7 @@ def command(jobs, mode, samples, fmt, chunk_size, output, verbose):
         for choice in made:
             click.echo(f"  • job {name}: {choice}", err=True)
 
-    job_list = read_jobs(jobs)
+    job_list = read_jobs(jobs, sniffed=sniffed, scanned=scanned)
     with _progress(job_list.count) as progress, atomic_output(output) as stream:
         advance = None
         if progress is not None:

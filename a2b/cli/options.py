@@ -10,16 +10,12 @@ import math
 
 import click
 
-#: A copy of :data:`a2b.api.MODES`, so that ``--help`` need not import the core (a test keeps
-#: them equal).
-MODES = ("darboux", "cubic", "screw")
+from ..names import MAX_SAMPLES, MIN_SAMPLES, MODES
+
 FORMATS = ("csv", "matrix", "study", "tum", "kitti", "mcap")
 SPACES = ("matrix", "study")
 #: ``-o`` suffixes that choose a format when ``--format`` is not given.
 FORMAT_SUFFIXES = {".mcap": "mcap", ".tum": "tum", ".kitti": "kitti"}
-#: The fewest and the most samples (as :data:`a2b.io.readers.MIN_SAMPLES` and ``MAX_SAMPLES``):
-#: t = 0 and t = 1, and no more evenly spaced t in [0, 1] than doubles tell apart.
-MIN_SAMPLES, MAX_SAMPLES = 2, 2**53
 #: MCAP numbers messages with a uint32 sequence number.
 MCAP_MAX_SAMPLES = 2**32
 #: MCAP log times are unsigned nanoseconds; a2b's writer forms them as int64.

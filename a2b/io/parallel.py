@@ -54,13 +54,17 @@ def in_order(function: Callable, items: Iterable) -> Iterator:
 
 
 def _idle_processors() -> int:
-    """Processors that other programs leave idle, now (the median of three looks).
+    """Processors that other programs leave idle, now (the most of three looks).
 
     A helper on a processor that another program keeps busy only adds the cost of the
-    pipes (about 10%); on an idle one it takes half the work. The kernel's count of
+    pipes (about 10%); on an idle one it takes half the work. So a processor counts as idle
+    if any of three looks finds it so: a task that runs for a moment (the kernel writing a
+    file back to disk) must not cost half the speed. The kernel's count of
     runnable tasks (``/proc/loadavg``) says which, at once (the load average would remember
     the last minute); this process's own runnable threads, such as a BLAS thread still
-    spinning after a product, are not counted. Setting :data:`WORKERS` skips this judgement.
+    spinning after a product, and its children, such as the one scanning the jobs of
+    ``a2b batch`` (:mod:`a2b.io.jobscan`), which will soon be done, are not counted.
+    Setting :data:`WORKERS` skips this judgement.
     """
     import time
 
@@ -71,14 +75,34 @@ def _idle_processors() -> int:
         try:
             with open("/proc/loadavg") as f:
                 running = int(f.read().split()[3].split("/")[0])
-            own = 0
-            for task in os.listdir("/proc/self/task"):
-                with open(f"/proc/self/task/{task}/stat") as f:
-                    own += f.read().rpartition(")")[2].split()[0] == "R"
+            own = _runnable_own_tasks()
         except (OSError, ValueError, IndexError):  # pragma: no cover - no such files
             return workers()
         others.append(max(0, running - max(own, 1)))
-    return max(0, workers() - 1 - sorted(others)[1])
+    return max(0, workers() - 1 - min(others))
+
+
+def _runnable_own_tasks() -> int:
+    """This process's runnable threads and its runnable children."""
+    own = 0
+    for task in os.listdir("/proc/self/task"):
+        own += _runnable(f"/proc/self/task/{task}/stat")
+        try:
+            with open(f"/proc/self/task/{task}/children") as f:
+                children = f.read().split()
+        except OSError:  # pragma: no cover - a kernel without the list of children
+            children = []
+        for child in children:
+            own += _runnable(f"/proc/{child}/stat")
+    return own
+
+
+def _runnable(stat: str) -> bool:
+    try:
+        with open(stat) as f:
+            return f.read().rpartition(")")[2].split()[0] == "R"
+    except (OSError, IndexError):  # the task has just ended
+        return False
 
 
 def _can_fork() -> bool:

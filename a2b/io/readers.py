@@ -48,9 +48,14 @@ from typing import IO, Any
 
 import numpy as np
 
-from ..api import MODES
 from ..errors import A2bError, InputFileError
-from ..motions.cubic import FRAMES
+from ..names import FRAMES, MAX_SAMPLES, MIN_SAMPLES, MODES
+from .jobscan import JOB_KEYS, PARAMETER_KINDS, POSES_KEYS, Scanned, Sniffed, scan_blocks, sniff
+from .jobscan import NUMBER_TYPES as _NUMBER_TYPES
+from .jobscan import decode as _decode
+from .jobscan import kind_from_suffix as _kind_from_suffix
+from .jobscan import lines as _lines
+from .jobscan import stream_name as _stream_name
 
 __all__ = [
     "Job",
@@ -74,32 +79,7 @@ __all__ = [
 
 POSE_FORMS = ("matrix", "quaternion", "quaternion_xyzw", "study")
 POSE_KEYS = POSE_FORMS + ("layout", "translation", "kappa")
-POSES_KEYS = ("start", "end", "mode", "samples", "parameters")
-JOB_KEYS = POSES_KEYS + ("name",)
-#: Parameter name -> kind; the names are those of :func:`a2b.motion`.
-PARAMETER_KINDS = {
-    "delta": "number",
-    "kappa": "number",
-    "lam": "number",
-    "branch": "branch",
-    "pitch_start": "number",
-    "pitch_end": "number",
-    "through": "pose",
-    "long_way": "bool",
-    "m": 4,
-    "alpha": 6,
-    "beta": 6,
-    "a": "number",
-    "b": "number",
-    "frame": "frame",
-}
-
 Path = tuple  # keys (str) and list indexes (int) from the document root
-
-#: The fewest samples: t = 0 and t = 1.
-MIN_SAMPLES = 2
-#: The most samples: beyond 2**53 evenly spaced t in [0, 1] are no longer distinct doubles.
-MAX_SAMPLES = 2**53
 
 
 @dataclass(frozen=True)
@@ -215,41 +195,8 @@ def _line_col(text: str, pos: int) -> tuple[int, int]:
     return line, pos - (text.rfind("\n", 0, pos) + 1) + 1
 
 
-def _decode(raw: bytes | str, name: str, first_line: int = 1) -> str:
-    """UTF-8 text (a leading byte-order mark dropped); bytes that are not UTF-8 are an error."""
-    if isinstance(raw, str):
-        return raw
-    try:
-        return raw.decode("utf-8-sig" if first_line == 1 else "utf-8")
-    except UnicodeDecodeError as e:
-        line = raw.count(b"\n", 0, e.start) + first_line
-        column = e.start - (raw.rfind(b"\n", 0, e.start) + 1) + 1
-        raise InputFileError(
-            f"{name}:{line}:{column}: not UTF-8 text (byte 0x{raw[e.start]:02x})"
-        ) from None
-
-
 def _read_text(stream: IO, name: str) -> str:
     return _decode(stream.read(), name)
-
-
-def _stream_name(stream: IO, name: str | None) -> str:
-    if name:
-        return name
-    n = getattr(stream, "name", None)
-    return n if isinstance(n, str) else "<stdin>"
-
-
-def _kind_from_suffix(name: str) -> str | None:
-    lower = name.lower()
-    for suffixes, kind in (
-        ((".json",), "json"),
-        ((".jsonl", ".ndjson"), "jsonl"),
-        ((".yaml", ".yml"), "yaml"),
-    ):
-        if lower.endswith(suffixes):
-            return kind
-    return None
 
 
 # -- JSON --
@@ -1043,6 +990,7 @@ class JobBlock:
 
     def split(self, n: int) -> tuple[JobBlock, JobBlock]:
         """The first ``n`` jobs and the rest."""
+
         def part(sl):
             return JobBlock(
                 self.start[sl], self.end[sl], self.modes[sl], self.samples[sl],
@@ -1077,6 +1025,7 @@ class JobBlock:
     def from_jobs(cls, jobs: list[Job]) -> JobBlock:
         """A block of the given jobs. Poses that are no 4x4 arrays of numbers are stacked as
         NaN; :meth:`job` still returns them as given."""
+
         def stack(poses):
             out = np.full((len(poses), 4, 4), np.nan)
             for i, pose in enumerate(poses):
@@ -1151,7 +1100,13 @@ def job_blocks(jobs: Iterable[Job], size: int) -> Iterator[JobBlock]:
         yield JobBlock.from_jobs(block)
 
 
-def read_jobs(stream: IO, name: str | None = None) -> Jobs:
+def read_jobs(
+    stream: IO,
+    name: str | None = None,
+    *,
+    sniffed: Sniffed | None = None,
+    scanned: Iterator[Scanned] | None = None,
+) -> Jobs:
     """Read a jobs file: a YAML or JSON list of job mappings, or JSON Lines (one per line).
 
     A job has ``start``, ``end`` and optionally ``name``, ``mode``, ``samples`` and
@@ -1159,17 +1114,19 @@ def read_jobs(stream: IO, name: str | None = None) -> Jobs:
     never sits in memory. A list is parsed and validated at once (the parsed tree is then
     dropped, before Python's cyclic collector would walk it); the error of an invalid job is
     raised when the jobs before it have been taken.
+
+    ``sniffed`` is :func:`a2b.io.jobscan.sniff` of ``stream`` if the caller has made it, and
+    ``scanned`` the blocks of JSON Lines that :func:`a2b.io.jobscan.scan_ahead` scans in a
+    helper process; the jobs and errors are the same as without them.
     """
-    name = _stream_name(stream, name)
-    kind = _kind_from_suffix(name)
-    if kind == "jsonl":
-        return _json_lines_jobs(_lines(stream, name), name)
-    raw_start = stream.readline()
-    first = raw_start.strip()
-    if kind is None and first.startswith(b"{" if isinstance(first, bytes) else "{"):
-        text_start = _decode(raw_start, name)
-        if _is_complete_json(text_start):
-            return _json_lines_jobs(_lines(stream, name, text_start), name)
+    if sniffed is None:
+        sniffed = sniff(stream, name)
+    name, kind = sniffed.name, sniffed.kind
+    if sniffed.json_lines:
+        if scanned is not None:
+            return _scanned_jobs(scanned)
+        return _json_lines_jobs(_lines(stream, name, sniffed.first), name)
+    raw_start = sniffed.first
     with _gc_paused():
         doc = _parse(_decode(raw_start + stream.read(), name), name, kind)
         if not isinstance(doc.data, list):
@@ -1212,10 +1169,10 @@ def _list_jobs(doc: _Document) -> tuple[JobBlock, InputFileError | None]:
 
 
 def _finished(builder: _BlockBuilder, error):
-    """:meth:`_BlockBuilder.finish` as one block and the error that comes first."""
+    """:func:`finish_block` as one block and the error that comes first."""
     blocks = []
     try:
-        blocks.extend(builder.finish())
+        blocks.extend(finish_block(builder))
     except InputFileError as e:
         error = e
     if not blocks:
@@ -1224,34 +1181,46 @@ def _finished(builder: _BlockBuilder, error):
     return blocks[0], error
 
 
-def _is_complete_json(line: str) -> bool:
-    try:
-        json.loads(line)
-    except (ValueError, RecursionError):
-        return False
-    return True
-
-
-def _lines(stream: IO, name: str, first: str | None = None) -> Iterator[str]:
-    number = 0
-    if first is not None:
-        number += 1
-        yield first
-    for raw in stream:
-        number += 1
-        if number > 1 and type(raw) is bytes:
-            try:
-                yield raw.decode("utf-8")
-                continue
-            except UnicodeDecodeError:
-                pass
-        yield _decode(raw, name, number)  # the first line (a byte-order mark), text, an error
-
-
 def _json_lines_jobs(lines: Iterator[str], name: str) -> Jobs:
-    return Jobs(
-        None, _json_lines(lines, name), lambda size: _json_lines_blocks(lines, name, size)
-    )
+    def blocks(size: int) -> Iterator[JobBlock]:
+        for scanned in scan_blocks(lines, name, size):
+            yield from finish_block(scanned)
+
+    return Jobs(None, _json_lines(lines, name), blocks)
+
+
+def _scanned_jobs(scanned: Iterator[Scanned]) -> Jobs:
+    """JSON Lines jobs from blocks scanned elsewhere, regrouped to the size asked for."""
+
+    def blocks(size: int) -> Iterator[JobBlock]:
+        return _regrouped((b for s in scanned for b in finish_block(s)), size)
+
+    def jobs() -> Iterator[Job]:
+        for block in blocks(256):
+            yield from block.jobs()
+
+    return Jobs(None, jobs(), blocks)
+
+
+def _regrouped(blocks: Iterator[JobBlock], size: int) -> Iterator[JobBlock]:
+    """The jobs of ``blocks`` in blocks of ``size``; an error comes after the jobs before it."""
+    pending: list = []
+    count = 0
+    try:
+        for block in blocks:
+            while len(block):
+                piece, block = block.split(size - count)
+                pending.append(piece)
+                count += len(piece)
+                if count == size:
+                    yield JobBlock.concatenate(pending)
+                    pending, count = [], 0
+    except Exception:
+        if pending:
+            yield JobBlock.concatenate(pending)
+        raise
+    if pending:
+        yield JobBlock.concatenate(pending)
 
 
 def _json_lines(lines: Iterator[str], name: str) -> Iterator[Job]:
@@ -1273,68 +1242,6 @@ def _json_line_job(line: str, name: str, number: int, index: int) -> Job:
     return _job(doc, (index,), doc.data, JOB_KEYS)
 
 
-#: The C scanner of a plain decoder: no hooks, so duplicate keys are counted (see
-#: :func:`_json_lines_blocks`) and numbers that are no finite double arrive as inf or NaN,
-#: which the bulk check sends to the exact path.
-_JSON_SCAN = json.JSONDecoder().scan_once
-
-
-def _json_lines_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[JobBlock]:
-    """The jobs of JSON Lines in blocks: each line parsed by the plain C scanner and checked by
-    :meth:`_BlockBuilder.add_fast`, or, if anything about it is unusual, by the exact path of
-    :func:`_json_lines` (which also makes every error message).
-
-    A duplicate key is caught by counting: the keys of the parsed mappings must number the
-    colons of the line (a duplicate drops a key; a colon inside a string sends the line to the
-    exact path, which finds duplicates itself).
-    """
-    builder = _BlockBuilder()
-    records = builder.records
-    add_fast = builder.add_fast
-    index = 0
-    scan = _JSON_SCAN
-    for number, line in enumerate(_guarded(lines), start=1):
-        if type(line) is not str:  # a line that is no UTF-8: after the jobs before it
-            yield from builder.finish()
-            raise line
-        if not line.strip():
-            continue
-        where = (line, name, number, index)
-        try:
-            data, end = scan(line, 0)
-        except Exception:  # noqa: BLE001 - any failure: the exact path says what is wrong
-            fast = False
-        else:
-            tail = line[end:]
-            fast = (tail == "\n" or not tail.strip(" \t\n\r")) and add_fast(
-                data, line.count(":"), where
-            )
-        if not fast:
-            try:
-                job = _json_line_job(line, name, number, index)
-            except InputFileError:
-                yield from builder.finish()
-                raise
-            builder.add_job(job, where)
-        index += 1
-        if len(records) == size:
-            yield from builder.finish()
-            builder = _BlockBuilder()
-            records = builder.records
-            add_fast = builder.add_fast
-    yield from builder.finish()
-    if index == 0:
-        raise InputFileError(f"{name}: no jobs: the file has no lines with a job")
-
-
-def _guarded(lines: Iterator[str]) -> Iterator:
-    """The lines, and in place of the rest an :class:`InputFileError` that reading raised."""
-    try:
-        yield from lines
-    except InputFileError as e:
-        yield e
-
-
 def _exact_job(where: tuple) -> Job:
     """The exact reading of a job that the bulk check did not accept: it raises the error."""
     if isinstance(where[0], str):
@@ -1343,243 +1250,91 @@ def _exact_job(where: tuple) -> Job:
     return _job(doc, (i,), item, JOB_KEYS)
 
 
-_JOB_KEY_SET = frozenset(JOB_KEYS)
-_NUMBER_TYPES = frozenset({int, float})
-_ZERO_TRANSLATION = (0.0, 0.0, 0.0)
-
-
-def _fast_pose(v, q: list, m: list) -> int:
-    """Append the numbers of a pose in a common form to ``q`` (quaternion forms: ``w, x, y, z,
-    tx, ty, tz``) or ``m`` (a robotics matrix: its 16 entries); return the count of mapping
-    keys read, or ``-1`` for any other form (the caller then undoes the appends).
-
-    Only the structure is checked here: that each number is an int or a float, and finite,
-    is checked in bulk by :meth:`_BlockBuilder.finish`.
-    """
-    if type(v) is not dict:
-        return -1
-    size = len(v)
-    if size > 2:
-        return -1
-    quat = v.get("quaternion")
-    if quat is not None:
-        if type(quat) is list and len(quat) == 4:
-            q += quat
-            keys = 1
-        elif type(quat) is dict and len(quat) == 4:
-            q += (quat.get("w"), quat.get("x"), quat.get("y"), quat.get("z"))
-            keys = 5
-        else:
-            return -1
-    else:
-        quat = v.get("quaternion_xyzw")
-        if quat is None:
-            rows = v.get("matrix")
-            if type(rows) is not list or len(rows) != 4:
-                return -1
-            if size == 2 and v.get("layout") != "robotics":
-                return -1
-            for row in rows:
-                if type(row) is not list or len(row) != 4:
-                    return -1
-                m += row
-            return size
-        if type(quat) is not list or len(quat) != 4:
-            return -1
-        q += (quat[3], quat[0], quat[1], quat[2])  # ROS order is converted here, as in _pose
-        keys = 1
-    if size == 1:
-        q += _ZERO_TRANSLATION
-        return keys
-    t = v.get("translation")
-    if type(t) is list and len(t) == 3:
-        q += t
-        return keys + 1
-    if type(t) is dict and len(t) == 3:
-        q += (t.get("x"), t.get("y"), t.get("z"))
-        return keys + 4
-    return -1
-
-
-def _fast_parameters(params: dict) -> dict | None:
-    """Parameters of the kinds that need no pose, checked as :func:`_parameters` does."""
-    out = {}
-    for key, value in params.items():
-        kind = PARAMETER_KINDS.get(key) if type(key) is str else None
-        if kind is None:
-            return None
-        if value is None:
-            continue
-        if kind == "number":
-            if type(value) not in _NUMBER_TYPES:
-                return None
-            value = float(value)
-            if not math.isfinite(value):
-                return None
-        elif type(kind) is int:
-            if type(value) is not list or len(value) != kind:
-                return None
-            numbers = []
-            for x in value:
-                if type(x) not in _NUMBER_TYPES:
-                    return None
-                x = float(x)
-                if not math.isfinite(x):
-                    return None
-                numbers.append(x)
-            value = tuple(numbers)
-        elif kind == "branch":
-            if type(value) not in _NUMBER_TYPES or value not in (1, -1):
-                return None
-            value = int(value)
-        elif kind == "bool":
-            if type(value) is not bool:
-                return None
-        elif kind == "frame":
-            if type(value) is not str or value not in FRAMES:
-                return None
-        else:  # a pose (through): the exact path
-            return None
-        out[key] = value
-    return out
-
-
-class _BlockBuilder:
-    """Collects the jobs of one block; :meth:`finish` validates the poses in bulk."""
-
-    def __init__(self):
-        self.q: list = []  # 7 numbers per pose in a quaternion form
-        self.m: list = []  # 16 numbers per pose in matrix form
-        #: per job: (start slot, end slot, mode, samples, parameters, name, where): a slot is
-        #: k >= 0 for the k-th pose in q, ~k < 0 for the k-th in m, None for a job read the
-        #: exact way; ``where`` is what _exact_job needs
-        self.records: list = []
-        self.exact: dict = {}  # job -> Job, for jobs read the exact way
-
-    def __len__(self) -> int:
-        return len(self.records)
-
-    def add_fast(self, v, colons: int | None, where) -> bool:
-        """Add the job mapping ``v`` if it has a common form, checked as :func:`_job` checks it
-        (the numbers in bulk later); False, adding nothing, for anything else.
-
-        ``colons``: the count of colons in the JSON text of ``v``, which must equal the count
-        of keys (no duplicates), or ``None`` when the parser has checked that.
-        """
-        q, m = self.q, self.m
-        nq, nm = len(q), len(m)
-        try:
-            if type(v) is not dict:
-                return False
-            for key in v:
-                if key not in _JOB_KEY_SET:
-                    return False
-            keys = len(v)
-            slots = []
-            for pose in (v.get("start"), v.get("end")):
-                if type(pose) is dict and len(pose) == 2:  # the commonest form, inline
-                    quat, t = pose.get("quaternion"), pose.get("translation")
-                    if type(quat) is list and len(quat) == 4 and type(t) is list and len(t) == 3:
-                        slots.append(len(q) // 7)
-                        q += quat
-                        q += t
-                        keys += 2
-                        continue
-                before_q, before_m = len(q), len(m)
-                more = _fast_pose(pose, q, m)
-                if more < 0:
-                    break
-                slots.append(before_q // 7 if len(q) > before_q else ~(before_m // 16))
-                keys += more
-            else:
-                # the checks of _job, in the cases it accepts
-                mode = v.get("mode")
-                samples = v.get("samples")
-                name = v.get("name")
-                params = v.get("parameters") or {}  # as _job: a falsy value means none
-                if (
-                    (mode is None or (type(mode) is str and mode in MODES))
-                    and (
-                        samples is None
-                        or (type(samples) is int and MIN_SAMPLES <= samples <= MAX_SAMPLES)
-                    )
-                    and (name is None or type(name) is str or type(name) is int)
-                    and type(params) is dict
-                ):
-                    if params:
-                        keys += len(params)
-                        params = _fast_parameters(params)
-                    if params is not None and (colons is None or keys == colons):
-                        if type(name) is int:
-                            name = str(name)
-                        record = (slots[0], slots[1], mode, samples, params, name, where)
-                        self.records.append(record)
-                        return True
-        except (TypeError, ValueError, OverflowError):
-            pass
-        del q[nq:], m[nm:]
-        return False
+class _BlockBuilder(Scanned):
+    """Collects the jobs of one block of a parsed list; :func:`finish_block` validates the
+    poses in bulk."""
 
     def add_job(self, job: Job, where) -> None:
         """Add a job read the exact way."""
         self.exact[len(self.records)] = job
         self.records.append((None, None, job.mode, job.samples, job.parameters, job.name, where))
 
-    def _poses(self) -> tuple[np.ndarray, np.ndarray]:
-        """The matrices of every slot, quaternion slots first, and which of them are valid."""
-        from ..motions.batched import valid_poses
-        from ..poses import rotations_from_quaternions
 
-        q, m = _numbers_of(self.q, 7), _numbers_of(self.m, 16)
-        q_ok, m_ok = q[1], m[1]
-        q, m = q[0].reshape(-1, 7), m[0].reshape(-1, 4, 4)
-        with np.errstate(all="ignore"):
-            quat = q[:, :4]
-            norm = np.linalg.norm(quat, axis=-1)
-            q_ok &= np.isfinite(q).all(axis=1) & (norm != 0.0) & np.isfinite(norm)
-            mats = np.zeros((len(q) + len(m), 4, 4))
-            mats[: len(q), :3, :3] = rotations_from_quaternions(quat / norm[:, None])
-            mats[: len(q), :3, 3] = q[:, 4:]
-            mats[: len(q), 3, 3] = 1.0
-            mats[len(q) :] = m
-            m_ok &= valid_poses(m)
-        return mats, np.concatenate([q_ok, m_ok])
+def _poses(scanned: Scanned) -> tuple[np.ndarray, np.ndarray]:
+    """The matrices of every slot, quaternion slots first, and which of them are valid."""
+    from ..motions.batched import valid_poses
+    from ..poses import rotations_from_quaternions
 
-    def finish(self) -> Iterator[JobBlock]:
-        """Yield the block (if it has jobs); at a job the bulk check does not accept, read it
-        the exact way: if that raises, yield the jobs before it and raise."""
-        n = len(self)
-        if not n:
-            return
-        mats, ok = self._poses()
-        quaternions = len(self.q) // 7
-        ok = np.append(ok, False)  # where the jobs read the exact way point
-        starts, ends, modes, samples, parameters, names, where = map(list, zip(*self.records))
+    q, m = _numbers_of(scanned.q, 7), _numbers_of(scanned.m, 16)
+    q_ok, m_ok = q[1], m[1]
+    q, m = q[0].reshape(-1, 7), m[0].reshape(-1, 4, 4)
+    with np.errstate(all="ignore"):
+        quat = q[:, :4]
+        norm = np.linalg.norm(quat, axis=-1)
+        q_ok &= np.isfinite(q).all(axis=1) & (norm != 0.0) & np.isfinite(norm)
+        mats = np.zeros((len(q) + len(m), 4, 4))
+        mats[: len(q), :3, :3] = rotations_from_quaternions(quat / norm[:, None])
+        mats[: len(q), :3, 3] = q[:, 4:]
+        mats[: len(q), 3, 3] = 1.0
+        mats[len(q) :] = m
+        m_ok &= valid_poses(m)
+    return mats, np.concatenate([q_ok, m_ok])
 
-        def index(slots):
-            arr = np.array([len(mats) if s is None else s for s in slots], dtype=np.intp)
-            return np.where(arr >= 0, arr, quaternions + ~arr)
 
-        start_at, end_at = index(starts), index(ends)
-        mats = np.concatenate([mats, np.zeros((1, 4, 4))])
-        start, end = mats[start_at], mats[end_at]
+def finish_block(scanned: Scanned) -> Iterator[JobBlock]:
+    """The :class:`JobBlock` of scanned jobs (none if there are none).
 
-        def block(k: int) -> JobBlock:
-            return JobBlock(
-                start[:k], end[:k], modes[:k], samples[:k], parameters[:k], names[:k], checked=True
-            )
+    The lines that scanning left to the exact reading are read first, in order; at one
+    that raises, the jobs before it are finished and the error raised after them. Then
+    the numbers are checked in bulk; a job they fail is read the exact way, which raises
+    its error after the block of the jobs before it.
+    """
+    for i, job in list(scanned.exact.items()):
+        if job is not None:
+            continue
+        try:
+            job = _json_line_job(*scanned.records[i][-1])
+        except InputFileError:
+            del scanned.records[i:]
+            for later in [k for k in scanned.exact if k >= i]:
+                del scanned.exact[later]
+            yield from finish_block(scanned)
+            raise
+        scanned.exact[i] = job
+        where = scanned.records[i][-1]
+        scanned.records[i] = (None, None, job.mode, job.samples, job.parameters, job.name, where)
+    n = len(scanned)
+    if not n:
+        return
+    mats, ok = _poses(scanned)
+    quaternions = len(scanned.q) // 7
+    ok = np.append(ok, False)  # where the jobs read the exact way point
+    starts, ends, modes, samples, parameters, names, where = map(list, zip(*scanned.records))
 
-        for i in np.flatnonzero(~(ok[start_at] & ok[end_at])).tolist():
-            job = self.exact.get(i)
-            if job is None:
-                try:
-                    job = _exact_job(where[i])
-                except InputFileError:
-                    if i:
-                        yield block(i)
-                    raise
-            start[i], end[i] = job.start, job.end
-        yield block(n)
+    def index(slots):
+        arr = np.array([len(mats) if s is None else s for s in slots], dtype=np.intp)
+        return np.where(arr >= 0, arr, quaternions + ~arr)
+
+    start_at, end_at = index(starts), index(ends)
+    mats = np.concatenate([mats, np.zeros((1, 4, 4))])
+    start, end = mats[start_at], mats[end_at]
+
+    def block(k: int) -> JobBlock:
+        return JobBlock(
+            start[:k], end[:k], modes[:k], samples[:k], parameters[:k], names[:k], checked=True
+        )
+
+    for i in np.flatnonzero(~(ok[start_at] & ok[end_at])).tolist():
+        job = scanned.exact.get(i)
+        if job is None:
+            try:
+                job = _exact_job(where[i])
+            except InputFileError:
+                if i:
+                    yield block(i)
+                raise
+        start[i], end[i] = job.start, job.end
+    yield block(n)
 
 
 def _numbers_of(values: list, width: int) -> tuple[np.ndarray, np.ndarray]:

@@ -62,7 +62,7 @@ from ._rational import (
     bern_mul,
     bernstein_basis,
 )
-from .cubic import FRAMES
+from ..names import FRAMES
 
 __all__ = [
     "FRAMES",

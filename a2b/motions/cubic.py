@@ -33,6 +33,7 @@ import numpy as np
 from ..errors import ParameterError, SingularMotionError
 from ..extended import check_m, check_not_orthogonal, kernel_basis, paper_basis_degenerate
 from ..frames import ScrewFrame
+from ..names import FRAMES
 from ..study import rotation_numerators
 from ._rational import (
     EPS,
@@ -50,7 +51,6 @@ from ._rational import (
 SENSITIVITY_WARNING = 1e-9
 from .base import Motion, _vec, linear_path
 
-FRAMES = ("canonical", "given")
 
 
 def default_m(frame: ScrewFrame, which: str) -> np.ndarray:

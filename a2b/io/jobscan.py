@@ -1,0 +1,520 @@
+"""JSON Lines jobs scanned without numpy, here or in a helper process that reads ahead.
+
+``a2b batch`` spends its first tenth of a second importing numpy and the core while the
+second processor idles, and then reads its jobs between formatting rows. This module, which
+imports nothing heavier than :mod:`json`, parses each line of a JSON Lines jobs file and
+checks the common forms of a job (:meth:`Scanned.add_fast`), so :func:`scan_ahead` can do it
+in a forked helper process that starts before those imports and keeps blocks ready ahead of
+the main process. The main process validates the numbers of each block in bulk and reads the
+lines that need it the exact way, which also words every error
+(:func:`a2b.io.readers.read_jobs`): the jobs, the errors and their order are those of
+reading the file line by line, whichever process scans it.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import struct
+import sys
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import IO
+
+from ..errors import InputFileError
+from ..names import FRAMES, MAX_SAMPLES, MIN_SAMPLES, MODES
+
+__all__ = [
+    "JOB_KEYS",
+    "NUMBER_TYPES",
+    "PARAMETER_KINDS",
+    "POSES_KEYS",
+    "Scanned",
+    "Sniffed",
+    "decode",
+    "kind_from_suffix",
+    "lines",
+    "scan_ahead",
+    "scan_blocks",
+    "sniff",
+    "stream_name",
+]
+
+POSES_KEYS = ("start", "end", "mode", "samples", "parameters")
+JOB_KEYS = POSES_KEYS + ("name",)
+#: Parameter name -> kind; the names are those of :func:`a2b.motion`.
+PARAMETER_KINDS = {
+    "delta": "number",
+    "kappa": "number",
+    "lam": "number",
+    "branch": "branch",
+    "pitch_start": "number",
+    "pitch_end": "number",
+    "through": "pose",
+    "long_way": "bool",
+    "m": 4,
+    "alpha": 6,
+    "beta": 6,
+    "a": "number",
+    "b": "number",
+    "frame": "frame",
+}
+
+
+def stream_name(stream: IO, name: str | None) -> str:
+    if name:
+        return name
+    n = getattr(stream, "name", None)
+    return n if isinstance(n, str) else "<stdin>"
+
+
+def kind_from_suffix(name: str) -> str | None:
+    lower = name.lower()
+    for suffixes, kind in (
+        ((".json",), "json"),
+        ((".jsonl", ".ndjson"), "jsonl"),
+        ((".yaml", ".yml"), "yaml"),
+    ):
+        if lower.endswith(suffixes):
+            return kind
+    return None
+
+
+def decode(raw: bytes | str, name: str, first_line: int = 1) -> str:
+    """UTF-8 text (a leading byte-order mark dropped); bytes that are not UTF-8 are an error."""
+    if isinstance(raw, str):
+        return raw
+    try:
+        return raw.decode("utf-8-sig" if first_line == 1 else "utf-8")
+    except UnicodeDecodeError as e:
+        line = raw.count(b"\n", 0, e.start) + first_line
+        column = e.start - (raw.rfind(b"\n", 0, e.start) + 1) + 1
+        raise InputFileError(
+            f"{name}:{line}:{column}: not UTF-8 text (byte 0x{raw[e.start]:02x})"
+        ) from None
+
+
+def is_complete_json(line: str) -> bool:
+    try:
+        json.loads(line)
+    except (ValueError, RecursionError):
+        return False
+    return True
+
+
+def lines(stream: IO, name: str, first: str | None = None) -> Iterator[str]:
+    number = 0
+    if first is not None:
+        number += 1
+        yield first
+    for raw in stream:
+        number += 1
+        if number > 1 and type(raw) is bytes:
+            try:
+                yield raw.decode("utf-8")
+                continue
+            except UnicodeDecodeError:
+                pass
+        yield decode(raw, name, number)  # the first line (a byte-order mark), text, an error
+
+
+@dataclass
+class Sniffed:
+    """What the start of a jobs file says: its ``name`` for messages, the ``kind`` its suffix
+    names (``None``: none), whether it is ``json_lines``, and ``first``: the first line if it
+    was read to tell (text for JSON Lines, else as read), else ``None``."""
+
+    name: str
+    kind: str | None
+    json_lines: bool
+    first: str | bytes | None
+
+
+def sniff(stream: IO, name: str | None = None) -> Sniffed:
+    """Tell JSON Lines from a YAML or JSON document: by the suffix ``.jsonl`` or ``.ndjson``,
+    or, without a suffix that says, by a first line that is a whole JSON object."""
+    name = stream_name(stream, name)
+    kind = kind_from_suffix(name)
+    if kind == "jsonl":
+        return Sniffed(name, kind, True, None)
+    raw_start = stream.readline()
+    first = raw_start.strip()
+    if kind is None and first.startswith(b"{" if isinstance(first, bytes) else "{"):
+        text_start = decode(raw_start, name)
+        if is_complete_json(text_start):
+            return Sniffed(name, kind, True, text_start)
+    return Sniffed(name, kind, False, raw_start)
+
+
+# --------------------------------------------------------------------------------------------
+# Scanning: the common forms of a job, checked line by line
+
+#: The C scanner of a plain decoder: no hooks, so duplicate keys are counted (see
+#: :func:`scan_blocks`) and numbers that are no finite double arrive as inf or NaN,
+#: which the bulk check sends to the exact path.
+_JSON_SCAN = json.JSONDecoder().scan_once
+
+
+_JOB_KEY_SET = frozenset(JOB_KEYS)
+NUMBER_TYPES = frozenset({int, float})
+_ZERO_TRANSLATION = (0.0, 0.0, 0.0)
+
+
+def _fast_pose(v, q: list, m: list) -> int:
+    """Append the numbers of a pose in a common form to ``q`` (quaternion forms: ``w, x, y, z,
+    tx, ty, tz``) or ``m`` (a robotics matrix: its 16 entries); return the count of mapping
+    keys read, or ``-1`` for any other form (the caller then undoes the appends).
+
+    Only the structure is checked here: that each number is an int or a float, and finite,
+    is checked in bulk by :func:`a2b.io.readers.finish_block`.
+    """
+    if type(v) is not dict:
+        return -1
+    size = len(v)
+    if size > 2:
+        return -1
+    quat = v.get("quaternion")
+    if quat is not None:
+        if type(quat) is list and len(quat) == 4:
+            q += quat
+            keys = 1
+        elif type(quat) is dict and len(quat) == 4:
+            q += (quat.get("w"), quat.get("x"), quat.get("y"), quat.get("z"))
+            keys = 5
+        else:
+            return -1
+    else:
+        quat = v.get("quaternion_xyzw")
+        if quat is None:
+            rows = v.get("matrix")
+            if type(rows) is not list or len(rows) != 4:
+                return -1
+            if size == 2 and v.get("layout") != "robotics":
+                return -1
+            for row in rows:
+                if type(row) is not list or len(row) != 4:
+                    return -1
+                m += row
+            return size
+        if type(quat) is not list or len(quat) != 4:
+            return -1
+        q += (quat[3], quat[0], quat[1], quat[2])  # ROS order is converted here, as in _pose
+        keys = 1
+    if size == 1:
+        q += _ZERO_TRANSLATION
+        return keys
+    t = v.get("translation")
+    if type(t) is list and len(t) == 3:
+        q += t
+        return keys + 1
+    if type(t) is dict and len(t) == 3:
+        q += (t.get("x"), t.get("y"), t.get("z"))
+        return keys + 4
+    return -1
+
+
+def _fast_parameters(params: dict) -> dict | None:
+    """Parameters of the kinds that need no pose, checked as :func:`_parameters` does."""
+    out = {}
+    for key, value in params.items():
+        kind = PARAMETER_KINDS.get(key) if type(key) is str else None
+        if kind is None:
+            return None
+        if value is None:
+            continue
+        if kind == "number":
+            if type(value) not in NUMBER_TYPES:
+                return None
+            value = float(value)
+            if not math.isfinite(value):
+                return None
+        elif type(kind) is int:
+            if type(value) is not list or len(value) != kind:
+                return None
+            numbers = []
+            for x in value:
+                if type(x) not in NUMBER_TYPES:
+                    return None
+                x = float(x)
+                if not math.isfinite(x):
+                    return None
+                numbers.append(x)
+            value = tuple(numbers)
+        elif kind == "branch":
+            if type(value) not in NUMBER_TYPES or value not in (1, -1):
+                return None
+            value = int(value)
+        elif kind == "bool":
+            if type(value) is not bool:
+                return None
+        elif kind == "frame":
+            if type(value) is not str or value not in FRAMES:
+                return None
+        else:  # a pose (through): the exact path
+            return None
+        out[key] = value
+    return out
+
+
+class Scanned:
+    """The jobs of one block as scanned: their numbers in flat lists, checked in bulk later
+    (:func:`a2b.io.readers.finish_block`), and the lines to read the exact way."""
+
+    def __init__(self):
+        self.q: list = []  # 7 numbers per pose in a quaternion form
+        self.m: list = []  # 16 numbers per pose in matrix form
+        #: per job: (start slot, end slot, mode, samples, parameters, name, where): a slot is
+        #: k >= 0 for the k-th pose in q, ~k < 0 for the k-th in m, None for a job read the
+        #: exact way; ``where`` is what the exact reading needs
+        self.records: list = []
+        #: job -> its Job for jobs read the exact way, or None while it is still to be read
+        self.exact: dict = {}
+
+    def __len__(self) -> int:
+        return len(self.records)
+
+    def add_fast(self, v, colons: int | None, where) -> bool:
+        """Add the job mapping ``v`` if it has a common form, checked as :func:`_job` checks it
+        (the numbers in bulk later); False, adding nothing, for anything else.
+
+        ``colons``: the count of colons in the JSON text of ``v``, which must equal the count
+        of keys (no duplicates), or ``None`` when the parser has checked that.
+        """
+        q, m = self.q, self.m
+        nq, nm = len(q), len(m)
+        try:
+            if type(v) is not dict:
+                return False
+            for key in v:
+                if key not in _JOB_KEY_SET:
+                    return False
+            keys = len(v)
+            slots = []
+            for pose in (v.get("start"), v.get("end")):
+                if type(pose) is dict and len(pose) == 2:  # the commonest form, inline
+                    quat, t = pose.get("quaternion"), pose.get("translation")
+                    if type(quat) is list and len(quat) == 4 and type(t) is list and len(t) == 3:
+                        slots.append(len(q) // 7)
+                        q += quat
+                        q += t
+                        keys += 2
+                        continue
+                before_q, before_m = len(q), len(m)
+                more = _fast_pose(pose, q, m)
+                if more < 0:
+                    break
+                slots.append(before_q // 7 if len(q) > before_q else ~(before_m // 16))
+                keys += more
+            else:
+                # the checks of _job, in the cases it accepts
+                mode = v.get("mode")
+                samples = v.get("samples")
+                name = v.get("name")
+                params = v.get("parameters") or {}  # as _job: a falsy value means none
+                if (
+                    (mode is None or (type(mode) is str and mode in MODES))
+                    and (
+                        samples is None
+                        or (type(samples) is int and MIN_SAMPLES <= samples <= MAX_SAMPLES)
+                    )
+                    and (name is None or type(name) is str or type(name) is int)
+                    and type(params) is dict
+                ):
+                    if params:
+                        keys += len(params)
+                        params = _fast_parameters(params)
+                    if params is not None and (colons is None or keys == colons):
+                        if type(name) is int:
+                            name = str(name)
+                        record = (slots[0], slots[1], mode, samples, params, name, where)
+                        self.records.append(record)
+                        return True
+        except (TypeError, ValueError, OverflowError):
+            pass
+        del q[nq:], m[nm:]
+        return False
+
+    def add_exact(self, where) -> None:
+        """Add a job to be read the exact way from ``where``."""
+        self.exact[len(self.records)] = None
+        self.records.append((None, None, None, None, None, None, where))
+
+
+def scan_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[Scanned]:
+    """The jobs of JSON Lines scanned in blocks of ``size``: each line parsed by the plain C
+    scanner and checked by :meth:`Scanned.add_fast`, or, if anything about it is unusual, left
+    to the exact reading (:func:`a2b.io.readers.finish_block`, which makes every error
+    message). A line that is no UTF-8 is raised after the block of the jobs before it.
+
+    A duplicate key is caught by counting: the keys of the parsed mappings must number the
+    colons of the line (a duplicate drops a key; a colon inside a string sends the line to the
+    exact path, which finds duplicates itself).
+    """
+    scanned = Scanned()
+    records = scanned.records
+    add_fast = scanned.add_fast
+    index = 0
+    scan = _JSON_SCAN
+    for number, line in enumerate(_guarded(lines), start=1):
+        if type(line) is not str:  # a line that is no UTF-8: after the jobs before it
+            if records:
+                yield scanned
+            raise line
+        if not line.strip():
+            continue
+        where = (line, name, number, index)
+        try:
+            data, end = scan(line, 0)
+        except Exception:  # noqa: BLE001 - any failure: the exact path says what is wrong
+            fast = False
+        else:
+            tail = line[end:]
+            fast = (tail == "\n" or not tail.strip(" \t\n\r")) and add_fast(
+                data, line.count(":"), where
+            )
+        if not fast:
+            scanned.add_exact(where)
+        index += 1
+        if len(records) == size:
+            yield scanned
+            scanned = Scanned()
+            records = scanned.records
+            add_fast = scanned.add_fast
+    if records:
+        yield scanned
+    if index == 0:
+        raise InputFileError(f"{name}: no jobs: the file has no lines with a job")
+
+
+def _guarded(lines: Iterator[str]) -> Iterator:
+    """The lines, and in place of the rest an :class:`InputFileError` that reading raised."""
+    try:
+        yield from lines
+    except InputFileError as e:
+        yield e
+
+
+# --------------------------------------------------------------------------------------------
+# Scanning ahead in a helper process
+
+#: Scanned blocks the helper may hold ready, and the bytes each slot of shared memory holds.
+SLOTS, SLOT_BYTES = 64, 1 << 18
+_HEADER = struct.Struct("<qq")  # (slot, or one of the kinds below; length)
+_INLINE, _ERROR, _END = -1, -2, -3
+
+
+def scan_ahead(stream: IO, sniffed: Sniffed, size: int) -> Iterator[Scanned] | None:
+    """:func:`scan_blocks` of the rest of ``stream`` in a forked helper process, or ``None``
+    where forking is not safe (not Linux, or threads running: see :mod:`a2b.io.parallel`).
+
+    The helper starts at once and scans up to :data:`SLOTS` blocks ahead of the caller, who
+    takes them from the returned iterator. Blocks come back through shared memory, one slot
+    each (pickled; one too large for a slot comes through the pipe), and a slot is handed
+    back to the helper once its block is unpickled. The caller must not read ``stream``
+    again. Closing the iterator, or the caller's exit, ends the helper.
+    """
+    import threading
+
+    if not sys.platform.startswith("linux") or threading.active_count() != 1:
+        return None
+    import mmap
+
+    shared = mmap.mmap(-1, SLOTS * SLOT_BYTES)  # anonymous and shared with the child
+    blocks_read, blocks_write = os.pipe()  # helper -> caller: headers (and large blocks)
+    free_read, free_write = os.pipe()  # caller -> helper: slots to fill
+    os.write(free_write, bytes(range(SLOTS)))
+    pid = os.fork()
+    if pid == 0:  # pragma: no cover - the child; what it sends is tested
+        os.close(blocks_read)
+        os.close(free_write)
+        _serve(stream, sniffed, size, shared, blocks_write, free_read)
+    os.close(blocks_write)
+    os.close(free_read)
+    return _receive(shared, blocks_read, free_write, pid)
+
+
+def _serve(stream, sniffed: Sniffed, size: int, shared, out: int, free: int) -> None:
+    """The helper's life: scan, hand each block over, ``_exit`` at the end or when the caller
+    goes away. Ctrl-C is the main process's to handle; stdout is not the helper's to hold."""
+    import pickle
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, 1)  # a reader of a2b's output sees its end when the main process ends
+        os.close(null)
+        try:
+            for block in scan_blocks(
+                lines(stream, sniffed.name, sniffed.first), sniffed.name, size
+            ):
+                data = pickle.dumps(block, protocol=pickle.HIGHEST_PROTOCOL)
+                if len(data) > SLOT_BYTES:
+                    _send(out, _HEADER.pack(_INLINE, len(data)) + data)
+                    continue
+                slot = os.read(free, 1)
+                if not slot:
+                    break  # the caller is gone
+                start = slot[0] * SLOT_BYTES
+                shared[start : start + len(data)] = data
+                _send(out, _HEADER.pack(slot[0], len(data)))
+        except Exception as e:  # noqa: BLE001 - the caller raises it, after the blocks before
+            try:
+                data = pickle.dumps(e, protocol=pickle.HIGHEST_PROTOCOL)
+            except Exception:  # noqa: BLE001 - an exception that does not pickle
+                data = pickle.dumps(RuntimeError(f"{type(e).__name__}: {e}"))
+            _send(out, _HEADER.pack(_ERROR, len(data)) + data)
+        else:
+            _send(out, _HEADER.pack(_END, 0))
+    except BaseException:  # noqa: BLE001, S110 - the caller went away: nothing to tell
+        pass
+    os._exit(0)
+
+
+def _send(fd: int, data: bytes) -> None:
+    view = memoryview(data)
+    while view:
+        view = view[os.write(fd, view) :]
+
+
+def _read_exactly(fd: int, n: int) -> bytes:
+    parts, left = [], n
+    while left:
+        part = os.read(fd, left)
+        if not part:
+            raise RuntimeError("the process scanning the jobs ended unexpectedly")
+        parts.append(part)
+        left -= len(part)
+    return b"".join(parts)
+
+
+def _receive(shared, blocks: int, free: int, pid: int) -> Iterator[Scanned]:
+    import pickle
+
+    try:
+        while True:
+            kind, length = _HEADER.unpack(_read_exactly(blocks, _HEADER.size))
+            if kind == _END:
+                return
+            if kind == _ERROR:
+                raise pickle.loads(_read_exactly(blocks, length))
+            if kind == _INLINE:
+                yield pickle.loads(_read_exactly(blocks, length))
+                continue
+            start = kind * SLOT_BYTES
+            block = pickle.loads(shared[start : start + length])
+            try:
+                os.write(free, bytes((kind,)))
+            except BrokenPipeError:  # the helper has scanned everything and ended
+                pass
+            yield block
+    finally:
+        os.close(blocks)
+        os.close(free)
+        try:
+            os.kill(pid, 9)  # it may be waiting for input that the caller no longer wants
+        except ProcessLookupError:  # pragma: no cover - already gone
+            pass
+        os.waitpid(pid, 0)
+        shared.close()

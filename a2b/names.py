@@ -1,0 +1,16 @@
+"""The names a2b accepts for modes and frames, and its bounds on samples.
+
+Free of numpy and of the core, so that start-up paths (``a2b --help``, the scanning of JSON
+Lines jobs, :mod:`a2b.io.jobscan`) can check them without importing either.
+"""
+
+from __future__ import annotations
+
+#: The motions :func:`a2b.motion` builds.
+MODES = ("darboux", "cubic", "screw")
+#: The frames of a cubic motion (:class:`a2b.motions.cubic.CubicMotion`).
+FRAMES = ("canonical", "given")
+#: The fewest samples: t = 0 and t = 1.
+MIN_SAMPLES = 2
+#: The most samples: beyond 2**53 evenly spaced t in [0, 1] are no longer distinct doubles.
+MAX_SAMPLES = 2**53
