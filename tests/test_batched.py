@@ -24,7 +24,7 @@ from hypothesis import strategies as st
 import a2b
 from a2b.cli import cli, options
 from a2b.errors import A2bError, A2bWarning, InputFileError
-from a2b.io import readers, writers
+from a2b.io import jobscan, readers, writers
 from a2b.motions.batched import motions, screw_frames, valid_poses
 from a2b.poses import check_matrices, matrices_from_quat_trans
 
@@ -336,11 +336,20 @@ def assert_same_jobs(got, expected):
 
 
 def compare_readers(data: bytes, name: str, sizes=(1, 2, 3, 256)):
+    """Blocks of every size, read here and (JSON Lines) scanned ahead by a helper process
+    in blocks of two, give the jobs and the error of reading one by one."""
     expected = outcome(lambda: readers.read_jobs(io.BytesIO(data), name))
-    for size in sizes:
+    for size, ahead in [(size, False) for size in sizes] + [(3, True)]:
 
-        def blocks(size=size):
-            for block in readers.read_jobs(io.BytesIO(data), name).blocks(size):
+        def blocks(size=size, ahead=ahead):
+            stream = io.BytesIO(data)
+            sniffed = jobscan.sniff(stream, name)
+            scanned = None
+            if ahead and sniffed.json_lines:
+                scanned = jobscan.scan_ahead(stream, sniffed, 2)
+                assert scanned is not None
+            jobs = readers.read_jobs(stream, name, sniffed=sniffed, scanned=scanned)
+            for block in jobs.blocks(size):
                 assert 0 < len(block) <= size
                 yield from block.jobs()
 
@@ -348,7 +357,7 @@ def compare_readers(data: bytes, name: str, sizes=(1, 2, 3, 256)):
             got = outcome(blocks)
         except InputFileError as e:  # raised by read_jobs itself, before any job
             got = [], str(e)
-        assert got[1] == expected[1], (name, size, data[:200])
+        assert got[1] == expected[1], (name, size, ahead, data[:200])
         assert_same_jobs(got[0], expected[0])
 
 
