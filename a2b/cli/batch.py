@@ -155,7 +155,7 @@ class _Pending:
 #: Columns of each representation's CSV layout (without the job column).
 _COLUMNS = {"quat_trans": 8, "matrices": 13, "study": 9}
 #: Jobs read at a time between chunks (see :class:`_Reader`).
-READ_STEP = 128
+READ_STEP = 512
 
 
 class _Reader:

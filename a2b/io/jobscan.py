@@ -399,7 +399,7 @@ def _guarded(lines: Iterator[str]) -> Iterator:
 # Scanning ahead in a helper process
 
 #: Scanned blocks the helper may hold ready, and the bytes each slot of shared memory holds.
-SLOTS, SLOT_BYTES = 64, 1 << 18
+SLOTS, SLOT_BYTES = 16, 1 << 20
 _HEADER = struct.Struct("<qq")  # (slot, or one of the kinds below; length)
 _INLINE, _ERROR, _END = -1, -2, -3
 

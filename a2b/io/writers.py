@@ -247,8 +247,11 @@ def write_tum(
     _write_rows(stream, tables, sep=" ")
 
 
+_QUOTED = frozenset(',"\n\r')
+
+
 def _csv_field(name: str) -> str:
-    if any(ch in name for ch in ',"\n\r') or name != name.strip():
+    if not _QUOTED.isdisjoint(name) or name != name.strip():
         return '"' + name.replace('"', '""') + '"'
     return name
 
