@@ -97,7 +97,8 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
                 yield stream
             return
         if stat.S_ISREG(info.st_mode) and (
-            not os.access(target, os.W_OK) or not info.st_mode & (stat.S_IWUSR | stat.S_IWGRP | stat.S_IWOTH)
+            not os.access(target, os.W_OK)
+            or not info.st_mode & (stat.S_IWUSR | stat.S_IWGRP | stat.S_IWOTH)
         ):
             # A rename would replace a file its owner made read-only; a write would fail. The mode
             # bits count even for root, who may write anything: read-only means "keep this".

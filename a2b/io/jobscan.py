@@ -2,13 +2,14 @@
 
 ``a2b batch`` spends its first tenth of a second importing numpy and the core while the
 second processor idles, and then reads its jobs between formatting rows. This module, which
-imports nothing heavier than :mod:`json`, parses each line of a JSON Lines jobs file and
-checks the common forms of a job (:meth:`Scanned.add_fast`), so :func:`scan_ahead` can do it
-in a forked helper process that starts before those imports and keeps blocks ready ahead of
-the main process. The main process validates the numbers of each block in bulk and reads the
-lines that need it the exact way, which also words every error
-(:func:`a2b.io.readers.read_jobs`): the jobs, the errors and their order are those of
-reading the file line by line, whichever process scans it.
+imports nothing heavier than :mod:`json` until it meets a line of an unusual form, parses
+each line of a JSON Lines jobs file and checks the common forms of a job
+(:meth:`Scanned.add_fast`), so :func:`scan_ahead` can do it in a forked helper process that
+starts before those imports and keeps blocks ready ahead of the main process. An unusual line
+is read the exact way where it is scanned, which also words its error; the main process
+checks the numbers of each block in bulk (:func:`a2b.io.readers.finish_block`): the jobs, the
+errors and their order are those of reading the file line by line, whichever process scans
+it.
 """
 
 from __future__ import annotations
@@ -268,7 +269,7 @@ class Scanned:
         #: k >= 0 for the k-th pose in q, ~k < 0 for the k-th in m, None for a job read the
         #: exact way; ``where`` is what the exact reading needs
         self.records: list = []
-        #: job -> its Job for jobs read the exact way, or None while it is still to be read
+        #: job -> its Job, for jobs read the exact way
         self.exact: dict = {}
 
     def __len__(self) -> int:
@@ -335,17 +336,18 @@ class Scanned:
         del q[nq:], m[nm:]
         return False
 
-    def add_exact(self, where) -> None:
-        """Add a job to be read the exact way from ``where``."""
-        self.exact[len(self.records)] = None
-        self.records.append((None, None, None, None, None, None, where))
+    def add_job(self, job, where) -> None:
+        """Add a job read the exact way (a :class:`a2b.io.readers.Job`)."""
+        self.exact[len(self.records)] = job
+        self.records.append((None, None, job.mode, job.samples, job.parameters, job.name, where))
 
 
 def scan_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[Scanned]:
     """The jobs of JSON Lines scanned in blocks of ``size``: each line parsed by the plain C
-    scanner and checked by :meth:`Scanned.add_fast`, or, if anything about it is unusual, left
-    to the exact reading (:func:`a2b.io.readers.finish_block`, which makes every error
-    message). A line that is no UTF-8 is raised after the block of the jobs before it.
+    scanner and checked by :meth:`Scanned.add_fast`, or, if anything about it is unusual, read
+    the exact way (:func:`a2b.io.readers.json_line_job`, which makes every error message). An
+    error of a line (no UTF-8, or found by the exact reading) is raised after the block of the
+    jobs before it; the numbers are checked later, in bulk (:func:`a2b.io.readers.finish_block`).
 
     A duplicate key is caught by counting: the keys of the parsed mappings must number the
     colons of the line (a duplicate drops a key; a colon inside a string sends the line to the
@@ -374,7 +376,13 @@ def scan_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[Scanned]
                 data, line.count(":"), where
             )
         if not fast:
-            scanned.add_exact(where)
+            try:
+                job = _exact_job(line, name, number, index)
+            except InputFileError:
+                if records:
+                    yield scanned
+                raise
+            scanned.add_job(job, where)
         index += 1
         if len(records) == size:
             yield scanned
@@ -385,6 +393,14 @@ def scan_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[Scanned]
         yield scanned
     if index == 0:
         raise InputFileError(f"{name}: no jobs: the file has no lines with a job")
+
+
+def _exact_job(line: str, name: str, number: int, index: int):
+    """A line read the exact way, which also words its error: this imports numpy and the core,
+    so a helper process does so only when it meets a line of an unusual form."""
+    from .readers import json_line_job
+
+    return json_line_job(line, name, number, index)
 
 
 def _guarded(lines: Iterator[str]) -> Iterator:
@@ -424,14 +440,29 @@ def scan_ahead(stream: IO, sniffed: Sniffed, size: int) -> Iterator[Scanned] | N
     blocks_read, blocks_write = os.pipe()  # helper -> caller: headers (and large blocks)
     free_read, free_write = os.pipe()  # caller -> helper: slots to fill
     os.write(free_write, bytes(range(SLOTS)))
+    parent = os.getpid()
     pid = os.fork()
     if pid == 0:  # pragma: no cover - the child; what it sends is tested
         os.close(blocks_read)
         os.close(free_write)
+        _end_with(parent)
         _serve(stream, sniffed, size, shared, blocks_write, free_read)
     os.close(blocks_write)
     os.close(free_read)
     return _receive(shared, blocks_read, free_write, pid)
+
+
+def _end_with(parent: int) -> None:  # pragma: no cover - runs in the child
+    """Have the kernel kill this helper when the main process ends, however it ends, so that
+    it never goes on reading a terminal or a pipe for nobody (``PR_SET_PDEATHSIG``)."""
+    try:
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, 9, 0, 0, 0)  # PR_SET_PDEATHSIG, SIGKILL
+    except (OSError, AttributeError):  # no prctl: the caller's closing ends it instead
+        return
+    if os.getppid() != parent:  # the main process ended before the request was made
+        os._exit(0)
 
 
 def _serve(stream, sniffed: Sniffed, size: int, shared, out: int, free: int) -> None:

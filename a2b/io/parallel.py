@@ -127,7 +127,7 @@ def _with_threads(function: Callable, items: Iterable, count: int) -> Iterator:
 
 
 #: Bytes of each helper's two shared buffers (items in, results out). Larger items and
-#: results, and anything but bytes coming back, go through the pipe as pickles.
+#: results go through the pipe as pickles.
 BOX = 16 << 20
 
 
@@ -136,9 +136,10 @@ class _Helper:
 
     Items and results cross in two shared-memory buffers, so only a few bytes go through the
     pipe: an item's arrays are copied into the inbox (pickle protocol 5, out of band) and the
-    helper formats from views of it; a result of bytes comes back in the outbox. Through a
-    pipe they would cross in 64 KiB pieces, each of which the main process's feeding thread
-    takes only when it gets the GIL, leaving the helper waiting.
+    helper formats from views of it; a result comes back in the outbox, as it is if it is
+    bytes, else pickled (an exception too). Through a pipe they would cross in 64 KiB pieces,
+    each of which the main process's feeding thread takes only when it gets the GIL, leaving
+    the helper waiting.
     """
 
     def __init__(self, function: Callable, others: list[_Helper]):
@@ -164,6 +165,8 @@ class _Helper:
             return "error", RuntimeError(f"a writer's helper process ended unexpectedly: {e!r}")
         if reply[:1] == b"B":  # bytes in the outbox
             return "ok", self.outbox[: int(reply[1:])]
+        if reply[:1] == b"P":  # a pickle in the outbox
+            return _loads(self.outbox[: int(reply[1:])])
         return _loads(reply[1:])
 
     def close(self) -> None:
@@ -241,6 +244,9 @@ def _serve(function: Callable, connection, inbox, outbox) -> None:  # pragma: no
                         reply = b"R" + pickle.dumps(("ok", result), protocol=5)
                     except Exception as e:  # noqa: BLE001 - a result that does not pickle
                         reply = b"R" + _dumps_error(e)
+                    if len(reply) - 1 <= len(outbox):  # a pickle in the outbox
+                        outbox[: len(reply) - 1] = memoryview(reply)[1:]
+                        reply = b"P%d" % (len(reply) - 1)
             connection.send_bytes(reply)
     os._exit(0)
 

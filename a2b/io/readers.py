@@ -1157,7 +1157,7 @@ def read_jobs(
 
 def _list_jobs(doc: _Document) -> tuple[JobBlock, InputFileError | None]:
     """The jobs of a parsed list before the first invalid one, and that one's error."""
-    builder = _BlockBuilder()
+    builder = Scanned()
     for i, item in enumerate(doc.data):
         if not builder.add_fast(item, None, (doc, i, item)):
             try:
@@ -1168,7 +1168,7 @@ def _list_jobs(doc: _Document) -> tuple[JobBlock, InputFileError | None]:
     return _finished(builder, None)
 
 
-def _finished(builder: _BlockBuilder, error):
+def _finished(builder: Scanned, error):
     """:func:`finish_block` as one block and the error that comes first."""
     blocks = []
     try:
@@ -1228,13 +1228,13 @@ def _json_lines(lines: Iterator[str], name: str) -> Iterator[Job]:
     for number, line in enumerate(lines, start=1):
         if not line.strip():
             continue
-        yield _json_line_job(line, name, number, index)
+        yield json_line_job(line, name, number, index)
         index += 1
     if index == 0:
         raise InputFileError(f"{name}: no jobs: the file has no lines with a job")
 
 
-def _json_line_job(line: str, name: str, number: int, index: int) -> Job:
+def json_line_job(line: str, name: str, number: int, index: int) -> Job:
     """The job on line ``number`` of a JSON Lines file, the ``index``-th job, fully checked."""
     doc = _parse_json(line, name, first_line=number)
     inner = doc.locate
@@ -1245,19 +1245,9 @@ def _json_line_job(line: str, name: str, number: int, index: int) -> Job:
 def _exact_job(where: tuple) -> Job:
     """The exact reading of a job that the bulk check did not accept: it raises the error."""
     if isinstance(where[0], str):
-        return _json_line_job(*where)
+        return json_line_job(*where)
     doc, i, item = where
     return _job(doc, (i,), item, JOB_KEYS)
-
-
-class _BlockBuilder(Scanned):
-    """Collects the jobs of one block of a parsed list; :func:`finish_block` validates the
-    poses in bulk."""
-
-    def add_job(self, job: Job, where) -> None:
-        """Add a job read the exact way."""
-        self.exact[len(self.records)] = job
-        self.records.append((None, None, job.mode, job.samples, job.parameters, job.name, where))
 
 
 def _poses(scanned: Scanned) -> tuple[np.ndarray, np.ndarray]:
@@ -1282,27 +1272,9 @@ def _poses(scanned: Scanned) -> tuple[np.ndarray, np.ndarray]:
 
 
 def finish_block(scanned: Scanned) -> Iterator[JobBlock]:
-    """The :class:`JobBlock` of scanned jobs (none if there are none).
-
-    The lines that scanning left to the exact reading are read first, in order; at one
-    that raises, the jobs before it are finished and the error raised after them. Then
-    the numbers are checked in bulk; a job they fail is read the exact way, which raises
-    its error after the block of the jobs before it.
-    """
-    for i, job in list(scanned.exact.items()):
-        if job is not None:
-            continue
-        try:
-            job = _json_line_job(*scanned.records[i][-1])
-        except InputFileError:
-            del scanned.records[i:]
-            for later in [k for k in scanned.exact if k >= i]:
-                del scanned.exact[later]
-            yield from finish_block(scanned)
-            raise
-        scanned.exact[i] = job
-        where = scanned.records[i][-1]
-        scanned.records[i] = (None, None, job.mode, job.samples, job.parameters, job.name, where)
+    """The :class:`JobBlock` of scanned jobs (none if there are none): their numbers checked
+    in bulk; at a job they fail, read it the exact way, which raises its error after the block
+    of the jobs before it."""
     n = len(scanned)
     if not n:
         return
