@@ -171,3 +171,75 @@ def test_shell_completion_of_commands_and_formats():
     env.update(COMP_WORDS="a2b interpolate x --format ", COMP_CWORD="4")
     result = subprocess.run(A2B, capture_output=True, text=True, env=env, timeout=60, check=False)
     assert result.stdout.split() == [f"plain,{f}" for f in ("csv", "matrix", "study", "tum", "kitti", "mcap")]
+
+
+def _job_line(i, quaternion="[1, 0, 0, 0]"):
+    return (
+        f'{{"name": "j{i}", "start": {{"quaternion": {quaternion}, "translation": [{i}, 0, 0]}}, '
+        f'"end": {{"quaternion": [0, 0, 0, 1], "translation": [0, {i}, 1]}}}}\n'
+    )
+
+
+def _children(pid):
+    found = subprocess.run(["pgrep", "-P", str(pid)], capture_output=True, text=True).stdout
+    return [int(p) for p in found.split()]
+
+
+def _alive(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rpartition(")")[2].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def test_batch_reports_a_bad_job_at_once_while_its_input_stays_open(tmp_path):
+    """JSON Lines from a pipe that is still open: the error of a bad line comes as soon as the
+    line arrives (not when a block fills or the input ends), no file is written, and the
+    helper that scans the jobs is gone with the main process."""
+    out = tmp_path / "never.csv"
+    proc = subprocess.Popen(
+        a2b_cmd("batch", "-", "-o", out), stdin=subprocess.PIPE, stderr=subprocess.PIPE
+    )
+    try:
+        lines = [_job_line(i) for i in range(20)] + [_job_line(20, "[1, 0, 0]")]
+        proc.stdin.write("".join(lines).encode())
+        proc.stdin.flush()
+        time.sleep(0.3)
+        helpers = _children(proc.pid)
+        rc = proc.wait(timeout=20)
+        assert rc == 1
+        assert "<stdin>:21:" in proc.stderr.read().decode()
+        assert not out.exists()
+        time.sleep(0.2)
+        assert not any(_alive(pid) for pid in helpers)
+    finally:
+        proc.stdin.close()
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+
+
+def test_the_scanning_helper_ends_with_a_killed_main_process(tmp_path):
+    proc = subprocess.Popen(
+        a2b_cmd("batch", "-", "-o", tmp_path / "k.csv"),
+        stdin=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+    )
+    try:
+        proc.stdin.write("".join(_job_line(i) for i in range(10)).encode())
+        proc.stdin.flush()
+        deadline = time.monotonic() + 10
+        helpers = []
+        while not helpers and time.monotonic() < deadline:
+            time.sleep(0.05)
+            helpers = _children(proc.pid)
+        assert helpers, "no helper process scanning the jobs"
+        proc.kill()
+        proc.wait()
+        deadline = time.monotonic() + 5
+        while any(_alive(pid) for pid in helpers) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert not any(_alive(pid) for pid in helpers)
+    finally:
+        proc.stdin.close()
