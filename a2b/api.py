@@ -5,11 +5,10 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ParameterError
-from .names import MODES
 from .frames import screw_frame
 from .motions.base import Motion, check_table
+from .names import MODES
 from .poses import check_matrices
-
 
 PARAMETERS = {
     "darboux": ("delta", "kappa", "lam", "branch", "pitch_start", "pitch_end", "through", "long_way"),

@@ -99,9 +99,10 @@ def test_ctrl_c_leaves_no_file(tmp_path):
     assert left == []
 
 
-def test_sigterm_leaves_no_file(tmp_path):
-    code, err, left = _interrupt(tmp_path, signal.SIGTERM)
-    assert code == 128 + signal.SIGTERM
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
+def test_sigterm_and_sighup_leave_no_file(tmp_path, sig):
+    code, err, left = _interrupt(tmp_path, sig)
+    assert code == 128 + sig
     assert b"Traceback" not in err
     assert left == []
 

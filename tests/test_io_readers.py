@@ -239,3 +239,36 @@ def test_read_pose_list_and_read_motion_file():
         readers.read_pose_list(io.BytesIO(f"start: {IDENTITY}\nend: {QUARTER}\n".encode()), "poses", "p.yaml")
     with pytest.raises(InputFileError, match=r"^c.yaml:1:1: controls: expected a list of at least two poses, got 1"):
         readers.read_pose_list(io.BytesIO(b"controls:\n  - quaternion: [1, 0, 0, 0]\n"), "controls", "c.yaml")
+
+
+@pytest.mark.parametrize(
+    "name_json, problem",
+    [
+        (r'"\udcff"', r"'\\udcff' is no text UTF-8 can write: a lone surrogate, '\\udcff'"),
+        (r'"a\u0000b"', r"'a\\x00b' contains a NUL character"),
+    ],
+)
+@pytest.mark.parametrize("suffix", ["jsonl", "json"])
+def test_a_job_name_a2b_cannot_write_is_an_input_error(name_json, problem, suffix):
+    """A name goes into the job column: a NUL or a lone surrogate (which JSON can escape, and
+    UTF-8 cannot write) is an error at the name, not a failure when the CSV is written."""
+    good = '{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}'
+    bad = f'{{"name": {name_json}, "start": {{"quaternion": [1, 0, 0, 0]}}, "end": {{"quaternion": [1, 0, 0, 0]}}}}'
+    text = f"{good}\n{bad}\n" if suffix == "jsonl" else f"[{good},\n{bad}]\n"
+    where = "2:2"  # at the key
+    with pytest.raises(InputFileError, match=rf"^jobs\.{suffix}:{where}: job 1: name: {problem}$"):
+        for block in readers.read_jobs(io.BytesIO(text.encode()), f"jobs.{suffix}").blocks(8):
+            pass
+
+
+def test_invalid_json_lines_are_placed_on_their_own_line():
+    """A line cut short is reported at its end, not at the start of the next line; json's
+    message for a control character loses its dangling "at"."""
+    good = '{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}'
+    for ending in ("\n", "\r\n"):
+        text = ending.join([good, good[:-1], good]) + ending
+        with pytest.raises(InputFileError, match=rf"^jobs\.jsonl:2:{len(good)}: invalid JSON: Expecting ',' delimiter$"):
+            list(readers.read_jobs(io.BytesIO(text.encode()), "jobs.jsonl"))
+    control = '{"name": "a\tb", ' + good[1:]
+    with pytest.raises(InputFileError, match=r"^jobs\.jsonl:1:12: invalid JSON: Invalid control character$"):
+        list(readers.read_jobs(io.BytesIO(control.encode()), "jobs.jsonl"))

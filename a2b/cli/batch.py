@@ -161,9 +161,11 @@ READ_STEP = 512
 class _Reader:
     """The jobs, read :data:`READ_STEP` at a time and handed out in blocks of ``size``.
 
-    Between chunks the caller reads one step ahead (:meth:`step`), so that reading the next
-    block is spread over the chunks of this one. An error while reading is raised once the
-    jobs before it have been handed out.
+    Between chunks the caller reads one step ahead (:meth:`ahead`), so that reading the next
+    block is spread over the chunks of this one, unless a helper process scans the jobs ahead
+    already (then reading ahead here would only wait for input, a pipe's that is still open,
+    while the chunks of this block wait to be written). An error while reading is raised once
+    the jobs before it have been handed out.
     """
 
     def __init__(self, jobs, size: int):
@@ -176,6 +178,12 @@ class _Reader:
         self.count = 0  # their jobs
         self.error = None
         self.done = False
+        self.read_ahead = not getattr(jobs, "scanned_ahead", False)
+
+    def ahead(self) -> None:
+        """Read one step ahead between chunks, where that is this process's to do."""
+        if self.read_ahead:
+            self.step()
 
     def step(self) -> bool:
         """Read one step ahead, unless a block's worth is read; False if nothing was read."""
@@ -285,7 +293,7 @@ def batch_chunks(
             break
         for chunk in _block_chunks(block, first, mode, samples, representation, pending, report):
             yield chunk
-            reader.step()
+            reader.ahead()
         first += len(block)
         done += len(block)
         if done >= chunk_size:
@@ -465,7 +473,9 @@ def command(jobs, mode, samples, fmt, chunk_size, output, verbose):
     and parameters, as in a poses file. Jobs are read, built and sampled in chunks, the
     common kinds (darboux with delta, cubic with m, a, b, screw) all at once, with the
     results of building each alone; a progress bar shows on stderr when stderr is a
-    terminal. A job that fails stops the run with its name, and with -o no file is written.
+    terminal. A job that fails stops the run with a message that names it (by line and index
+    for an error in the file, by name for one of the mathematics), and with -o no file is
+    written.
     -v states every choice a2b makes, job by job.
 
     \b

@@ -1,8 +1,8 @@
 """Output that appears whole or not at all.
 
 :func:`atomic_output` writes into a temporary file next to the target and renames it into
-place only when the writer finished. A failure, Ctrl-C, SIGTERM or a full disk removes the
-temporary file and leaves any existing target untouched. Standard output (``-``) and targets
+place only when the writer finished. A failure, Ctrl-C, SIGTERM, SIGHUP or a full disk removes
+the temporary file and leaves any existing target untouched. Standard output (``-``) and targets
 that are no regular file (``/dev/null``, a named pipe, a terminal) are written directly: a
 rename cannot replace them. A reader that goes away early (``a2b ... | head``) raises
 :class:`BrokenPipeError`, which :func:`silence_stdout` turns into a quiet end; any other write
@@ -36,7 +36,8 @@ def _is_stdout(path) -> bool:
 
 @contextmanager
 def _terminate_as_exit() -> Iterator[None]:
-    """Turn SIGTERM into ``SystemExit(143)`` for the duration, so ``finally`` blocks run."""
+    """Turn SIGTERM and SIGHUP (a closed terminal) into ``SystemExit(128 + signal)`` for the
+    duration, so ``finally`` blocks run."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -44,11 +45,13 @@ def _terminate_as_exit() -> Iterator[None]:
     def handler(signum, frame):
         raise SystemExit(128 + signum)
 
-    previous = signal.signal(signal.SIGTERM, handler)
+    signals = [signal.SIGTERM] + ([signal.SIGHUP] if hasattr(signal, "SIGHUP") else [])
+    previous = {number: signal.signal(number, handler) for number in signals}
     try:
         yield
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        for number, handler_before in previous.items():
+            signal.signal(number, handler_before)
 
 
 def _default_mode() -> int:

@@ -319,7 +319,11 @@ class Scanned:
                         samples is None
                         or (type(samples) is int and MIN_SAMPLES <= samples <= MAX_SAMPLES)
                     )
-                    and (name is None or type(name) is str or type(name) is int)
+                    and (
+                        name is None
+                        or (type(name) is str and name.isascii() and "\0" not in name)
+                        or type(name) is int
+                    )
                     and type(params) is dict
                 ):
                     if params:

@@ -324,7 +324,8 @@ def _parse_json(text: str, name: str, first_line: int = 1) -> _Document:
         raise InputFileError(f"{name}:{line}:{col}: duplicate key {e.key!r}") from None
     except json.JSONDecodeError as e:
         line, col = where(e.pos)
-        raise InputFileError(f"{name}:{line}:{col}: invalid JSON: {e.msg}") from None
+        message = e.msg.removesuffix(" at")  # json's "Invalid control character at"
+        raise InputFileError(f"{name}:{line}:{col}: invalid JSON: {message}") from None
     except RecursionError:
         raise InputFileError(f"{name}: invalid JSON: nested too deeply to read") from None
     return _Document(name, data, lambda path: where(_json_locate(text, path)))
@@ -785,6 +786,8 @@ def _job(doc: _Document, path: Path, v, allowed: tuple) -> Job:
     name = job.get("name")
     if name is not None and not isinstance(name, (str, int)):
         raise doc.error(path + ("name",), f"expected a string, got {_describe(name)}")
+    if isinstance(name, str):
+        _check_name(doc, path + ("name",), name)
     return Job(
         start=_pose(doc, path + ("start",), job["start"]),
         end=_pose(doc, path + ("end",), job["end"]),
@@ -793,6 +796,19 @@ def _job(doc: _Document, path: Path, v, allowed: tuple) -> Job:
         parameters=_parameters(doc, path + ("parameters",), job.get("parameters") or {}),
         name=None if name is None else str(name),
     )
+
+
+def _check_name(doc: _Document, path: Path, name: str) -> None:
+    """A job's name is written into the ``job`` column: no NUL, and text that UTF-8 can write
+    (JSON's ``\\udcff`` escapes a lone surrogate, which it cannot)."""
+    if "\0" in name:
+        raise doc.error(path, f"{name!r} contains a NUL character")
+    try:
+        name.encode("utf-8")
+    except UnicodeEncodeError as e:
+        raise doc.error(
+            path, f"{name!r} is no text UTF-8 can write: a lone surrogate, {name[e.start]!r}"
+        ) from None
 
 
 # --------------------------------------------------------------------------------------------
@@ -1059,6 +1075,9 @@ class Jobs:
     count: int | None
     _iter: Iterator[Job]
     _blocks: Callable[[int], Iterator[JobBlock]] | None = None
+    #: Whether a helper process scans the jobs ahead (:func:`a2b.io.jobscan.scan_ahead`), so
+    #: that a caller need not read ahead itself (which would wait for input that is not there)
+    scanned_ahead: bool = False
 
     def __iter__(self) -> Iterator[Job]:
         return self._iter
@@ -1199,7 +1218,7 @@ def _scanned_jobs(scanned: Iterator[Scanned]) -> Jobs:
         for block in blocks(256):
             yield from block.jobs()
 
-    return Jobs(None, jobs(), blocks)
+    return Jobs(None, jobs(), blocks, scanned_ahead=True)
 
 
 def _regrouped(blocks: Iterator[JobBlock], size: int) -> Iterator[JobBlock]:
@@ -1236,7 +1255,7 @@ def _json_lines(lines: Iterator[str], name: str) -> Iterator[Job]:
 
 def json_line_job(line: str, name: str, number: int, index: int) -> Job:
     """The job on line ``number`` of a JSON Lines file, the ``index``-th job, fully checked."""
-    doc = _parse_json(line, name, first_line=number)
+    doc = _parse_json(line.rstrip("\r\n"), name, first_line=number)  # an error at its end: here
     inner = doc.locate
     doc.locate = lambda path, _inner=inner: _inner(path[1:])  # the job index is the line
     return _job(doc, (index,), doc.data, JOB_KEYS)

@@ -39,6 +39,7 @@ import numpy as np
 from ..api import MODES
 from ..extended import ORTHOGONAL_TOL
 from ..frames import ROTATION_NOISE
+from ..names import FRAMES
 from ..poses import (
     ORTHO_TOL,
     canonical_sign,
@@ -62,7 +63,6 @@ from ._rational import (
     bern_mul,
     bernstein_basis,
 )
-from ..names import FRAMES
 
 __all__ = [
     "FRAMES",

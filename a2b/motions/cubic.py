@@ -52,7 +52,6 @@ SENSITIVITY_WARNING = 1e-9
 from .base import Motion, _vec, linear_path
 
 
-
 def default_m(frame: ScrewFrame, which: str) -> np.ndarray:
     """``m = pA + pB``: ``(1 + cos(φ/2), 0, 0, sin(φ/2))`` in canonical coordinates (``MATH.md``)."""
     if which == "canonical":
