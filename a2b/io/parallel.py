@@ -58,17 +58,17 @@ def _idle_processors() -> int:
 
     A helper on a processor that another program keeps busy only adds the cost of the
     pipes (about 10%); on an idle one it takes half the work. So a processor counts as idle
-    if any of three looks finds it so: a task that runs for a moment (the kernel writing a
-    file back to disk) must not cost half the speed. The kernel's count of
-    runnable tasks (``/proc/loadavg``) says which, at once (the load average would remember
-    the last minute); this process's own runnable threads, such as a BLAS thread still
-    spinning after a product, and its children, such as the one scanning the jobs of
-    ``a2b batch`` (:mod:`a2b.io.jobscan`), which will soon be done, are not counted.
-    Setting :data:`WORKERS` skips this judgement.
+    if any of three looks, 2 ms apart, finds it so (the first that does ends the looking): a
+    task that runs for a moment (the kernel writing a file back to disk) must not cost half
+    the speed. The kernel's count of runnable tasks (``/proc/loadavg``) says which, at once
+    (the load average would remember the last minute); this process's own runnable threads,
+    such as a BLAS thread still spinning after a product, and its children, such as the one
+    scanning the jobs of ``a2b batch`` (:mod:`a2b.io.jobscan`), which will soon be done, are
+    not counted. Setting :data:`WORKERS` skips this judgement.
     """
     import time
 
-    others = []
+    fewest = None  # the fewest processors other programs kept busy in a look
     for look in range(3):
         if look:
             time.sleep(0.002)
@@ -78,8 +78,11 @@ def _idle_processors() -> int:
             own = _runnable_own_tasks()
         except (OSError, ValueError, IndexError):  # pragma: no cover - no such files
             return workers()
-        others.append(max(0, running - max(own, 1)))
-    return max(0, workers() - 1 - min(others))
+        others = max(0, running - max(own, 1))
+        fewest = others if fewest is None else min(fewest, others)
+        if fewest == 0:
+            break
+    return max(0, workers() - 1 - fewest)
 
 
 def _runnable_own_tasks() -> int:
