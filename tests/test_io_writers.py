@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import os
 
 import numpy as np
 import pytest
@@ -370,7 +371,7 @@ def test_batch_lead_spells_out_every_row(rng, pattern):
     expected = _lead_rows(chunk)
     slices = [(0, n), (0, 1), (n - 1, n), (3, 17), (count, 2 * count), (1, n - 2)]
     for lo, hi in [(lo, min(hi, n)) for lo, hi in slices if lo < min(hi, n)]:
-        words = lead.words(lo, hi)
+        words = lead.part(lo, hi).words()
         got = [row.tobytes().replace(b"\0", b"") for row in words]
         if lead.times is None:  # t is then formatted as a column with the numbers
             got = [g + repr(float(x)).encode() + b"," for g, x in zip(got, t[lo:hi])]
@@ -449,3 +450,55 @@ def test_helper_errors_that_do_not_pickle_still_arrive(monkeypatch):
     with pytest.raises(Exception, match="odd"):
         got.extend(parallel.in_order(_raise_unpicklable, range(6)))
     assert got == [0]
+
+
+def test_a_batch_chunk_without_rows_writes_nothing():
+    empty = writers.Chunk(np.empty(0), np.empty((0, 4)), np.empty((0, 3)), job=[])
+    stream = io.BytesIO()
+    writers.write_batch_csv(stream, [empty])
+    assert stream.getvalue() == b"job,t,tx,ty,tz,qw,qx,qy,qz\n"
+
+
+def test_a_task_carries_only_its_own_names():
+    """A long name widens the rows of its own task only."""
+    t = np.tile(np.linspace(0, 1, 4), 3)
+    chunk = writers.Chunk(
+        t, np.tile([1.0, 0, 0, 0], (12, 1)), np.zeros((12, 3)),
+        job=writers.JobRuns(["a", "x" * 100, "b"], [4, 4, 4]),
+    )  # fmt: skip
+    lead = writers._lead(chunk)
+    assert lead.names.shape == (3, 13)  # 101 bytes: 13 words
+    first = lead.part(0, 4)
+    assert first.names.shape == (1, 1) and first.words().shape == (4, 1 + 4)
+    middle = lead.part(6, 9)
+    assert middle.names.shape == (2, 13) and list(middle.ends) == [2, 3]
+    assert [row.tobytes().replace(b"\0", b"") for row in middle.words()] == [
+        b"x" * 100 + b",0.6666666666666666,",
+        b"x" * 100 + b",1.0,",
+        b"b,0.0,",
+    ]
+
+
+class _TwoArguments(Exception):
+    def __init__(self, a, b):
+        super().__init__(f"{a} and {b}")
+
+
+_TEST_PROCESS = os.getpid()
+
+
+def _raise_two_arguments_in_a_helper(x):
+    import time
+
+    if os.getpid() != _TEST_PROCESS:
+        raise _TwoArguments("one", "two")
+    time.sleep(0.01)  # leave items to the helper
+    return x
+
+
+def test_an_error_that_does_not_come_back_out_of_a_pickle_still_arrives(monkeypatch):
+    """An exception that pickles but cannot be unpickled (its __init__ takes two arguments)
+    stops the run with an error at its item, instead of leaving the main process waiting."""
+    monkeypatch.setattr(parallel, "WORKERS", 2)
+    with pytest.raises(RuntimeError, match="a writer's helper sent what cannot be read"):
+        list(parallel.in_order(_raise_two_arguments_in_a_helper, range(20)))

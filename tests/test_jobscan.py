@@ -103,7 +103,12 @@ def test_errors_of_scanning_arrive_after_the_jobs_before_them():
                 got.append(len(block))
         return got
 
-    assert sizes(True) == sizes(False) == [3]
+    one_by_one = []
+    stream = Failing()
+    with pytest.raises(OSError, match="the disk went away"):
+        for job in readers.read_jobs(stream, "j.jsonl"):
+            one_by_one.append(job)
+    assert sizes(True) == sizes(False) == [3, 1] and len(one_by_one) == 4
     _no_children_left()
 
 
@@ -161,3 +166,64 @@ def test_a_busy_child_is_counted_as_our_own():
         os.waitpid(pid, 0)
     assert max(counts) >= 2  # this process and its spinning child
     assert np.median(counts) >= 1
+
+
+def test_closing_before_the_first_block_ends_the_helper():
+    """A caller that fails between starting the helper and taking a block (an output file that
+    cannot be created) closes it, or drops it: either way the helper is ended and reaped."""
+    for drop in (False, True):
+        stream = io.BytesIO(_jobs_text(5000))
+        scanning = jobscan.scan_ahead(stream, jobscan.sniff(stream, "j.jsonl"), 2)
+        pid = scanning._pid
+        if drop:
+            del scanning
+        else:
+            scanning.close()
+            scanning.close()  # twice is harmless
+            assert list(scanning) == []
+        with pytest.raises(ChildProcessError):
+            os.waitpid(pid, os.WNOHANG)
+    _no_children_left()
+
+
+def test_no_helper_without_a_process_to_be_had(monkeypatch):
+    """Where no process can be forked (a limit on processes), the jobs are scanned here."""
+
+    def no_fork():
+        raise BlockingIOError(11, "Resource temporarily unavailable")
+
+    monkeypatch.setattr(os, "fork", no_fork)
+    stream = io.BytesIO(_jobs_text(3))
+    sniffed = jobscan.sniff(stream, "j.jsonl")
+    assert jobscan.scan_ahead(stream, sniffed, 2) is None
+    jobs = readers.read_jobs(stream, sniffed=sniffed, scanned=None)
+    assert sum(len(b) for b in jobs.blocks(2)) == 3
+
+
+def test_names_beyond_ascii_stay_on_the_fast_path(monkeypatch):
+    """Only a name UTF-8 cannot write is read the exact way; others, of any script, are not."""
+    calls = []
+    exact = jobscan._exact_job
+    monkeypatch.setattr(jobscan, "_exact_job", lambda *a: calls.append(a) or exact(*a))
+    lines = [
+        '{"name": "%s", "start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [0, 1, 0, 0]}}'
+        % name
+        for name in ("Gelenk-ä", "関節", "ok", "\\udcff")
+    ]
+    stream = io.BytesIO(("\n".join(lines) + "\n").encode())
+    sniffed = jobscan.sniff(stream, "j.jsonl")
+    with pytest.raises(InputFileError, match="lone surrogate"):
+        list(jobscan.scan_blocks(jobscan.lines(stream, sniffed.name, sniffed.first), "j.jsonl", 8))
+    assert [number for _, _, number, _ in calls] == [4]
+
+
+def test_a_batch_that_cannot_write_leaves_no_helper(tmp_path):
+    from click.testing import CliRunner
+
+    from a2b.cli import cli
+
+    jobs = tmp_path / "jobs.jsonl"
+    jobs.write_bytes(_jobs_text(3000))
+    result = CliRunner().invoke(cli, ["batch", str(jobs), "-o", str(tmp_path / "no" / "x.csv")])
+    assert result.exit_code == 1 and "cannot write" in result.output
+    _no_children_left()

@@ -490,7 +490,15 @@ def command(jobs, mode, samples, fmt, chunk_size, output, verbose):
     scanned = None
     if sniffed.json_lines:
         scanned = jobscan.scan_ahead(jobs, sniffed, min(READ_STEP, chunk_size))
+    try:
+        _run(jobs, sniffed, scanned, mode, samples, fmt, chunk_size, output, verbose)
+    finally:
+        if scanned is not None:
+            scanned.close()
 
+
+def _run(jobs, sniffed, scanned, mode, samples, fmt, chunk_size, output, verbose) -> None:
+    """The command's work, once the helper (if any) scans the jobs."""
     from ..io.atomic import atomic_output
     from ..io.readers import read_jobs
     from ..io.writers import REPRESENTATION, write_batch_csv

@@ -32,6 +32,7 @@ __all__ = [
     "PARAMETER_KINDS",
     "POSES_KEYS",
     "Scanned",
+    "Scanning",
     "Sniffed",
     "decode",
     "kind_from_suffix",
@@ -321,7 +322,7 @@ class Scanned:
                     )
                     and (
                         name is None
-                        or (type(name) is str and name.isascii() and "\0" not in name)
+                        or (type(name) is str and "\0" not in name and _writable(name))
                         or type(name) is int
                     )
                     and type(params) is dict
@@ -350,8 +351,9 @@ def scan_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[Scanned]
     """The jobs of JSON Lines scanned in blocks of ``size``: each line parsed by the plain C
     scanner and checked by :meth:`Scanned.add_fast`, or, if anything about it is unusual, read
     the exact way (:func:`a2b.io.readers.json_line_job`, which makes every error message). An
-    error of a line (no UTF-8, or found by the exact reading) is raised after the block of the
-    jobs before it; the numbers are checked later, in bulk (:func:`a2b.io.readers.finish_block`).
+    error of a line (no UTF-8, or found by the exact reading) or of the stream is raised after
+    the block of the jobs before it; the numbers are checked later, in bulk
+    (:func:`a2b.io.readers.finish_block`).
 
     A duplicate key is caught by counting: the keys of the parsed mappings must number the
     colons of the line (a duplicate drops a key; a colon inside a string sends the line to the
@@ -363,7 +365,7 @@ def scan_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[Scanned]
     index = 0
     scan = _JSON_SCAN
     for number, line in enumerate(_guarded(lines), start=1):
-        if type(line) is not str:  # a line that is no UTF-8: after the jobs before it
+        if type(line) is not str:  # an error of reading: after the jobs before it
             if records:
                 yield scanned
             raise line
@@ -399,6 +401,17 @@ def scan_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[Scanned]
         raise InputFileError(f"{name}: no jobs: the file has no lines with a job")
 
 
+def _writable(name: str) -> bool:
+    """Whether UTF-8 can write ``name`` (JSON can escape a lone surrogate; UTF-8 cannot)."""
+    if name.isascii():
+        return True
+    try:
+        name.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
 def _exact_job(line: str, name: str, number: int, index: int):
     """A line read the exact way, which also words its error: this imports numpy and the core,
     so a helper process does so only when it meets a line of an unusual form."""
@@ -408,10 +421,11 @@ def _exact_job(line: str, name: str, number: int, index: int):
 
 
 def _guarded(lines: Iterator[str]) -> Iterator:
-    """The lines, and in place of the rest an :class:`InputFileError` that reading raised."""
+    """The lines, and in place of the rest the error that reading raised (an
+    :class:`InputFileError` for bytes that are no UTF-8, an :class:`OSError` of the stream)."""
     try:
         yield from lines
-    except InputFileError as e:
+    except Exception as e:  # noqa: BLE001 - raised in turn, after the jobs before it
         yield e
 
 
@@ -424,15 +438,17 @@ _HEADER = struct.Struct("<qq")  # (slot, or one of the kinds below; length)
 _INLINE, _ERROR, _END = -1, -2, -3
 
 
-def scan_ahead(stream: IO, sniffed: Sniffed, size: int) -> Iterator[Scanned] | None:
+def scan_ahead(stream: IO, sniffed: Sniffed, size: int) -> Scanning | None:
     """:func:`scan_blocks` of the rest of ``stream`` in a forked helper process, or ``None``
-    where forking is not safe (not Linux, or threads running: see :mod:`a2b.io.parallel`).
+    where that cannot be (not Linux, threads running, as in :mod:`a2b.io.parallel`, or no
+    process or memory to be had): then scan here.
 
     The helper starts at once and scans up to :data:`SLOTS` blocks ahead of the caller, who
-    takes them from the returned iterator. Blocks come back through shared memory, one slot
-    each (pickled; one too large for a slot comes through the pipe), and a slot is handed
-    back to the helper once its block is unpickled. The caller must not read ``stream``
-    again. Closing the iterator, or the caller's exit, ends the helper.
+    takes them from the returned :class:`Scanning`. Blocks come back through shared memory,
+    one slot each (pickled; one too large for a slot comes through the pipe), and a slot is
+    handed back to the helper once its block is unpickled. The caller must not read
+    ``stream`` again. :meth:`Scanning.close` ends the helper (so does dropping the object,
+    and the kernel does when the calling process ends).
     """
     import threading
 
@@ -440,20 +456,45 @@ def scan_ahead(stream: IO, sniffed: Sniffed, size: int) -> Iterator[Scanned] | N
         return None
     import mmap
 
-    shared = mmap.mmap(-1, SLOTS * SLOT_BYTES)  # anonymous and shared with the child
-    blocks_read, blocks_write = os.pipe()  # helper -> caller: headers (and large blocks)
-    free_read, free_write = os.pipe()  # caller -> helper: slots to fill
-    os.write(free_write, bytes(range(SLOTS)))
-    parent = os.getpid()
-    pid = os.fork()
+    opened: list[int] = []
+    shared = None
+    try:
+        shared = mmap.mmap(-1, SLOTS * SLOT_BYTES)  # anonymous, shared with the child
+        blocks_read, blocks_write = os.pipe()  # helper -> caller: headers (and large blocks)
+        opened += [blocks_read, blocks_write]
+        free_read, free_write = os.pipe()  # caller -> helper: slots to fill
+        opened += [free_read, free_write]
+        os.write(free_write, bytes(range(SLOTS)))  # SLOTS <= 256: a slot is one byte
+        parent = os.getpid()
+        pid = os.fork()
+    except OSError:  # no memory, no pipes or no process to be had: scan here instead
+        for fd in opened:
+            os.close(fd)
+        if shared is not None:
+            shared.close()
+        return None
     if pid == 0:  # pragma: no cover - the child; what it sends is tested
-        os.close(blocks_read)
-        os.close(free_write)
-        _end_with(parent)
-        _serve(stream, sniffed, size, shared, blocks_write, free_read)
+        _child(
+            stream, sniffed, size, shared, blocks_write, free_read, parent, blocks_read, free_write
+        )
     os.close(blocks_write)
     os.close(free_read)
-    return _receive(shared, blocks_read, free_write, pid)
+    return Scanning(shared, blocks_read, free_write, pid)
+
+
+def _child(stream, sniffed, size, shared, out, free, parent, *theirs) -> None:  # pragma: no cover
+    """The helper's life, fenced: whatever happens, it ends here and never returns into the
+    caller's code (which would then run twice)."""
+    import signal
+
+    try:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the main process's
+        for fd in theirs:
+            os.close(fd)
+        _end_with(parent)
+        _serve(stream, sniffed, size, shared, out, free)
+    finally:
+        os._exit(0)
 
 
 def _end_with(parent: int) -> None:  # pragma: no cover - runs in the child
@@ -463,19 +504,17 @@ def _end_with(parent: int) -> None:  # pragma: no cover - runs in the child
         import ctypes
 
         ctypes.CDLL(None, use_errno=True).prctl(1, 9, 0, 0, 0)  # PR_SET_PDEATHSIG, SIGKILL
-    except (OSError, AttributeError):  # no prctl: the caller's closing ends it instead
+    except Exception:  # noqa: BLE001 - no ctypes or no prctl: the caller's closing ends it
         return
     if os.getppid() != parent:  # the main process ended before the request was made
         os._exit(0)
 
 
 def _serve(stream, sniffed: Sniffed, size: int, shared, out: int, free: int) -> None:
-    """The helper's life: scan, hand each block over, ``_exit`` at the end or when the caller
-    goes away. Ctrl-C is the main process's to handle; stdout is not the helper's to hold."""
+    """Scan, and hand each block over, until the end of the input, an error (handed over
+    too) or the caller's going away. Stdout is not the helper's to hold."""
     import pickle
-    import signal
 
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         null = os.open(os.devnull, os.O_WRONLY)
         os.dup2(null, 1)  # a reader of a2b's output sees its end when the main process ends
@@ -490,21 +529,21 @@ def _serve(stream, sniffed: Sniffed, size: int, shared, out: int, free: int) -> 
                     continue
                 slot = os.read(free, 1)
                 if not slot:
-                    break  # the caller is gone
+                    return  # the caller is gone
                 start = slot[0] * SLOT_BYTES
                 shared[start : start + len(data)] = data
                 _send(out, _HEADER.pack(slot[0], len(data)))
         except Exception as e:  # noqa: BLE001 - the caller raises it, after the blocks before
             try:
                 data = pickle.dumps(e, protocol=pickle.HIGHEST_PROTOCOL)
+                pickle.loads(data)  # and it must come back out
             except Exception:  # noqa: BLE001 - an exception that does not pickle
                 data = pickle.dumps(RuntimeError(f"{type(e).__name__}: {e}"))
             _send(out, _HEADER.pack(_ERROR, len(data)) + data)
         else:
             _send(out, _HEADER.pack(_END, 0))
-    except BaseException:  # noqa: BLE001, S110 - the caller went away: nothing to tell
+    except OSError:  # the caller went away: nothing to tell
         pass
-    os._exit(0)
 
 
 def _send(fd: int, data: bytes) -> None:
@@ -524,32 +563,61 @@ def _read_exactly(fd: int, n: int) -> bytes:
     return b"".join(parts)
 
 
-def _receive(shared, blocks: int, free: int, pid: int) -> Iterator[Scanned]:
-    import pickle
+class Scanning:
+    """The blocks a helper process scans (:func:`scan_ahead`), in order; an error of the
+    input is raised after the blocks before it. :meth:`close` (or dropping the object) ends
+    the helper and frees its pipes and memory, whether or not any block was taken."""
 
-    try:
-        while True:
-            kind, length = _HEADER.unpack(_read_exactly(blocks, _HEADER.size))
-            if kind == _END:
-                return
-            if kind == _ERROR:
-                raise pickle.loads(_read_exactly(blocks, length))
-            if kind == _INLINE:
-                yield pickle.loads(_read_exactly(blocks, length))
-                continue
-            start = kind * SLOT_BYTES
-            block = pickle.loads(shared[start : start + length])
-            try:
-                os.write(free, bytes((kind,)))
-            except BrokenPipeError:  # the helper has scanned everything and ended
-                pass
-            yield block
-    finally:
-        os.close(blocks)
-        os.close(free)
+    def __init__(self, shared, blocks: int, free: int, pid: int):
+        self._shared = shared
+        self._blocks = blocks
+        self._free = free
+        self._pid = pid
+        self._open = True
+
+    def __iter__(self) -> Scanning:
+        return self
+
+    def __next__(self) -> Scanned:
+        import pickle
+
+        if not self._open:
+            raise StopIteration
         try:
-            os.kill(pid, 9)  # it may be waiting for input that the caller no longer wants
+            kind, length = _HEADER.unpack(_read_exactly(self._blocks, _HEADER.size))
+            if kind == _END:
+                raise StopIteration
+            if kind == _ERROR:
+                raise pickle.loads(_read_exactly(self._blocks, length))
+            if kind == _INLINE:
+                return pickle.loads(_read_exactly(self._blocks, length))
+            start = kind * SLOT_BYTES
+            block = pickle.loads(self._shared[start : start + length])
+        except BaseException:
+            self.close()
+            raise
+        try:
+            os.write(self._free, bytes((kind,)))
+        except BrokenPipeError:  # the helper has scanned everything and ended
+            pass
+        return block
+
+    def close(self) -> None:
+        """End the helper (it may be waiting for input nobody wants now) and reap it."""
+        if not self._open:
+            return
+        self._open = False
+        os.close(self._blocks)
+        os.close(self._free)
+        try:
+            os.kill(self._pid, 9)
         except ProcessLookupError:  # pragma: no cover - already gone
             pass
-        os.waitpid(pid, 0)
-        shared.close()
+        os.waitpid(self._pid, 0)
+        self._shared.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:  # noqa: BLE001, S110 - at interpreter exit; the kernel ends it anyway
+            pass

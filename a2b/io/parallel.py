@@ -3,8 +3,8 @@
 Formatting a block of numbers is a few hundred numpy calls on small arrays: each is quick,
 and the GIL is taken between them, so threads barely help. On Linux the other cores are used
 by forking helper processes that format blocks while the main process formats others;
-blocks go to them and text comes back through pipes, and the main process writes everything
-in order. A helper is forked only for a core that has nothing else to run at the time.
+blocks go to them and text comes back through shared memory (a pipe says when), and the main
+process writes everything in order. A helper is forked only for a core that has nothing else to run at the time.
 Elsewhere (no ``fork``, or other threads running, where forking is unsafe) threads do the
 work; zstd compression, which releases the GIL, still gains from them.
 """
@@ -39,7 +39,8 @@ def workers() -> int:
 def in_order(function: Callable, items: Iterable) -> Iterator:
     """``function(item)`` for every item, spread over :func:`workers` cores, yielded in order.
 
-    Items and results must pickle (helper processes get them through a pipe). At most two
+    Items and results must pickle (helper processes get them through shared memory or a
+    pipe). At most two
     items per worker are in flight, so memory stays bounded. An exception in ``function``
     is raised here, at its item. Helpers start only once a second item arrives, so a single
     small item costs no fork.
@@ -140,9 +141,9 @@ class _Helper:
     Items and results cross in two shared-memory buffers, so only a few bytes go through the
     pipe: an item's arrays are copied into the inbox (pickle protocol 5, out of band) and the
     helper formats from views of it; a result comes back in the outbox, as it is if it is
-    bytes, else pickled (an exception too). Through a pipe they would cross in 64 KiB pieces,
-    each of which the main process's feeding thread takes only when it gets the GIL, leaving
-    the helper waiting.
+    bytes, else pickled (an exception comes through the pipe). Through a pipe they would cross
+    in 64 KiB pieces, each of which the main process's feeding thread takes only when it gets
+    the GIL, leaving the helper waiting.
     """
 
     def __init__(self, function: Callable, others: list[_Helper]):
@@ -160,17 +161,26 @@ class _Helper:
         theirs.close()
 
     def run(self, item) -> tuple[str, object]:
-        """``("ok", function(item))`` or ``("error", exception)``, computed by the helper."""
+        """``("ok", function(item))`` or ``("error", exception)``, computed by the helper; an
+        item that does not pickle or a result that does not unpickle is an error too, so that
+        the thread feeding the helper never dies with the main process waiting for it."""
         try:
-            self.connection.send_bytes(_pack(item, self.inbox))
+            message = _pack(item, self.inbox)
+        except Exception as e:  # noqa: BLE001 - raised in the main process, at its item
+            return "error", e
+        try:
+            self.connection.send_bytes(message)
             reply = self.connection.recv_bytes()
         except (OSError, EOFError) as e:
             return "error", RuntimeError(f"a writer's helper process ended unexpectedly: {e!r}")
-        if reply[:1] == b"B":  # bytes in the outbox
-            return "ok", self.outbox[: int(reply[1:])]
-        if reply[:1] == b"P":  # a pickle in the outbox
-            return _loads(self.outbox[: int(reply[1:])])
-        return _loads(reply[1:])
+        try:
+            if reply[:1] == b"B":  # bytes in the outbox
+                return "ok", self.outbox[: int(reply[1:])]
+            if reply[:1] == b"P":  # a pickle in the outbox
+                return _loads(self.outbox[: int(reply[1:])])
+            return _loads(reply[1:])
+        except Exception as e:  # noqa: BLE001 - e.g. an exception whose __init__ takes more
+            return "error", RuntimeError(f"a writer's helper sent what cannot be read: {e!r}")
 
     def close(self) -> None:
         self.connection.close()  # the helper reads end-of-file and exits

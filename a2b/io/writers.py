@@ -170,11 +170,12 @@ TASK = 8 * BLOCK
 
 
 def _blocks(rows: np.ndarray, lead: _Lead | None = None) -> Iterator[tuple]:
-    """Slices of about :data:`TASK` numbers, the unit of work of one worker, with the
-    ``lead`` of their chunk and their first row."""
+    """Slices of about :data:`TASK` numbers, the unit of work of one worker, with the part of
+    the ``lead`` of their rows."""
     size = max(1, TASK // max(rows.shape[1], 1))
     for lo in range(0, len(rows), size):
-        yield rows[lo : lo + size], lead, lo
+        hi = min(lo + size, len(rows))
+        yield rows[lo:hi], None if lead is None else lead.part(lo, hi)
 
 
 def _write_rows(stream: IO, tables: Iterable[tuple], sep: str = ",") -> None:
@@ -187,9 +188,8 @@ def _write_rows(stream: IO, tables: Iterable[tuple], sep: str = ",") -> None:
             yield from _blocks(rows, lead)
 
     def text(block):
-        rows, lead, lo = block
-        prefix = None if lead is None else lead.words(lo, lo + len(rows))
-        return format_rows(rows, sep=sep, prefix=prefix)
+        rows, lead = block
+        return format_rows(rows, sep=sep, prefix=None if lead is None else lead.words())
 
     for piece in in_order(text, blocks()):  # noqa: FURB122 - write each block as it is done
         stream.write(piece)
@@ -262,8 +262,9 @@ class _Lead:
     the job, and ``t`` too when every job repeats the same times.
 
     Runs of rows share a job, and the jobs of a chunk mostly share their times, so each name
-    and each ``t`` is formatted once, not once per row; a worker spells out the rows of its
-    task (:meth:`words`). ``t`` is taken out of the columns only if the chunk has two runs or
+    and each ``t`` is formatted once, not once per row. A task gets the :meth:`part` of its
+    rows (its own names only, as wide as the widest of them), and its worker spells the rows
+    out (:meth:`words`). ``t`` is taken out of the columns only if the chunk has two runs or
     more, all of the same times, bit for bit.
     """
 
@@ -271,16 +272,24 @@ class _Lead:
     ends: np.ndarray  # (runs,): the row after each run
     times: np.ndarray | None  # (c, 4): "t," of each row of a run; None: t is a column
 
-    def words(self, lo: int, hi: int) -> np.ndarray:
-        """The words of rows ``lo`` to ``hi``, ``(hi − lo, w [+ 4])``."""
+    def part(self, lo: int, hi: int) -> _Lead:
+        """The lead of rows ``lo`` to ``hi``, numbered from 0."""
         first, last = np.searchsorted(self.ends, [lo, hi - 1], side="right").tolist()
-        counts = np.minimum(self.ends[first : last + 1], hi)
-        counts[1:] -= self.ends[first:last]
-        counts[0] -= lo
-        names = np.repeat(self.names[first : last + 1], counts, axis=0)
+        names = self.names[first : last + 1]
+        used = np.flatnonzero(names.any(axis=0))  # text is followed by zero words only
+        names = np.ascontiguousarray(names[:, : used[-1] + 1 if len(used) else 1])
+        ends = np.minimum(self.ends[first : last + 1], hi) - lo
+        times = self.times
+        if times is not None:  # row lo is at lo mod c in its run: every run has c rows
+            times = np.roll(times, -(lo % len(times)), axis=0)
+        return _Lead(names, ends, times)
+
+    def words(self) -> np.ndarray:
+        """The words of every row, ``(rows, w [+ 4])``."""
+        names = np.repeat(self.names, np.diff(self.ends, prepend=0), axis=0)
         if self.times is None:
             return names
-        times = self.times.take(np.arange(lo, hi) % len(self.times), axis=0)
+        times = self.times.take(np.arange(len(names)) % len(self.times), axis=0)
         return np.concatenate([names, times], axis=1)
 
 
@@ -317,6 +326,8 @@ def write_batch_csv(stream: IO, chunks: Iterable[Chunk], fmt: str = "csv") -> No
 
     def tables():
         for chunk in chunks:
+            if not len(chunk.t):
+                continue
             lead = _lead(chunk)
             yield _rows(fmt, chunk, time=lead.times is None), lead
 
