@@ -194,23 +194,34 @@ def _alive(pid):
         return False
 
 
-def test_batch_reports_a_bad_job_at_once_while_its_input_stays_open(tmp_path):
-    """JSON Lines from a pipe that is still open: the error of a bad line comes as soon as the
-    line arrives (not when a block fills or the input ends), no file is written, and the
-    helper that scans the jobs is gone with the main process."""
+@pytest.mark.parametrize(
+    "bad, message",
+    [
+        ("[1, 0, 0]", "expected 4 numbers"),
+        ("[NaN, 0, 0, 1]", "NaN is not allowed"),
+        ("[0, 0, 0, 0]", "norm 0"),
+        ("[1, 0, 0, true]", "quaternion"),
+    ],
+)
+def test_batch_reports_a_bad_job_at_once_while_its_input_stays_open(tmp_path, bad, message):
+    """JSON Lines from a pipe that is still open: the error of a line of a wrong form or with
+    a number that cannot be right comes as soon as the line arrives (not when its block is
+    complete or the input ends), no file is written, and the helper that scans the jobs is
+    gone with the main process."""
     out = tmp_path / "never.csv"
     proc = subprocess.Popen(
         a2b_cmd("batch", "-", "-o", out), stdin=subprocess.PIPE, stderr=subprocess.PIPE
     )
     try:
-        lines = [_job_line(i) for i in range(20)] + [_job_line(20, "[1, 0, 0]")]
+        lines = [_job_line(i) for i in range(20)] + [_job_line(20, bad)]
         proc.stdin.write("".join(lines).encode())
         proc.stdin.flush()
         time.sleep(0.3)
         helpers = _children(proc.pid)
         rc = proc.wait(timeout=20)
         assert rc == 1
-        assert "<stdin>:21:" in proc.stderr.read().decode()
+        err = proc.stderr.read().decode()
+        assert "<stdin>:21:" in err and message in err
         assert not out.exists()
         time.sleep(0.2)
         assert not any(_alive(pid) for pid in helpers)

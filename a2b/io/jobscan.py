@@ -168,8 +168,8 @@ def _fast_pose(v, q: list, m: list) -> int:
     tx, ty, tz``) or ``m`` (a robotics matrix: its 16 entries); return the count of mapping
     keys read, or ``-1`` for any other form (the caller then undoes the appends).
 
-    Only the structure is checked here: that each number is an int or a float, and finite,
-    is checked in bulk by :func:`a2b.io.readers.finish_block`.
+    Only the structure is checked here: the numbers are checked by :meth:`Scanned.add_fast`
+    once the whole job is read, and in bulk by :func:`a2b.io.readers.finish_block`.
     """
     if type(v) is not dict:
         return -1
@@ -259,9 +259,21 @@ def _fast_parameters(params: dict) -> dict | None:
     return out
 
 
+def _plain_numbers(q: list, nq: int, m: list, nm: int) -> bool:
+    """Whether the numbers added from ``q[nq]`` and ``m[nm]`` (a job's two poses) are ints and
+    floats whose sum is finite (so is each of them: a false alarm, a sum that overflows, only
+    sends the job to the exact reading), and no quaternion (the first four of each seven in
+    ``q``) is all zeros. An integer beyond the doubles raises :class:`OverflowError`."""
+    added = q[nq:] + m[nm:]
+    if not NUMBER_TYPES.issuperset(map(type, added)) or not math.isfinite(sum(added)):
+        return False
+    poses = (len(q) - nq) // 7
+    return (poses < 1 or any(q[nq : nq + 4])) and (poses < 2 or any(q[nq + 7 : nq + 11]))
+
+
 class Scanned:
-    """The jobs of one block as scanned: their numbers in flat lists, checked in bulk later
-    (:func:`a2b.io.readers.finish_block`), and the lines to read the exact way."""
+    """The jobs of one block as scanned: their numbers in flat lists, made poses and checked
+    in bulk later (:func:`a2b.io.readers.finish_block`), and the jobs read the exact way."""
 
     def __init__(self):
         self.q: list = []  # 7 numbers per pose in a quaternion form
@@ -278,7 +290,11 @@ class Scanned:
 
     def add_fast(self, v, colons: int | None, where) -> bool:
         """Add the job mapping ``v`` if it has a common form, checked as :func:`_job` checks it
-        (the numbers in bulk later); False, adding nothing, for anything else.
+        (what needs numpy, in bulk later); False, adding nothing, for anything else.
+
+        Numbers that cannot be right (not an int or a float, not finite, a quaternion of
+        zeros) make it False at once, so that the exact reading words their error as soon as
+        the line is scanned, not when its block is complete.
 
         ``colons``: the count of colons in the JSON text of ``v``, which must equal the count
         of keys (no duplicates), or ``None`` when the parser has checked that.
@@ -330,7 +346,11 @@ class Scanned:
                     if params:
                         keys += len(params)
                         params = _fast_parameters(params)
-                    if params is not None and (colons is None or keys == colons):
+                    if (
+                        params is not None
+                        and (colons is None or keys == colons)
+                        and _plain_numbers(q, nq, m, nm)
+                    ):
                         if type(name) is int:
                             name = str(name)
                         record = (slots[0], slots[1], mode, samples, params, name, where)
@@ -352,8 +372,8 @@ def scan_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[Scanned]
     scanner and checked by :meth:`Scanned.add_fast`, or, if anything about it is unusual, read
     the exact way (:func:`a2b.io.readers.json_line_job`, which makes every error message). An
     error of a line (no UTF-8, or found by the exact reading) or of the stream is raised after
-    the block of the jobs before it; the numbers are checked later, in bulk
-    (:func:`a2b.io.readers.finish_block`).
+    the block of the jobs before it; what needs numpy to check (a matrix that is no rotation)
+    is checked later, in bulk (:func:`a2b.io.readers.finish_block`).
 
     A duplicate key is caught by counting: the keys of the parsed mappings must number the
     colons of the line (a duplicate drops a key; a colon inside a string sends the line to the
