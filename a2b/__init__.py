@@ -15,7 +15,16 @@ from .errors import A2bError
 
 __version__ = "0.1.0"
 
-__all__ = ["A2bError", "__version__", "bezier", "describe", "fiber", "interpolate", "motion", "spline"]
+__all__ = [
+    "A2bError",
+    "__version__",
+    "bezier",
+    "describe",
+    "fiber",
+    "interpolate",
+    "motion",
+    "spline",
+]
 
 
 def __getattr__(name):  # lazy: keep `import a2b` (and so `a2b --version`) light

@@ -11,7 +11,16 @@ from .names import MODES
 from .poses import check_matrices
 
 PARAMETERS = {
-    "darboux": ("delta", "kappa", "lam", "branch", "pitch_start", "pitch_end", "through", "long_way"),
+    "darboux": (
+        "delta",
+        "kappa",
+        "lam",
+        "branch",
+        "pitch_start",
+        "pitch_end",
+        "through",
+        "long_way",
+    ),
     "cubic": ("m", "alpha", "beta", "a", "b", "frame"),
     "screw": (),
 }

@@ -178,7 +178,9 @@ def mu(x, m) -> np.ndarray:
     """
     x = np.asarray(x, dtype=float)
     if x.shape[-1:] != (13,):
-        raise ParameterError(f"a point of the extended matrix model needs 13 numbers, got shape {x.shape}")
+        raise ParameterError(
+            f"a point of the extended matrix model needs 13 numbers, got shape {x.shape}"
+        )
     p = x[..., :10] @ mu_prime_matrix(m).T
     return study_from_quat_trans(p, x[..., 10:] / x[..., :1])
 

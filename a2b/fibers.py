@@ -15,7 +15,9 @@ from .poses import check_matrices, matrices_from_study, study_from_matrices
 from .study import kappa_fiber_direction, kappa_fiber_points
 
 
-def fiber(pose, kind: str = "kappa", s=(0.0,), m=None, alphas=((0.0,) * 6,), basis: str = "auto") -> dict:
+def fiber(
+    pose, kind: str = "kappa", s=(0.0,), m=None, alphas=((0.0,) * 6,), basis: str = "auto"
+) -> dict:
     """The fiber of ``pose`` under κ or μ_[m], as plain data (what ``--json`` prints).
 
     Parameters
@@ -61,7 +63,9 @@ def fiber(pose, kind: str = "kappa", s=(0.0,), m=None, alphas=((0.0,) * 6,), bas
             out["choices"].append(
                 "the paper's kernel basis (eq. 13) degenerates for this m (n0 = 0); used the RREF basis"
             )
-        points = mu_fiber_points(pose, m, np.asarray(alphas, dtype=float).reshape(-1, 6), basis=name)
+        points = mu_fiber_points(
+            pose, m, np.asarray(alphas, dtype=float).reshape(-1, 6), basis=name
+        )
         back = matrices_from_model_points(points, m)
         out.update(
             m=m.tolist(),

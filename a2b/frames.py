@@ -182,7 +182,9 @@ def screw_frame(start: np.ndarray, end: np.ndarray) -> ScrewFrame:
         if norm_t > 0.0:
             u = t_disp / norm_t
             d = norm_t
-            choices.append("pure translation (φ = 0): the axis is the line through A's origin along the translation")
+            choices.append(
+                "pure translation (φ = 0): the axis is the line through A's origin along the translation"
+            )
         else:
             u = np.array([0.0, 0.0, 1.0])
             d = 0.0

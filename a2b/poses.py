@@ -106,7 +106,11 @@ def check_matrices(
         raise PoseError(
             f"the {where} of a {layout}-layout pose matrix must be exactly "
             f"{expected.tolist()}; it differs by {residual:.3g}"
-            + (" (is this the paper's layout? say so with layout: paper)" if layout == "robotics" else "")
+            + (
+                " (is this the paper's layout? say so with layout: paper)"
+                if layout == "robotics"
+                else ""
+            )
         )
     if layout == "paper":
         m = robotics_from_paper(m)

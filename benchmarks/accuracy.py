@@ -92,7 +92,12 @@ class Case:
 
 CASES = [
     Case("darboux-0", "darboux, δ = 0", "darboux", lambda s: {}),
-    Case("darboux-delta", f"darboux, δ = {DELTA_FACTOR}·s", "darboux", lambda s: {"delta": DELTA_FACTOR * s}),
+    Case(
+        "darboux-delta",
+        f"darboux, δ = {DELTA_FACTOR}·s",
+        "darboux",
+        lambda s: {"delta": DELTA_FACTOR * s},
+    ),
     Case(
         "cubic-canonical",
         f"cubic, frame canonical, m = {M_CANONICAL}, a = {CUBIC_A}, b = {CUBIC_B}",
@@ -152,7 +157,9 @@ def det(m):
     if len(m) == 1:
         return m[0][0]
     return MP.fsum(
-        (-1) ** j * m[0][j] * det([row[:j] + row[j + 1:] for row in m[1:]]) for j in range(len(m)) if m[0][j]
+        (-1) ** j * m[0][j] * det([row[:j] + row[j + 1 :] for row in m[1:]])
+        for j in range(len(m))
+        if m[0][j]
     )
 
 
@@ -176,9 +183,21 @@ def rot_from_quat(p):
     p0, p1, p2, p3 = p
     inv = 1 / (p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3)
     return [
-        [(p0 * p0 + p1 * p1 - p2 * p2 - p3 * p3) * inv, 2 * (p1 * p2 - p0 * p3) * inv, 2 * (p1 * p3 + p0 * p2) * inv],
-        [2 * (p1 * p2 + p0 * p3) * inv, (p0 * p0 - p1 * p1 + p2 * p2 - p3 * p3) * inv, 2 * (p2 * p3 - p0 * p1) * inv],
-        [2 * (p1 * p3 - p0 * p2) * inv, 2 * (p2 * p3 + p0 * p1) * inv, (p0 * p0 - p1 * p1 - p2 * p2 + p3 * p3) * inv],
+        [
+            (p0 * p0 + p1 * p1 - p2 * p2 - p3 * p3) * inv,
+            2 * (p1 * p2 - p0 * p3) * inv,
+            2 * (p1 * p3 + p0 * p2) * inv,
+        ],
+        [
+            2 * (p1 * p2 + p0 * p3) * inv,
+            (p0 * p0 - p1 * p1 + p2 * p2 - p3 * p3) * inv,
+            2 * (p2 * p3 - p0 * p1) * inv,
+        ],
+        [
+            2 * (p1 * p3 - p0 * p2) * inv,
+            2 * (p2 * p3 + p0 * p1) * inv,
+            (p0 * p0 - p1 * p1 - p2 * p2 + p3 * p3) * inv,
+        ],
     ]
 
 
@@ -344,7 +363,9 @@ def general_pair(phi, scale: float, index: int) -> Pair:
     slide = MP.mpf(float(rng.normal())) * scale
     if phi == 0:
         end = start.copy()
-        end[:3, 3] = [float(x) for x in (MP.mpf(float(t)) + slide * ui for t, ui in zip(start[:3, 3], u))]
+        end[:3, 3] = [
+            float(x) for x in (MP.mpf(float(t)) + slide * ui for t, ui in zip(start[:3, 3], u))
+        ]
         return Pair("general", start, end)
     rot_d = rot_from_quat(quat_about(u, phi))
     rot_a_float = mpv(start[:3, :3])
@@ -356,7 +377,9 @@ def general_pair(phi, scale: float, index: int) -> Pair:
 
 
 def pairs_for(phi, scale: float) -> list[Pair]:
-    return [canonical_pair(phi, scale)] + [general_pair(phi, scale, k) for k in range(GENERAL_PAIRS)]
+    return [canonical_pair(phi, scale)] + [
+        general_pair(phi, scale, k) for k in range(GENERAL_PAIRS)
+    ]
 
 
 # ------------------------------------------------------------------------------------------------
@@ -434,7 +457,9 @@ def rotation_to_z(u):
     kx = [[MP.zero, -k[2], k[1]], [k[2], MP.zero, -k[0]], [-k[1], k[0], MP.zero]]
     kx2 = matmul(kx, kx)
     eye = [[MP.one if i == j else MP.zero for j in range(3)] for i in range(3)]
-    return [[eye[i][j] + sin_a * kx[i][j] + (1 - cos_a) * kx2[i][j] for j in range(3)] for i in range(3)]
+    return [
+        [eye[i][j] + sin_a * kx[i][j] + (1 - cos_a) * kx2[i][j] for j in range(3)] for i in range(3)
+    ]
 
 
 def canonical_m(params: dict, fr: Frame) -> list:
@@ -477,7 +502,9 @@ def reference_poses(case: Case, params: dict, fr: Frame, ts) -> list:
                 trans = [x + t * y for x, y in zip(moved, fr.t_disp)]
             else:
                 turned = matvec(rot_rel, fr.point)
-                trans = [x + c - y + t * fr.d * ui for x, c, y, ui in zip(moved, fr.point, turned, fr.u)]
+                trans = [
+                    x + c - y + t * fr.d * ui for x, c, y, ui in zip(moved, fr.point, turned, fr.u)
+                ]
             out.append((matmul(rot_rel, rot_a), trans))
         return out
     a, b = MP.mpf(float(params.get("a", 0.0))), MP.mpf(float(params.get("b", 0.0)))
@@ -532,9 +559,14 @@ def closed_forms(case: Case, params: dict, fr: Frame, ts) -> list:
             lam = MP.sqrt(d * d / 4 + delta * delta) / sh
             kap = -phi / 2 + MP.atan2(-delta, d / 2)
             z_sine = z0 + lam * MP.sin(omega + kap)
-            z_of_omega = d / 2 + ((d / 2) * MP.sin(omega - phi / 2) - delta * (MP.cos(omega - phi / 2) - ch)) / sh
+            z_of_omega = (
+                d / 2
+                + ((d / 2) * MP.sin(omega - phi / 2) - delta * (MP.cos(omega - phi / 2) - ch)) / sh
+            )
             # the two closed forms of MATH.md agree (a check of the formulas, not of a2b)
-            assert abs(z_sine - z_of_omega) <= MP.mpf("1e-30") * (abs(d) + abs(delta) + MP.mpf("1e-300"))
+            assert abs(z_sine - z_of_omega) <= MP.mpf("1e-30") * (
+                abs(d) + abs(delta) + MP.mpf("1e-300")
+            )
             out.append((omega, z_sine))
         elif case.mode == "screw":
             out.append((t * phi, t * d))
@@ -556,7 +588,15 @@ def closed_forms(case: Case, params: dict, fr: Frame, ts) -> list:
             if given:  # the weighted linear interpolation of the translations (MATH.md)
                 psi_a, psi_b = 1 + a, 1 + b
                 x0 = (1 - t) * psi_a + t * psi_b
-                out.append((omega, [((1 - t) * psi_a * x + t * psi_b * y) / x0 for x, y in zip(fr.t_a, fr.t_b)]))
+                out.append(
+                    (
+                        omega,
+                        [
+                            ((1 - t) * psi_a * x + t * psi_b * y) / x0
+                            for x, y in zip(fr.t_a, fr.t_b)
+                        ],
+                    )
+                )
             else:  # eq. 18
                 out.append((omega, t * d * (1 + b) / ((1 - t) * (1 + a) + t * (1 + b))))
     return out
@@ -623,8 +663,12 @@ class Cell:
         """The targets this cell misses (``["refused"]`` if a2b refused a pair)."""
         if self.refused:
             return ["refused"]
-        limits = {"end": TARGETS["end"], "rigidity": TARGETS["rigid"], "reference": TARGETS["pose"],
-                  "closed form": TARGETS["closed"]}
+        limits = {
+            "end": TARGETS["end"],
+            "rigidity": TARGETS["rigid"],
+            "reference": TARGETS["pose"],
+            "closed form": TARGETS["closed"],
+        }
         return [name for name, value in self.values().items() if value > limits[name]]
 
     def unexplained(self) -> list[str]:
@@ -669,8 +713,15 @@ def input_sensitivity(case: Case, params: dict, fr: Frame, ref: list, length, in
     return max(pose_distance(r1, t1, r2, t2, length) for (r1, t1), (r2, t2) in zip(moved, ref))
 
 
-def measure_pair(case: Case, params: dict, pair: Pair, cell: Cell, index: int,
-                 sensitivity: bool = True, closed: bool = True) -> None:
+def measure_pair(
+    case: Case,
+    params: dict,
+    pair: Pair,
+    cell: Cell,
+    index: int,
+    sensitivity: bool = True,
+    closed: bool = True,
+) -> None:
     """Measure one pose pair and fold the worst values into ``cell``."""
     try:
         with warnings.catch_warnings(record=True) as caught:
@@ -704,7 +755,9 @@ def measure_pair(case: Case, params: dict, pair: Pair, cell: Cell, index: int,
     for sample, (rot_ref, t_ref), form in zip(samples, ref, forms):
         rot, trans = mpv(sample[:3, :3]), mpv(sample[:3, 3])
         gram = matmul(rot, transpose(rot))
-        cell.ortho = max(cell.ortho, float(max(abs(gram[i][j] - (i == j)) for i in range(3) for j in range(3))))
+        cell.ortho = max(
+            cell.ortho, float(max(abs(gram[i][j] - (i == j)) for i in range(3) for j in range(3)))
+        )
         cell.det = max(cell.det, float(abs(det(rot) - 1)))
         cell.pose = max(cell.pose, float(pose_distance(rot, trans, rot_ref, t_ref, length)))
         if form is None:
@@ -719,11 +772,19 @@ def measure_pair(case: Case, params: dict, pair: Pair, cell: Cell, index: int,
         err = max(abs(x - y) for x, y in zip(trans, z_ref)) if given else abs(z - z_ref)
         cell.z = max(cell.z, float(err / length))
     if sensitivity and pair.kind == "general":
-        cell.sensitivity = max(cell.sensitivity, float(input_sensitivity(case, params, fr, ref, length, index)))
+        cell.sensitivity = max(
+            cell.sensitivity, float(input_sensitivity(case, params, fr, ref, length, index))
+        )
 
 
-def measure_cell(case, phi, scale: float, general_pairs: int = GENERAL_PAIRS,
-                 sensitivity: bool = True, closed: bool = True) -> Cell:
+def measure_cell(
+    case,
+    phi,
+    scale: float,
+    general_pairs: int = GENERAL_PAIRS,
+    sensitivity: bool = True,
+    closed: bool = True,
+) -> Cell:
     """Measure one cell: the canonical pair and ``general_pairs`` seeded random pairs.
 
     Parameters
@@ -744,7 +805,9 @@ def measure_cell(case, phi, scale: float, general_pairs: int = GENERAL_PAIRS,
     phi = PHI_VALUES[phi] if isinstance(phi, str) else phi
     params = case.params(scale)
     cell = Cell(case.key, label, scale, closed_measured=closed)
-    pairs = [canonical_pair(phi, scale)] + [general_pair(phi, scale, k) for k in range(general_pairs)]
+    pairs = [canonical_pair(phi, scale)] + [
+        general_pair(phi, scale, k) for k in range(general_pairs)
+    ]
     for index, pair in enumerate(pairs):
         measure_pair(case, params, pair, cell, index, sensitivity, closed)
     return cell
@@ -766,9 +829,15 @@ def run_grid(progress=None) -> dict:
 # Probes near the singularities
 # ------------------------------------------------------------------------------------------------
 
-LONG_WAY = Case("darboux-long", "darboux, long way round, δ = 0", "darboux", lambda s: {"long_way": True})
-CUBIC_DEFAULT = Case("cubic-default", "cubic, frame canonical, defaults (m = pA + pB, a = b = 0)", "cubic",
-                     lambda s: {})
+LONG_WAY = Case(
+    "darboux-long", "darboux, long way round, δ = 0", "darboux", lambda s: {"long_way": True}
+)
+CUBIC_DEFAULT = Case(
+    "cubic-default",
+    "cubic, frame canonical, defaults (m = pA + pB, a = b = 0)",
+    "cubic",
+    lambda s: {},
+)
 
 
 def cubic_canonical_condition(motion) -> float:
@@ -801,7 +870,9 @@ def probe_long_way() -> list[tuple]:
     return rows
 
 
-OPPOSITE = Case("cubic-opposite", "cubic, frame given, m = pA − pB", "cubic", lambda s: {"frame": "given"})
+OPPOSITE = Case(
+    "cubic-opposite", "cubic, frame given, m = pA − pB", "cubic", lambda s: {"frame": "given"}
+)
 
 
 def probe_opposite_weights() -> list[tuple]:
@@ -811,7 +882,9 @@ def probe_opposite_weights() -> list[tuple]:
     for label in ("1", "1e-1", "1e-2", "1e-3", "1e-4", "1e-5"):
         phi = MP.mpf(label)
         cell = Cell(OPPOSITE.key, label, 1.0)
-        pairs = [canonical_pair(phi, 1.0)] + [general_pair(phi, 1.0, k) for k in range(GENERAL_PAIRS)]
+        pairs = [canonical_pair(phi, 1.0)] + [
+            general_pair(phi, 1.0, k) for k in range(GENERAL_PAIRS)
+        ]
         for index, pair in enumerate(pairs):
             frame = screw_frame(pair.start, pair.end)
             params = {"frame": "given", "m": [float(x) for x in frame.p_start - frame.p_end]}
@@ -847,13 +920,24 @@ def probe_half_turn() -> list[tuple]:
     a2b's choices.
     """
     rows = []
-    pairs = [canonical_pair(MP.pi, 1.0)] + [general_pair(MP.pi, 1.0, k) for k in range(GENERAL_PAIRS)]
+    pairs = [canonical_pair(MP.pi, 1.0)] + [
+        general_pair(MP.pi, 1.0, k) for k in range(GENERAL_PAIRS)
+    ]
     for k, pair in enumerate(pairs):
         motion = a2b.motion(pair.start, pair.end, "screw")
         fr = frame_mp(pair)  # B's sign by pA·pB ≥ 0 in 50 digits
         same = dot(mpv(motion.frame.p_end), fr.p_b) > 0
-        rows.append((k, pair.kind, float(abs(dot(fr.p_a, fr.p_b))), float(motion.frame.r[0]),
-                     motion.frame.d, bool(same), list(motion.choices)))
+        rows.append(
+            (
+                k,
+                pair.kind,
+                float(abs(dot(fr.p_a, fr.p_b))),
+                float(motion.frame.r[0]),
+                motion.frame.d,
+                bool(same),
+                list(motion.choices),
+            )
+        )
     return rows
 
 
@@ -873,7 +957,11 @@ def naive_z_check(phi_label: str, scale: float = 1.0, index: int = 0) -> tuple[f
     naive = good = MP.zero
     for sample, (_, z_ref) in zip(samples, closed_forms(case, params, fr, TS)):
         omega, z = transmission_of(fr, mpv(sample[:3, :3]), mpv(sample[:3, 3]))
-        z_hat = fr.d / 2 + ((fr.d / 2) * MP.sin(omega - fr.phi / 2) - delta * (MP.cos(omega - fr.phi / 2) - ch)) / sh
+        z_hat = (
+            fr.d / 2
+            + ((fr.d / 2) * MP.sin(omega - fr.phi / 2) - delta * (MP.cos(omega - fr.phi / 2) - ch))
+            / sh
+        )
         naive = max(naive, abs(z - z_hat) / length)
         good = max(good, abs(z - z_ref) / length)
     return float(naive), float(good)
@@ -909,7 +997,11 @@ def render(cells: dict) -> str:
     add("")
     add("## Summary")
     add("")
-    add("✓: every target met at every scale s ∈ {" + ", ".join(scale_label(s) for s in SCALES) + "}.")
+    add(
+        "✓: every target met at every scale s ∈ {"
+        + ", ".join(scale_label(s) for s in SCALES)
+        + "}."
+    )
     add("Otherwise the targets missed, with the scales; the notes below explain each one.")
     add("")
     add("| mode | " + " | ".join(f"φ = {label}" for label, _ in PHIS) + " |")
@@ -924,9 +1016,12 @@ def render(cells: dict) -> str:
             if not missed:
                 row.append("✓")
             else:
-                row.append("; ".join(
-                    f"✗ {name} (s = {', '.join(sc) if len(sc) < len(SCALES) else 'all'})" for name, sc in missed.items()
-                ))
+                row.append(
+                    "; ".join(
+                        f"✗ {name} (s = {', '.join(sc) if len(sc) < len(SCALES) else 'all'})"
+                        for name, sc in missed.items()
+                    )
+                )
         add(f"| {case.title} | " + " | ".join(row) + " |")
     add("")
     near, findings = _near_singularities()
@@ -971,8 +1066,10 @@ def _row(first: str, second: str, c: Cell) -> str:
     if c.refused:
         return f"| {first} | {second} | refused: {'; '.join(c.refused)} | | | | | | | |"
     if c.closed_measured:
-        closed = (f"{mark(c.omega_canonical, TARGETS['closed'])} | {mark(c.omega_general, TARGETS['closed'])} | "
-                  f"{mark(c.z, TARGETS['closed'])}")
+        closed = (
+            f"{mark(c.omega_canonical, TARGETS['closed'])} | {mark(c.omega_general, TARGETS['closed'])} | "
+            f"{mark(c.z, TARGETS['closed'])}"
+        )
     else:
         closed = "— | — | —"
     return (
@@ -989,9 +1086,11 @@ def _near_singularities() -> tuple[str, list[str]]:
     out.append("|---|---|---|---|---|---|---|")
     rows = probe_cubic_condition()
     for label, cell, estimate, default in rows:
-        out.append(f"| {label} | {mark(cell.pose, TARGETS['pose'])} | {fmt(cell.sensitivity)} | {fmt(estimate)} | "
-                   f"{'yes' if cell.warnings else 'no'} | {mark(default.pose, TARGETS['pose'])} | "
-                   f"{fmt(default.sensitivity)} |")
+        out.append(
+            f"| {label} | {mark(cell.pose, TARGETS['pose'])} | {fmt(cell.sensitivity)} | {fmt(estimate)} | "
+            f"{'yes' if cell.warnings else 'no'} | {mark(default.pose, TARGETS['pose'])} | "
+            f"{fmt(default.sensitivity)} |"
+        )
     silent = [label for label, cell, _, _ in rows if cell.misses() and not cell.warnings]
     out.append("")
     if silent:
@@ -999,18 +1098,26 @@ def _near_singularities() -> tuple[str, list[str]]:
             f"cubic, canonical frame, with `wB/wA ≠ ψB/ψA` (e.g. a ≠ b) and small φ: the reference target is "
             f"missed by the conditioning of the problem (φ = {', '.join(silent)}), **and a2b does not warn**."
         )
-        out.append(f"Reading: the error follows `1/φ` and the estimate; with the defaults, where f = g, nothing "
-                   f"is lost. **a2b gives no warning** where the target is missed (φ = {', '.join(silent)}).")
+        out.append(
+            f"Reading: the error follows `1/φ` and the estimate; with the defaults, where f = g, nothing "
+            f"is lost. **a2b gives no warning** where the target is missed (φ = {', '.join(silent)})."
+        )
     else:
-        out.append("Reading: the error follows `1/φ` and the estimate; with the defaults, where f = g, nothing "
-                   "is lost. a2b warns wherever the target is missed.")
+        out.append(
+            "Reading: the error follows `1/φ` and the estimate; with the defaults, where f = g, nothing "
+            "is lost. a2b warns wherever the target is missed."
+        )
     warned = sorted({w for _, cell, _, _ in rows for w in cell.warnings})
     if warned:
         out.append("")
         out.append("a2b's warning: " + "; ".join(f"“{w}”" for w in warned[:1]))
     for title, text, rows in (
         ("Darboux the long way round, as φ → 0", _LONG_WAY_PROBE, probe_long_way()),
-        ("Cubic with weights of opposite sign, as φ → 0", _OPPOSITE_PROBE, probe_opposite_weights()),
+        (
+            "Cubic with weights of opposite sign, as φ → 0",
+            _OPPOSITE_PROBE,
+            probe_opposite_weights(),
+        ),
     ):
         out += ["", f"### {title}", "", text, ""]
         out.append("| φ | `|p(½)|²/max|p|²` | a2b | end | RRᵀ−I | det−1 | ref | input |")
@@ -1021,9 +1128,11 @@ def _near_singularities() -> tuple[str, list[str]]:
                 out.append(f"| {label} | {fmt(ratio)} | refused: {'; '.join(reasons)} | | | | | |")
             else:
                 verdict = "sampled, warned" if c.warnings else "sampled"
-                out.append(f"| {label} | {fmt(ratio)} | {verdict} | {mark(c.end, TARGETS['end'])} | "
-                           f"{mark(c.ortho, TARGETS['rigid'])} | {mark(c.det, TARGETS['rigid'])} | "
-                           f"{mark(c.pose, TARGETS['pose'])} | {fmt(c.sensitivity)} |")
+                out.append(
+                    f"| {label} | {fmt(ratio)} | {verdict} | {mark(c.end, TARGETS['end'])} | "
+                    f"{mark(c.ortho, TARGETS['rigid'])} | {mark(c.det, TARGETS['rigid'])} | "
+                    f"{mark(c.pose, TARGETS['pose'])} | {fmt(c.sensitivity)} |"
+                )
         out += ["", _reading_near_zero(rows)]
         sampled = [c for _, _, c in rows if not c.refused]
         rigid = [c for c in sampled if max(c.ortho, c.det) > TARGETS["rigid"]]
@@ -1041,13 +1150,17 @@ def _near_singularities() -> tuple[str, list[str]]:
                 "`|p(t)|²/max|p|² ≤ 1e-12`."
             )
     out += ["", "### Half-turns within rounding", "", _HALF_TURN_PROBE, ""]
-    out.append("| pair | `|pA·pB|`, 50 digits | a2b's `r[0]` | a2b's d | same sense as `pA·pB ≥ 0` in 50 digits | "
-               "a2b's choices |")
+    out.append(
+        "| pair | `|pA·pB|`, 50 digits | a2b's `r[0]` | a2b's d | same sense as `pA·pB ≥ 0` in 50 digits | "
+        "a2b's choices |"
+    )
     out.append("|---|---|---|---|---|---|")
     rows = probe_half_turn()
     for k, kind, exact, r0, d, same, choices in rows:
-        out.append(f"| {k} ({kind}) | {exact:.1e} | {r0:.1e} | {d:+.4f} | {'yes' if same else 'no'} | "
-                   f"{'; '.join(choices) or '(none)'} |")
+        out.append(
+            f"| {k} ({kind}) | {exact:.1e} | {r0:.1e} | {d:+.4f} | {'yes' if same else 'no'} | "
+            f"{'; '.join(choices) or '(none)'} |"
+        )
     ruled = [str(k) for k, _, _, _, _, _, choices in rows if not any("φ = π" in c for c in choices)]
     negative = [str(k) for k, _, _, _, d, _, _ in rows if d < 0]
     out.append("")
@@ -1069,7 +1182,9 @@ def _near_singularities() -> tuple[str, list[str]]:
             "its mirror image."
         )
     else:
-        out.append("Reading: a2b applies its half-turn rule whenever `pA·pB` is zero within rounding.")
+        out.append(
+            "Reading: a2b applies its half-turn rule whenever `pA·pB` is zero within rounding."
+        )
     return "\n".join(out), findings
 
 
@@ -1125,25 +1240,41 @@ def _notes(cells: dict) -> str:
             for phi in dict.fromkeys(x.phi for x in group)
         )
         worst = max(group, key=lambda x: max(x.pose, x.closed()))
-        numbers = (f"worst: end {fmt(worst.end)}, ref {fmt(worst.pose)}, ω {fmt(max(worst.omega_canonical, worst.omega_general))}, "
-                   f"z {fmt(worst.z)}; input sensitivity {fmt(worst.sensitivity)}")
+        numbers = (
+            f"worst: end {fmt(worst.end)}, ref {fmt(worst.pose)}, ω {fmt(max(worst.omega_canonical, worst.omega_general))}, "
+            f"z {fmt(worst.z)}; input sensitivity {fmt(worst.sensitivity)}"
+        )
         if "refused" in misses:
-            lines.append(f"- **{title}**, {where}: a2b refused: {'; '.join(sorted(set(worst.refused)))}.")
+            lines.append(
+                f"- **{title}**, {where}: a2b refused: {'; '.join(sorted(set(worst.refused)))}."
+            )
         elif unexplained:
-            lines.append(f"- **{title}**, {where}: misses {', '.join(misses)} ({numbers}). **Not explained by "
-                         "the conditioning of the problem: an accuracy defect of a2b.**")
+            lines.append(
+                f"- **{title}**, {where}: misses {', '.join(misses)} ({numbers}). **Not explained by "
+                "the conditioning of the problem: an accuracy defect of a2b.**"
+            )
         elif case_key == "cubic-canonical":
             warned = all(x.warnings for x in group)
-            lines.append(f"- **{title}**, {where}: misses {', '.join(misses)} ({numbers}). " + _CUBIC_NOTE
-                         + (" a2b warns here." if warned else " **a2b gives no warning here** (see “Near the "
-                            "singularities”)."))
+            lines.append(
+                f"- **{title}**, {where}: misses {', '.join(misses)} ({numbers}). "
+                + _CUBIC_NOTE
+                + (
+                    " a2b warns here."
+                    if warned
+                    else " **a2b gives no warning here** (see “Near the singularities”)."
+                )
+            )
         else:
-            lines.append(f"- **{title}**, {where}: misses {', '.join(misses)} ({numbers}). The error is within "
-                         f"{EXPLAINED_FACTOR:g}× the input sensitivity: the conditioning of the problem.")
+            lines.append(
+                f"- **{title}**, {where}: misses {', '.join(misses)} ({numbers}). The error is within "
+                f"{EXPLAINED_FACTOR:g}× the input sensitivity: the conditioning of the problem."
+            )
     notes = sorted({n for c in cells.values() for n in c.notes})
     if notes:
         lines.append("")
-        lines.append("Choices a2b reported in the grid that bear on accuracy (from `describe()['choices']`):")
+        lines.append(
+            "Choices a2b reported in the grid that bear on accuracy (from `describe()['choices']`):"
+        )
         lines.append("")
         lines.extend(f"- {n}" for n in notes)
         if any("treated as a pure translation" in n for n in notes):
@@ -1169,11 +1300,11 @@ measurement functions (it imports this script).
 
 ## Targets
 
-- **end**: both end poses reproduced within {sci(TARGETS['end'])}: rotation entries absolutely,
+- **end**: both end poses reproduced within {sci(TARGETS["end"])}: rotation entries absolutely,
   translations relative to the motion's scale `L = max(|tA|, |tB|)`;
-- **rigidity**: `max |R Rᵀ − I|` and `max |det R − 1|` over all samples at most {sci(TARGETS['rigid'])};
-- **closed forms**: every closed form of `MATH.md` within {sci(TARGETS['closed'])}, relative;
-- **reference**: every sample within {sci(TARGETS['pose'])} (rotation entries absolutely, translation
+- **rigidity**: `max |R Rᵀ − I|` and `max |det R − 1|` over all samples at most {sci(TARGETS["rigid"])};
+- **closed forms**: every closed form of `MATH.md` within {sci(TARGETS["closed"])}, relative;
+- **reference**: every sample within {sci(TARGETS["pose"])} (rotation entries absolutely, translation
   relative to L) of the same construction carried out in 50-digit arithmetic from the same
   float64 inputs; this is the closed-form target applied to the whole pose."""
 

@@ -975,7 +975,9 @@ def test_batch_warnings_name_their_job(tmp_path):
 
 
 def test_plot_refuses_more_samples_than_a_figure_shows(tmp_path):
-    result = run_split("plot", SAMPLES / "quarter-turn.yaml", "-o", tmp_path / "x.png", "--samples", 10**9)
+    result = run_split(
+        "plot", SAMPLES / "quarter-turn.yaml", "-o", tmp_path / "x.png", "--samples", 10**9
+    )
     assert result.exit_code == 2 and "1000000000 is not in the range 2<=x<=100000" in result.stderr
 
 
@@ -988,5 +990,8 @@ def test_output_to_an_empty_name_or_a_read_only_file(poses, tmp_path):
     locked.chmod(0o444)
     result = run_split("interpolate", path, "-o", locked)
     assert result.exit_code == 1
-    assert result.stderr == f"Error: cannot write {locked}: Permission denied (the file is read-only)\n"
+    assert (
+        result.stderr
+        == f"Error: cannot write {locked}: Permission denied (the file is read-only)\n"
+    )
     assert locked.read_text() == "keep\n"

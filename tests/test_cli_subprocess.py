@@ -35,7 +35,10 @@ def test_mcap_into_a_pipe(tmp_path):
 
     out = tmp_path / "x.mcap"
     with open(out, "wb") as sink:
-        producer = subprocess.Popen(a2b_cmd("interpolate", QUARTER, "--format", "mcap", "--samples", 50), stdout=subprocess.PIPE)
+        producer = subprocess.Popen(
+            a2b_cmd("interpolate", QUARTER, "--format", "mcap", "--samples", 50),
+            stdout=subprocess.PIPE,
+        )
         consumer = subprocess.Popen(["cat"], stdin=producer.stdout, stdout=sink)
         producer.stdout.close()
         assert producer.wait(timeout=60) == 0
@@ -43,8 +46,14 @@ def test_mcap_into_a_pipe(tmp_path):
     with open(out, "rb") as f:
         reader = make_reader(f)
         summary = reader.get_summary()
-        counts = {summary.channels[i].topic: n for i, n in summary.statistics.channel_message_counts.items()}
-        schemas = {summary.channels[i].topic: summary.schemas[summary.channels[i].schema_id].name for i in summary.channels}
+        counts = {
+            summary.channels[i].topic: n
+            for i, n in summary.statistics.channel_message_counts.items()
+        }
+        schemas = {
+            summary.channels[i].topic: summary.schemas[summary.channels[i].schema_id].name
+            for i in summary.channels
+        }
     assert counts == {"/a2b/pose": 50, "/tf": 50}
     assert schemas == {"/a2b/pose": "foxglove.PoseInFrame", "/tf": "foxglove.FrameTransform"}
     assert summary.chunk_indexes and not summary.attachment_indexes and not summary.metadata_indexes
@@ -66,7 +75,9 @@ def test_mcap_into_a_pipe(tmp_path):
 def test_closed_pipe_ends_quietly():
     """``a2b interpolate ... | head -n 2``: no BrokenPipeError noise, exit status 0."""
     producer = subprocess.Popen(
-        a2b_cmd("interpolate", QUARTER, "--samples", 300000), stdout=subprocess.PIPE, stderr=subprocess.PIPE
+        a2b_cmd("interpolate", QUARTER, "--samples", 300000),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
     )
     first = producer.stdout.readline()
     producer.stdout.close()  # the reader goes away
@@ -110,13 +121,17 @@ def test_sigterm_and_sighup_leave_no_file(tmp_path, sig):
 def test_error_exit_codes_in_a_real_process(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("start: {quaternion: [1, 0, 0]}\nend: {quaternion: [1, 0, 0, 0]}\n")
-    result = subprocess.run(a2b_cmd("interpolate", bad), capture_output=True, timeout=60, check=False)
+    result = subprocess.run(
+        a2b_cmd("interpolate", bad), capture_output=True, timeout=60, check=False
+    )
     assert result.returncode == 1
     assert result.stdout == b""
     assert result.stderr.decode().splitlines() == [
         f"Error: {bad}:1:9: start.quaternion: expected 4 numbers (w, x, y, z), got 3"
     ]
-    result = subprocess.run(a2b_cmd("interpolate", bad, "--format", "png"), capture_output=True, timeout=60, check=False)
+    result = subprocess.run(
+        a2b_cmd("interpolate", bad, "--format", "png"), capture_output=True, timeout=60, check=False
+    )
     assert result.returncode == 2
 
 
@@ -133,7 +148,9 @@ def test_help_and_version_import_nothing_heavy(args):
         "heavy = [m for m in ('numpy', 'rich', 'yaml', 'mcap', 'a2b.api', 'a2b.poses') if m in sys.modules]\n"
         "print(heavy, file=sys.stderr)\n"
     )
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, timeout=60, text=True, check=False)
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, timeout=60, text=True, check=False
+    )
     assert result.stderr.strip() == "[]"
 
 
@@ -161,17 +178,31 @@ def test_entry_point_installed():
     exe = which("a2b")
     if exe is None:
         pytest.skip("a2b is not installed as a script")
-    result = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=60, env={**os.environ}, check=False)
+    result = subprocess.run(
+        [exe, "--version"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={**os.environ},
+        check=False,
+    )
     assert result.returncode == 0 and result.stdout.startswith("a2b ")
 
 
 def test_shell_completion_of_commands_and_formats():
-    env = {**os.environ, "_A2B_COMPLETE": "bash_complete", "COMP_WORDS": "a2b inter", "COMP_CWORD": "1"}
+    env = {
+        **os.environ,
+        "_A2B_COMPLETE": "bash_complete",
+        "COMP_WORDS": "a2b inter",
+        "COMP_CWORD": "1",
+    }
     result = subprocess.run(A2B, capture_output=True, text=True, env=env, timeout=60, check=False)
     assert result.stdout.split() == ["plain,interpolate"]
     env.update(COMP_WORDS="a2b interpolate x --format ", COMP_CWORD="4")
     result = subprocess.run(A2B, capture_output=True, text=True, env=env, timeout=60, check=False)
-    assert result.stdout.split() == [f"plain,{f}" for f in ("csv", "matrix", "study", "tum", "kitti", "mcap")]
+    assert result.stdout.split() == [
+        f"plain,{f}" for f in ("csv", "matrix", "study", "tum", "kitti", "mcap")
+    ]
 
 
 def _job_line(i, quaternion="[1, 0, 0, 0]"):

@@ -24,8 +24,18 @@ from .conftest import random_pose
 def printed_m_matrix(m):
     """The matrix M_m = [M1, M2] exactly as printed in section 4."""
     m0, m1, m2, m3 = m
-    m_1 = [[m0, m0, -m3, m2, m3], [m1, m1, m2, m3, m2], [m2, -m2, m1, m0, m1], [m3, -m3, -m0, m1, m0]]
-    m_2 = [[m0, -m1, -m2, m1, m0], [-m1, -m0, m3, m0, -m1], [m2, m3, -m0, m3, -m2], [-m3, m2, m1, m2, m3]]
+    m_1 = [
+        [m0, m0, -m3, m2, m3],
+        [m1, m1, m2, m3, m2],
+        [m2, -m2, m1, m0, m1],
+        [m3, -m3, -m0, m1, m0],
+    ]
+    m_2 = [
+        [m0, -m1, -m2, m1, m0],
+        [-m1, -m0, m3, m0, -m1],
+        [m2, m3, -m0, m3, -m2],
+        [-m3, m2, m1, m2, m3],
+    ]
     return np.hstack([m_1, m_2])
 
 
@@ -65,7 +75,9 @@ def test_paper_basis_spans_the_kernel_when_n0_is_not_zero(rng):
         assert np.linalg.matrix_rank(mu_prime_matrix(m)) == 4
 
 
-@pytest.mark.parametrize("m", [(1, 0, 0, 0), (1, 0, 0, 0.5), (0, 1, 2, 3), (1, 2, 3, 0), (0.3, 0, 0.7, 0)])
+@pytest.mark.parametrize(
+    "m", [(1, 0, 0, 0), (1, 0, 0, 0.5), (0, 1, 2, 3), (1, 2, 3, 0), (0.3, 0, 0.7, 0)]
+)
 def test_paper_basis_degenerates_at_n0_zero_and_rref_works(m):
     """Erratum 5: the basis degenerates when n0 = 4 m0 m1 m2 m3 = 0; RREF still spans the kernel."""
     assert paper_basis_degenerate(m)
@@ -121,7 +133,9 @@ def test_m_orthogonal_to_the_pose_is_an_error(rng):
     mat = random_pose(rng)
     p = quaternions_from_rotations(mat[:3, :3])
     m = np.array([-p[1], p[0], -p[3], p[2]])  # orthogonal to p
-    with pytest.raises(ParameterError, match=r"orthogonal to the quaternion of the pose \(m·p = .*tolerance 1e-12"):
+    with pytest.raises(
+        ParameterError, match=r"orthogonal to the quaternion of the pose \(m·p = .*tolerance 1e-12"
+    ):
         mu_fiber_points(mat, m, np.zeros((1, 6)))
 
 

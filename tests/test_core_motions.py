@@ -53,7 +53,9 @@ def test_screw_frame_reproduces_the_displacement(rng):
         # the canonical transform takes A to I and B to the screw about z
         can = f.to_canonical(np.stack([a, b]), a)
         np.testing.assert_allclose(can[0], np.eye(4), atol=1e-12)
-        np.testing.assert_allclose(can[1], pose_about_axis(f.phi, [0, 0, 1], [0, 0, 0], f.d), atol=1e-12)
+        np.testing.assert_allclose(
+            can[1], pose_about_axis(f.phi, [0, 0, 1], [0, 0, 0], f.d), atol=1e-12
+        )
 
 
 def test_frame_of_a_pure_translation_and_of_equal_poses(rng):
@@ -102,11 +104,15 @@ def test_quaternions_and_study_agree_with_matrices_and_are_continuous(rng, mode,
     motion = a2b.motion(a, b, mode, **params)
     ts = np.linspace(0, 1, 200)
     quat, trans = motion.quat_trans(ts)
-    np.testing.assert_allclose(matrices_from_quat_trans(quat, trans), motion.matrices(ts), atol=1e-13)
+    np.testing.assert_allclose(
+        matrices_from_quat_trans(quat, trans), motion.matrices(ts), atol=1e-13
+    )
     np.testing.assert_allclose(np.linalg.norm(quat, axis=1), 1.0, atol=1e-15)
     assert np.all(np.sum(quat[1:] * quat[:-1], axis=1) > 0.9)  # no sign jumps
     study = motion.study(ts)
-    np.testing.assert_allclose(a2b.poses.matrices_from_study(study), motion.matrices(ts), atol=1e-13)
+    np.testing.assert_allclose(
+        a2b.poses.matrices_from_study(study), motion.matrices(ts), atol=1e-13
+    )
 
 
 @pytest.mark.parametrize(
@@ -165,7 +171,9 @@ def test_darboux_is_kappa_of_the_line_and_depends_on_delta_only(rng):
         delta = rng.normal()
         expected = a2b.interpolate(a, b, TS, "darboux", delta=delta)
         for shift in rng.normal(size=3) * 5:
-            np.testing.assert_allclose(kappa_line(h_a, h_b, shift, shift + delta, TS), expected, atol=1e-12)
+            np.testing.assert_allclose(
+                kappa_line(h_a, h_b, shift, shift + delta, TS), expected, atol=1e-12
+            )
 
 
 def test_darboux_delta_zero_is_linear_interpolation_of_unit_study_vectors(rng):
@@ -173,7 +181,9 @@ def test_darboux_delta_zero_is_linear_interpolation_of_unit_study_vectors(rng):
     h_a, h_b = study_from_matrices(a), study_from_matrices(b)
     if h_a[:4] @ h_b[:4] < 0:
         h_b = -h_b
-    np.testing.assert_allclose(a2b.interpolate(a, b, TS), kappa_line(h_a, h_b, 0, 0, TS), atol=1e-13)
+    np.testing.assert_allclose(
+        a2b.interpolate(a, b, TS), kappa_line(h_a, h_b, 0, 0, TS), atol=1e-13
+    )
 
 
 @pytest.mark.parametrize("long_way", [False, True])
@@ -187,7 +197,9 @@ def test_darboux_is_in_a_cylinder_group_with_a_sine_transmission(rng, long_way):
         omega, z = motion.frame.transmission(mats)
         info = motion.describe()
         np.testing.assert_allclose(omega, motion.omega_of_t(ts), atol=1e-12)
-        np.testing.assert_allclose(z, info["z0"] + info["lam"] * np.sin(omega + info["kappa"]), atol=1e-12)
+        np.testing.assert_allclose(
+            z, info["z0"] + info["lam"] * np.sin(omega + info["kappa"]), atol=1e-12
+        )
         np.testing.assert_allclose(z, motion.transmission(omega), atol=1e-12)
         # the closed forms of MATH.md, by hand
         phi = info["rotation_angle"]
@@ -207,7 +219,9 @@ def test_darboux_trajectories_are_planar_conics(rng):
         _, sing, vt = np.linalg.svd(centred)
         assert sing[2] < 1e-12 * sing[0]  # planar
         xy = centred @ vt[:2].T
-        design = np.column_stack([xy[:, 0] ** 2, xy[:, 0] * xy[:, 1], xy[:, 1] ** 2, xy[:, 0], xy[:, 1], np.ones(15)])
+        design = np.column_stack(
+            [xy[:, 0] ** 2, xy[:, 0] * xy[:, 1], xy[:, 1] ** 2, xy[:, 0], xy[:, 1], np.ones(15)]
+        )
         conic_sing = np.linalg.svd(design / np.abs(design).max(axis=0), compute_uv=False)
         assert conic_sing[-1] < 1e-10 * conic_sing[0]  # a conic
 
@@ -291,8 +305,12 @@ def test_darboux_pure_translation_is_straight_and_its_long_way_is_singular(rng):
     b = a.copy()
     b[:3, 3] += [1, -2, 0.5]
     mats = a2b.interpolate(a, b, TS, "darboux", delta=3.0)
-    np.testing.assert_allclose(mats[:, :3, :3], np.broadcast_to(a[:3, :3], (len(TS), 3, 3)), atol=1e-15)
-    np.testing.assert_allclose(mats[:, :3, 3], (1 - TS)[:, None] * a[:3, 3] + TS[:, None] * b[:3, 3], atol=1e-14)
+    np.testing.assert_allclose(
+        mats[:, :3, :3], np.broadcast_to(a[:3, :3], (len(TS), 3, 3)), atol=1e-15
+    )
+    np.testing.assert_allclose(
+        mats[:, :3, 3], (1 - TS)[:, None] * a[:3, 3] + TS[:, None] * b[:3, 3], atol=1e-14
+    )
     with pytest.raises(SingularMotionError, match="p\\(t\\) = 0.*t = 0.5"):
         a2b.motion(a, b, "darboux", long_way=True)
     with pytest.raises(ParameterError, match="pure translation"):
@@ -325,7 +343,9 @@ def test_cubic_given_frame_is_literally_mu_of_the_line(rng):
         motion = a2b.motion(a, b, "cubic", frame="given", m=m, alpha=alpha, beta=beta)
         if motion.psi_a * motion.psi_b <= 0:
             continue
-        np.testing.assert_allclose(motion.matrices(TS), literal_cubic(a, b, m, alpha, beta, TS), atol=1e-11)
+        np.testing.assert_allclose(
+            motion.matrices(TS), literal_cubic(a, b, m, alpha, beta, TS), atol=1e-11
+        )
 
 
 def test_cubic_canonical_frame_is_the_construction_in_canonical_coordinates(rng):
@@ -348,7 +368,14 @@ def test_cubic_alpha_enters_only_through_the_papers_a(rng):
     n1, n2, n3 = m[0] * m[1] - m[2] * m[3], m[0] * m[2] - m[1] * m[3], m[0] * m[3] - m[1] * m[2]
     n4, n5, n6 = m[0] * m[1] + m[2] * m[3], m[0] * m[2] + m[1] * m[3], m[0] * m[3] + m[1] * m[2]
     assert n0 != 0
-    a_paper = n1 * n2 * alpha[0] - n4 * n6 * alpha[1] - n4 * n5 * alpha[2] + n2 * n3 * alpha[3] + n1 * n3 * alpha[4] - n5 * n6 * alpha[5]
+    a_paper = (
+        n1 * n2 * alpha[0]
+        - n4 * n6 * alpha[1]
+        - n4 * n5 * alpha[2]
+        + n2 * n3 * alpha[3]
+        + n1 * n3 * alpha[4]
+        - n5 * n6 * alpha[5]
+    )
     assert float(alpha @ paper_kernel_basis(m)[:, 0]) == pytest.approx(a_paper)
     a_pose, b_pose = random_pose(rng), random_pose(rng)
     scale = 0.2 / max(abs(a_paper), 1e-9)
@@ -452,7 +479,9 @@ def test_cubic_default_m_is_symmetric(rng):
     assert w_a == pytest.approx(w_b)
     info = motion.describe()
     phi = info["phi"]
-    assert info["m0"] == pytest.approx(1 + math.cos(phi / 2)) and info["m3"] == pytest.approx(math.sin(phi / 2))
+    assert info["m0"] == pytest.approx(1 + math.cos(phi / 2)) and info["m3"] == pytest.approx(
+        math.sin(phi / 2)
+    )
     # symmetric about the midpoint: reversing A and B reverses the motion
     forward = a2b.interpolate(a, b, TS, "cubic")
     backward = a2b.interpolate(b, a, 1 - TS, "cubic")
@@ -497,7 +526,9 @@ def test_cubic_given_m_orthogonal_to_end_pose(rng):
 def test_screw_is_the_helical_motion(rng):
     for a, b in pairs(rng):
         f = screw_frame(a, b)
-        expected = np.stack([pose_about_axis(t * f.phi, f.axis_direction, f.axis_point, t * f.d) @ a for t in TS])
+        expected = np.stack(
+            [pose_about_axis(t * f.phi, f.axis_direction, f.axis_point, t * f.d) @ a for t in TS]
+        )
         np.testing.assert_allclose(a2b.interpolate(a, b, TS, "screw"), expected, atol=1e-12)
 
 
@@ -517,13 +548,17 @@ EDGE_PHIS = [0.0, 1e-12, 1e-6, 1e-3, 1.0, math.pi - 1e-9, math.pi]
 
 @pytest.mark.parametrize("phi", EDGE_PHIS)
 @pytest.mark.parametrize("scale", [1e-9, 1.0, 1e9])
-@pytest.mark.parametrize("mode, params", [("darboux", {}), ("cubic", {}), ("cubic", {"frame": "given"}), ("screw", {})])
+@pytest.mark.parametrize(
+    "mode, params", [("darboux", {}), ("cubic", {}), ("cubic", {"frame": "given"}), ("screw", {})]
+)
 def test_edge_angles_and_scales(rng, phi, scale, mode, params):
     a = random_pose(rng, scale)
     axis = rng.normal(size=3)
     disp = pose_about_axis(phi, axis, rng.normal(size=3) * scale, rng.normal() * scale)
     b = disp @ a
-    b[:3, :3] = a2b.poses.rotations_from_quaternions(a2b.poses.quaternions_from_rotations(b[:3, :3]))
+    b[:3, :3] = a2b.poses.rotations_from_quaternions(
+        a2b.poses.quaternions_from_rotations(b[:3, :3])
+    )
     mats = a2b.interpolate(a, b, TS, mode, **params)
     motion_scale = max(np.abs(a[:3, 3]).max(), np.abs(b[:3, 3]).max())
     np.testing.assert_allclose(mats[0], a, atol=1e-12 * motion_scale + 1e-15)

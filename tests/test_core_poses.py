@@ -71,7 +71,9 @@ def test_composition_is_dual_quaternion_product(rng):
     np.testing.assert_allclose(matrices_from_study(composed), a @ b, atol=1e-13)
 
 
-@pytest.mark.parametrize("axis", [(1, 2, 3), (1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 0), (0, -1, 1)])
+@pytest.mark.parametrize(
+    "axis", [(1, 2, 3), (1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 0), (0, -1, 1)]
+)
 def test_exact_half_turns_round_trip(axis):
     u = np.array(axis, float) / np.linalg.norm(axis)
     rot = 2 * np.outer(u, u) - np.eye(3)
@@ -116,9 +118,15 @@ def test_a_z_rotation_means_different_poses_in_the_two_layouts():
 @pytest.mark.parametrize(
     "mutate, match",
     [
-        (lambda m: m.__setitem__((0, 1), m[0, 1] + 1e-3), r"not orthogonal: max \|R Rᵀ − I\| = .* exceeds tolerance 1e-09"),
+        (
+            lambda m: m.__setitem__((0, 1), m[0, 1] + 1e-3),
+            r"not orthogonal: max \|R Rᵀ − I\| = .* exceeds tolerance 1e-09",
+        ),
         (lambda m: m.__setitem__((slice(0, 3), 0), -m[:3, 0]), "determinant -1"),
-        (lambda m: m.__setitem__((3, 0), 0.5), r"bottom row .* must be exactly \[0.0, 0.0, 0.0, 1.0\]; it differs by 0.5"),
+        (
+            lambda m: m.__setitem__((3, 0), 0.5),
+            r"bottom row .* must be exactly \[0.0, 0.0, 0.0, 1.0\]; it differs by 0.5",
+        ),
         (lambda m: m.__setitem__((3, 3), 2.0), "bottom row"),
         (lambda m: m.__setitem__((1, 3), np.nan), "NaN or infinity"),
         (lambda m: m.__setitem__((1, 1), np.inf), "NaN or infinity"),
@@ -152,7 +160,8 @@ def test_zero_or_nonfinite_quaternion_is_rejected(quat):
 def test_quaternions_are_homogeneous():
     np.testing.assert_allclose(check_quaternions([2.0, 0, 0, 0]), [1, 0, 0, 0])
     np.testing.assert_allclose(
-        matrices_from_quat_trans([3.0, 0, 0, 3.0], [0, 0, 0]), matrices_from_quat_trans([1, 0, 0, 1.0], [0, 0, 0])
+        matrices_from_quat_trans([3.0, 0, 0, 3.0], [0, 0, 0]),
+        matrices_from_quat_trans([1, 0, 0, 1.0], [0, 0, 0]),
     )
 
 
@@ -162,7 +171,9 @@ def test_study_condition_is_checked_unless_kappa_is_asked_for(rng):
     off[4:] += 0.25 * off[:4]  # a point of the κ-fiber, off the Study quadric
     with pytest.raises(PoseError, match=r"Study condition .* residual .* exceeds tolerance 1e-09"):
         matrices_from_study(off)
-    np.testing.assert_allclose(matrices_from_study(off, through_kappa=True), matrices_from_study(h), atol=1e-14)
+    np.testing.assert_allclose(
+        matrices_from_study(off, through_kappa=True), matrices_from_study(h), atol=1e-14
+    )
 
 
 def test_study_on_exceptional_generator_is_rejected():

@@ -23,47 +23,115 @@ QUARTER = "{quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translat
 
 # (file name, content, expected fragments of the message: file:line:col, key, problem)
 MALFORMED = [
-    ("dup.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nstart: {IDENTITY}\n", ["dup.yaml:3:1", "duplicate key 'start'"]),
-    ("dup.json", '{"start": {"quaternion": [1, 0, 0, 0]},\n  "end": {"quaternion": [1, 0, 0, 0],\n   "quaternion": [1, 0, 0, 0]}}',
-     ["dup.json:3:4", "duplicate key 'quaternion'"]),
-    ("unknown.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nparamters: {{delta: 1}}\n",
-     ["unknown.yaml:3:1", "paramters", "did you mean 'parameters'"]),
-    ("unknown-pose.yaml", f"start: {{quaternion: [1, 0, 0, 0], translaton: [0, 0, 0]}}\nend: {QUARTER}\n",
-     ["unknown-pose.yaml:1:35", "start.translaton", "unknown key"]),
-    ("length.yaml", f"start: {IDENTITY}\nend:\n  quaternion: [1, 0, 0]\n",
-     ["length.yaml:3:3", "end.quaternion", "expected 4 numbers (w, x, y, z), got 3"]),
-    ("matrix.json", '{"start": {"matrix": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]}, "end": {"study": [1,0,0,0,0,0,0,0]}}',
-     ["matrix.json:1:12", "start.matrix", "expected 4 rows of 4 numbers, got 3 rows"]),
-    ("study.yaml", f"start: {IDENTITY}\nend: {{study: [1, 0, 0, 0, 0, 0, 0]}}\n",
-     ["study.yaml:2:7", "end.study", "expected 8 numbers"]),
-    ("string.yaml", f"start: {IDENTITY}\nend: {{quaternion: [1, 0, zero, 0]}}\n",
-     ["string.yaml:2:26", "end.quaternion[2]", "expected a number, got the string 'zero'"]),
-    ("bool.json", '{"start": {"quaternion": [1, 0, 0, 0]},\n "end": {"quaternion": {"w": 1, "x": 0, "y": true, "z": 0}}}',
-     ["bool.json:2:", "end.quaternion.y", "got the boolean true"]),
-    ("nan.json", '{"start": {"quaternion": [1, 0, 0, 0]},\n "end": {"quaternion": [1, 0, 0, 0], "translation": [0, NaN, 0]}}',
-     ["nan.json:2:", "end.translation[1]", "NaN is not allowed"]),
-    ("inf.yaml", f"start: {IDENTITY}\nend: {{quaternion: [1, 0, 0, 0], translation: [.inf, 0, 0]}}\n",
-     ["inf.yaml:2:", "end.translation[0]", "must be finite"]),
-    ("nan-param.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nparameters:\n  delta: .nan\n",
-     ["nan-param.yaml:4:3", "parameters.delta", "must be finite"]),
+    (
+        "dup.yaml",
+        f"start: {IDENTITY}\nend: {QUARTER}\nstart: {IDENTITY}\n",
+        ["dup.yaml:3:1", "duplicate key 'start'"],
+    ),
+    (
+        "dup.json",
+        '{"start": {"quaternion": [1, 0, 0, 0]},\n  "end": {"quaternion": [1, 0, 0, 0],\n   "quaternion": [1, 0, 0, 0]}}',
+        ["dup.json:3:4", "duplicate key 'quaternion'"],
+    ),
+    (
+        "unknown.yaml",
+        f"start: {IDENTITY}\nend: {QUARTER}\nparamters: {{delta: 1}}\n",
+        ["unknown.yaml:3:1", "paramters", "did you mean 'parameters'"],
+    ),
+    (
+        "unknown-pose.yaml",
+        f"start: {{quaternion: [1, 0, 0, 0], translaton: [0, 0, 0]}}\nend: {QUARTER}\n",
+        ["unknown-pose.yaml:1:35", "start.translaton", "unknown key"],
+    ),
+    (
+        "length.yaml",
+        f"start: {IDENTITY}\nend:\n  quaternion: [1, 0, 0]\n",
+        ["length.yaml:3:3", "end.quaternion", "expected 4 numbers (w, x, y, z), got 3"],
+    ),
+    (
+        "matrix.json",
+        '{"start": {"matrix": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]}, "end": {"study": [1,0,0,0,0,0,0,0]}}',
+        ["matrix.json:1:12", "start.matrix", "expected 4 rows of 4 numbers, got 3 rows"],
+    ),
+    (
+        "study.yaml",
+        f"start: {IDENTITY}\nend: {{study: [1, 0, 0, 0, 0, 0, 0]}}\n",
+        ["study.yaml:2:7", "end.study", "expected 8 numbers"],
+    ),
+    (
+        "string.yaml",
+        f"start: {IDENTITY}\nend: {{quaternion: [1, 0, zero, 0]}}\n",
+        ["string.yaml:2:26", "end.quaternion[2]", "expected a number, got the string 'zero'"],
+    ),
+    (
+        "bool.json",
+        '{"start": {"quaternion": [1, 0, 0, 0]},\n "end": {"quaternion": {"w": 1, "x": 0, "y": true, "z": 0}}}',
+        ["bool.json:2:", "end.quaternion.y", "got the boolean true"],
+    ),
+    (
+        "nan.json",
+        '{"start": {"quaternion": [1, 0, 0, 0]},\n "end": {"quaternion": [1, 0, 0, 0], "translation": [0, NaN, 0]}}',
+        ["nan.json:2:", "end.translation[1]", "NaN is not allowed"],
+    ),
+    (
+        "inf.yaml",
+        f"start: {IDENTITY}\nend: {{quaternion: [1, 0, 0, 0], translation: [.inf, 0, 0]}}\n",
+        ["inf.yaml:2:", "end.translation[0]", "must be finite"],
+    ),
+    (
+        "nan-param.yaml",
+        f"start: {IDENTITY}\nend: {QUARTER}\nparameters:\n  delta: .nan\n",
+        ["nan-param.yaml:4:3", "parameters.delta", "must be finite"],
+    ),
     ("nostart.yaml", f"end: {QUARTER}\n", ["nostart.yaml:1:1", "missing 'start'"]),
     ("noend.json", '{"start": {"quaternion": [1, 0, 0, 0]}}', ["noend.json:1:1", "missing 'end'"]),
-    ("twoforms.yaml", f"start: {{quaternion: [1, 0, 0, 0], study: [1, 0, 0, 0, 0, 0, 0, 0]}}\nend: {QUARTER}\n",
-     ["twoforms.yaml:1:1", "start", "exactly one of"]),
-    ("mode.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nmode: darbouks\n", ["mode.yaml:3:1", "mode", "expected one of darboux"]),
-    ("samples.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nsamples: 2.5\n", ["samples.yaml:3:1", "samples", "expected a whole number of samples, at least 2, got 2.5"]),
-    ("branch.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nparameters: {{lam: 2, branch: 0}}\n",
-     ["branch.yaml:3:22", "parameters.branch", "+1 or -1"]),
-    ("vector.yaml", f"start: {IDENTITY}\nend: {QUARTER}\nparameters: {{m: [1, 0, 0]}}\n",
-     ["vector.yaml:3:14", "parameters.m", "expected 4 numbers"]),
-    ("rotation.yaml", f"start: {{matrix: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 2, 0], [0, 0, 0, 1]]}}\nend: {QUARTER}\n",
-     ["rotation.yaml:1:9", "start.matrix", "not orthogonal"]),
-    ("offquadric.yaml", f"start: {IDENTITY}\nend: {{study: [1, 0, 0, 0, 1, 0, 0, 0]}}\n",
-     ["offquadric.yaml:2:7", "end.study", "Study condition", "kappa: true"]),
+    (
+        "twoforms.yaml",
+        f"start: {{quaternion: [1, 0, 0, 0], study: [1, 0, 0, 0, 0, 0, 0, 0]}}\nend: {QUARTER}\n",
+        ["twoforms.yaml:1:1", "start", "exactly one of"],
+    ),
+    (
+        "mode.yaml",
+        f"start: {IDENTITY}\nend: {QUARTER}\nmode: darbouks\n",
+        ["mode.yaml:3:1", "mode", "expected one of darboux"],
+    ),
+    (
+        "samples.yaml",
+        f"start: {IDENTITY}\nend: {QUARTER}\nsamples: 2.5\n",
+        ["samples.yaml:3:1", "samples", "expected a whole number of samples, at least 2, got 2.5"],
+    ),
+    (
+        "branch.yaml",
+        f"start: {IDENTITY}\nend: {QUARTER}\nparameters: {{lam: 2, branch: 0}}\n",
+        ["branch.yaml:3:22", "parameters.branch", "+1 or -1"],
+    ),
+    (
+        "vector.yaml",
+        f"start: {IDENTITY}\nend: {QUARTER}\nparameters: {{m: [1, 0, 0]}}\n",
+        ["vector.yaml:3:14", "parameters.m", "expected 4 numbers"],
+    ),
+    (
+        "rotation.yaml",
+        f"start: {{matrix: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 2, 0], [0, 0, 0, 1]]}}\nend: {QUARTER}\n",
+        ["rotation.yaml:1:9", "start.matrix", "not orthogonal"],
+    ),
+    (
+        "offquadric.yaml",
+        f"start: {IDENTITY}\nend: {{study: [1, 0, 0, 0, 1, 0, 0, 0]}}\n",
+        ["offquadric.yaml:2:7", "end.study", "Study condition", "kappa: true"],
+    ),
     ("syntax.yaml", "start: [1, 0\nend: {}\n", ["syntax.yaml:", "invalid YAML"]),
-    ("syntax.json", '{"start": {"quaternion": [1, 0, 0, 0]},, "end": 1}', ["syntax.json:1:40", "invalid JSON"]),
+    (
+        "syntax.json",
+        '{"start": {"quaternion": [1, 0, 0, 0]},, "end": 1}',
+        ["syntax.json:1:40", "invalid JSON"],
+    ),
     ("empty.yaml", "", ["empty.yaml: the file is empty"]),
-    ("list.yaml", "- 1\n- 2\n", ["list.yaml:1:1", "expected a mapping with start and end, got a list of 2"]),
+    (
+        "list.yaml",
+        "- 1\n- 2\n",
+        ["list.yaml:1:1", "expected a mapping with start and end, got a list of 2"],
+    ),
 ]
 
 SAMPLES = Path(__file__).resolve().parent.parent / "samples"
@@ -104,14 +172,22 @@ def test_every_pose_form_reads_the_same_pose():
     from a2b.poses import paper_from_robotics, study_from_matrices
 
     m = mats[0]
-    mats.append(readers.read_pose(io.BytesIO(json.dumps({"matrix": m.tolist()}).encode()), "p.json"))
+    mats.append(
+        readers.read_pose(io.BytesIO(json.dumps({"matrix": m.tolist()}).encode()), "p.json")
+    )
     paper = {"matrix": paper_from_robotics(m).tolist(), "layout": "paper"}
     mats.append(readers.read_pose(io.BytesIO(json.dumps(paper).encode()), "p.json"))
     h = study_from_matrices(m)
-    mats.append(readers.read_pose(io.BytesIO(json.dumps({"study": (3 * h).tolist()}).encode()), "p.json"))
+    mats.append(
+        readers.read_pose(io.BytesIO(json.dumps({"study": (3 * h).tolist()}).encode()), "p.json")
+    )
     off = h.copy()
     off[4:] += 0.7 * h[:4]  # another point of the κ-fiber: off the Study quadric
-    mats.append(readers.read_pose(io.BytesIO(json.dumps({"study": off.tolist(), "kappa": True}).encode()), "p.json"))
+    mats.append(
+        readers.read_pose(
+            io.BytesIO(json.dumps({"study": off.tolist(), "kappa": True}).encode()), "p.json"
+        )
+    )
     for other in mats[1:]:
         assert np.allclose(other, m, atol=1e-14)
 
@@ -142,14 +218,20 @@ def test_jobs_errors_name_the_job_and_line(tmp_path):
     assert jobs.count is None
     it = iter(jobs)
     next(it), next(it)
-    with pytest.raises(InputFileError, match=r"^jobs\.jsonl:3:49: job 2: end\.quaternion: expected 4 numbers"):
+    with pytest.raises(
+        InputFileError, match=r"^jobs\.jsonl:3:49: job 2: end\.quaternion: expected 4 numbers"
+    ):
         next(it)
-    yaml_text = "- start: {quaternion: [1, 0, 0, 0]}\n  end: {quaternion: [1, 0, 0, 0]}\n- start: {}\n"
+    yaml_text = (
+        "- start: {quaternion: [1, 0, 0, 0]}\n  end: {quaternion: [1, 0, 0, 0]}\n- start: {}\n"
+    )
     jobs = readers.read_jobs(io.BytesIO(yaml_text.encode()), "jobs.yaml")
     assert jobs.count == 2
     with pytest.raises(InputFileError, match=r"^jobs\.yaml:3:3: job 1: missing 'end'"):
         list(jobs)
-    with pytest.raises(InputFileError, match=r"^jobs\.json:1:1: expected a list of jobs, got a mapping"):
+    with pytest.raises(
+        InputFileError, match=r"^jobs\.json:1:1: expected a list of jobs, got a mapping"
+    ):
         readers.read_jobs(io.BytesIO(b'{"start": 1}'), "jobs.json")
 
 
@@ -158,7 +240,10 @@ def test_a_poses_file_where_one_pose_belongs_and_back(tmp_path):
     result = runner.invoke(cli, ["fiber", str(SAMPLES / "quarter-turn.yaml")])
     assert result.exit_code == 1 and "expected one pose, got start and end poses" in result.output
     result = runner.invoke(cli, ["interpolate", str(SAMPLES / "pose.yaml")])
-    assert result.exit_code == 1 and "this is one pose, but start and end poses are needed" in result.output
+    assert (
+        result.exit_code == 1
+        and "this is one pose, but start and end poses are needed" in result.output
+    )
     result = runner.invoke(cli, ["batch", str(SAMPLES / "quarter-turn.yaml")])
     assert result.exit_code == 1 and "expected a list of jobs, got a mapping" in result.output
 
@@ -209,36 +294,71 @@ def test_yaml_1_2_numbers_are_numbers():
 
 def test_samples_must_be_at_least_two_and_at_most_2_to_the_53(tmp_path):
     base = f"start: {IDENTITY}\nend: {QUARTER}\n"
-    with pytest.raises(InputFileError, match=r"p.yaml:3:1: samples: expected at least 2 samples \(t = 0 and t = 1\), got 1"):
+    with pytest.raises(
+        InputFileError,
+        match=r"p.yaml:3:1: samples: expected at least 2 samples \(t = 0 and t = 1\), got 1",
+    ):
         readers.read_poses(io.BytesIO((base + "samples: 1\n").encode()), "p.yaml")
-    with pytest.raises(InputFileError, match=r"samples: expected at most 2\*\*53 = 9007199254740992 samples"):
+    with pytest.raises(
+        InputFileError, match=r"samples: expected at most 2\*\*53 = 9007199254740992 samples"
+    ):
         readers.read_poses(io.BytesIO((base + f"samples: {2**53 + 1}\n").encode()), "p.yaml")
-    assert readers.read_poses(io.BytesIO((base + f"samples: {2**53}\n").encode()), "p.yaml").samples == 2**53
+    assert (
+        readers.read_poses(io.BytesIO((base + f"samples: {2**53}\n").encode()), "p.yaml").samples
+        == 2**53
+    )
 
 
 def test_an_empty_jobs_file_is_an_error():
     with pytest.raises(InputFileError, match=r"^jobs.jsonl: no jobs"):
         list(readers.read_jobs(io.BytesIO(b"\n\n"), "jobs.jsonl"))
-    with pytest.raises(InputFileError, match=r"^jobs.json:1:1: expected a list of jobs, got an empty list"):
+    with pytest.raises(
+        InputFileError, match=r"^jobs.json:1:1: expected a list of jobs, got an empty list"
+    ):
         readers.read_jobs(io.BytesIO(b"[]"), "jobs.json")
     with pytest.raises(InputFileError, match=r"^jobs.jsonl:2:1: not UTF-8 text \(byte 0xff\)"):
-        list(readers.read_jobs(io.BytesIO(b'{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}\n\xff\n'), "jobs.jsonl"))
+        list(
+            readers.read_jobs(
+                io.BytesIO(
+                    b'{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}\n\xff\n'
+                ),
+                "jobs.jsonl",
+            )
+        )
 
 
 def test_read_pose_list_and_read_motion_file():
     text = b"controls:\n  - quaternion: [1, 0, 0, 0]\n  - {quaternion: [0, 0, 0, 1], translation: [1, 0, 0]}\nspace: study\nparameters: {weights: [1, 2]}\n"
     curve = readers.read_pose_list(io.BytesIO(text), "controls", "c.yaml")
     assert curve.key == "controls" and curve.poses.shape == (2, 4, 4)
-    assert curve.space == "study" and curve.samples is None and curve.parameters == {"weights": (1.0, 2.0)}
+    assert (
+        curve.space == "study"
+        and curve.samples is None
+        and curve.parameters == {"weights": (1.0, 2.0)}
+    )
     assert isinstance(readers.read_motion_file(io.BytesIO(text), "c.yaml"), readers.PoseList)
-    job = readers.read_motion_file(io.BytesIO(f"start: {IDENTITY}\nend: {QUARTER}\n".encode()), "p.yaml")
+    job = readers.read_motion_file(
+        io.BytesIO(f"start: {IDENTITY}\nend: {QUARTER}\n".encode()), "p.yaml"
+    )
     assert isinstance(job, readers.Job)
-    with pytest.raises(InputFileError, match=r"^c.yaml:1:1: this is a list of controls \(a2b bezier\), but start and end poses are needed"):
+    with pytest.raises(
+        InputFileError,
+        match=r"^c.yaml:1:1: this is a list of controls \(a2b bezier\), but start and end poses are needed",
+    ):
         readers.read_poses(io.BytesIO(text), "c.yaml")
-    with pytest.raises(InputFileError, match=r"^p.yaml:1:1: this is a poses file \(start and end\); this command needs a list of poses under 'poses'"):
-        readers.read_pose_list(io.BytesIO(f"start: {IDENTITY}\nend: {QUARTER}\n".encode()), "poses", "p.yaml")
-    with pytest.raises(InputFileError, match=r"^c.yaml:1:1: controls: expected a list of at least two poses, got 1"):
-        readers.read_pose_list(io.BytesIO(b"controls:\n  - quaternion: [1, 0, 0, 0]\n"), "controls", "c.yaml")
+    with pytest.raises(
+        InputFileError,
+        match=r"^p.yaml:1:1: this is a poses file \(start and end\); this command needs a list of poses under 'poses'",
+    ):
+        readers.read_pose_list(
+            io.BytesIO(f"start: {IDENTITY}\nend: {QUARTER}\n".encode()), "poses", "p.yaml"
+        )
+    with pytest.raises(
+        InputFileError, match=r"^c.yaml:1:1: controls: expected a list of at least two poses, got 1"
+    ):
+        readers.read_pose_list(
+            io.BytesIO(b"controls:\n  - quaternion: [1, 0, 0, 0]\n"), "controls", "c.yaml"
+        )
 
 
 @pytest.mark.parametrize(
@@ -267,8 +387,13 @@ def test_invalid_json_lines_are_placed_on_their_own_line():
     good = '{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}'
     for ending in ("\n", "\r\n"):
         text = ending.join([good, good[:-1], good]) + ending
-        with pytest.raises(InputFileError, match=rf"^jobs\.jsonl:2:{len(good)}: invalid JSON: Expecting ',' delimiter$"):
+        with pytest.raises(
+            InputFileError,
+            match=rf"^jobs\.jsonl:2:{len(good)}: invalid JSON: Expecting ',' delimiter$",
+        ):
             list(readers.read_jobs(io.BytesIO(text.encode()), "jobs.jsonl"))
     control = '{"name": "a\tb", ' + good[1:]
-    with pytest.raises(InputFileError, match=r"^jobs\.jsonl:1:12: invalid JSON: Invalid control character$"):
+    with pytest.raises(
+        InputFileError, match=r"^jobs\.jsonl:1:12: invalid JSON: Invalid control character$"
+    ):
         list(readers.read_jobs(io.BytesIO(control.encode()), "jobs.jsonl"))

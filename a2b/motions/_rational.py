@@ -257,7 +257,9 @@ def linear_root(v0: float, v1: float) -> float | None:
     return v0 / (v0 - v1) + 0.0  # + 0.0 turns −0 into 0
 
 
-def quaternion_path_minimum(pa: np.ndarray, pb: np.ndarray, lo: float, hi: float) -> tuple[float, float]:
+def quaternion_path_minimum(
+    pa: np.ndarray, pb: np.ndarray, lo: float, hi: float
+) -> tuple[float, float]:
     """Where ``|p(t)|²`` of ``p(t) = (1−t) pa + t pb`` is smallest on ``[lo, hi]``, and how small.
 
     Returns ``(t_min, ratio)`` with ``ratio = |p(t_min)|² / max(|pa|², |pb|²)``.
@@ -270,7 +272,9 @@ def quaternion_path_minimum(pa: np.ndarray, pb: np.ndarray, lo: float, hi: float
     return t_min, float(p_min @ p_min) / scale
 
 
-def check_quaternion_path(pa: np.ndarray, pb: np.ndarray, lo: float, hi: float, what: str, warn=None) -> float:
+def check_quaternion_path(
+    pa: np.ndarray, pb: np.ndarray, lo: float, hi: float, what: str, warn=None
+) -> float:
     """Raise if ``p(t) = (1−t) pa + t pb`` (nearly) vanishes for some ``t ∈ [lo, hi]``.
 
     ``|p(t)|²`` is a quadratic in t; its minimum on the interval, relative to

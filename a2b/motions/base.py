@@ -118,7 +118,9 @@ class Motion:
         arr = self._prepare(ts)
         with np.errstate(over="ignore", invalid="ignore"):  # far extrapolation: checked below
             out = evaluate_table(self._basis(arr), self.table)
-        if arr.size and self._rotation_is_fragile(min(0.0, float(arr.min())), max(1.0, float(arr.max()))):
+        if arr.size and self._rotation_is_fragile(
+            min(0.0, float(arr.min())), max(1.0, float(arr.max()))
+        ):
             from ..poses import rotations_from_quaternions
 
             out[:, :3, :3] = rotations_from_quaternions(self._quats(arr))

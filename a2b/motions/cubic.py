@@ -71,7 +71,9 @@ def _psi(m, coeffs, scalar, name: str, letter: str) -> float:
         return 1.0
     arr = np.asarray(coeffs, dtype=float)
     if arr.shape != (6,):
-        raise ParameterError(f"{name} needs 6 numbers (coefficients of f0 … f5), got shape {arr.shape}")
+        raise ParameterError(
+            f"{name} needs 6 numbers (coefficients of f0 … f5), got shape {arr.shape}"
+        )
     if not np.all(np.isfinite(arr)):
         raise ParameterError(f"{name} contains NaN or infinity")
     if paper_basis_degenerate(m):
@@ -105,8 +107,19 @@ class CubicMotion(Motion):
 
     mode = "cubic"
 
-    def __init__(self, start, end, frame: ScrewFrame, *, m=None, alpha=None, beta=None, a=None, b=None,
-                 frame_name: str = "canonical"):
+    def __init__(
+        self,
+        start,
+        end,
+        frame: ScrewFrame,
+        *,
+        m=None,
+        alpha=None,
+        beta=None,
+        a=None,
+        b=None,
+        frame_name: str = "canonical",
+    ):
         super().__init__(start, end, frame)
         if frame_name not in FRAMES:
             raise ParameterError(f"unknown frame {frame_name!r}; expected one of {FRAMES}")
@@ -136,7 +149,9 @@ class CubicMotion(Motion):
         self._check_psi()
         pa_w, pb_w = w_a * p_a, w_b * p_b
         self._p = np.stack([pa_w, pb_w])
-        rot = np.stack([rotation_numerators(pa_w), rotation_numerators(pa_w, pb_w), rotation_numerators(pb_w)])
+        rot = np.stack(
+            [rotation_numerators(pa_w), rotation_numerators(pa_w, pb_w), rotation_numerators(pb_w)]
+        )
         delta = np.array([pa_w @ pa_w, pa_w @ pb_w, pb_w @ pb_w])
         x0 = np.array([self.psi_a, self.psi_b])
         t_a = frame.t_start
@@ -148,7 +163,13 @@ class CubicMotion(Motion):
         else:
             rho_a = np.array([w_a, 0.0, 0.0, 0.0])
             rho_b = w_b * r
-            n_rho = np.stack([rotation_numerators(rho_a), rotation_numerators(rho_a, rho_b), rotation_numerators(rho_b)])
+            n_rho = np.stack(
+                [
+                    rotation_numerators(rho_a),
+                    rotation_numerators(rho_a, rho_b),
+                    rotation_numerators(rho_b),
+                ]
+            )
             rotated_start = n_rho.reshape(3, 3, 3) @ t_a
             t_perp = frame.t_perp
             cross = np.cross(r[1:], t_perp)
@@ -270,4 +291,3 @@ class CubicMotion(Motion):
             "in_cylinder_group": self.frame_name == "canonical" or self.frame.phi == 0.0,
             "transmission_curve": "tan(omega/2) by eq. 17, z = t d (1+b) / ((1-t)(1+a) + t(1+b)) (eq. 18)",
         }
-

@@ -173,7 +173,12 @@ class DarbouxMotion(Motion):
         given = {
             name: value
             for name, value in dict(
-                delta=delta, kappa=kappa, lam=lam, pitch_start=pitch_start, pitch_end=pitch_end, through=through
+                delta=delta,
+                kappa=kappa,
+                lam=lam,
+                pitch_start=pitch_start,
+                pitch_end=pitch_end,
+                through=through,
             ).items()
             if value is not None
         }
@@ -230,7 +235,9 @@ class DarbouxMotion(Motion):
         p_b, q_b = h_b[:4], h_b[4:] + s_b * h_b[:4]
         self.fiber_offsets = (s_a, s_b)
         self._p = np.stack([p_a, p_b])
-        rot = np.stack([rotation_numerators(p_a), rotation_numerators(p_a, p_b), rotation_numerators(p_b)])
+        rot = np.stack(
+            [rotation_numerators(p_a), rotation_numerators(p_a, p_b), rotation_numerators(p_b)]
+        )
         den = np.array([p_a @ p_a, p_a @ p_b, p_b @ p_b])
         trans = np.stack(
             [
@@ -289,7 +296,14 @@ class DarbouxMotion(Motion):
         phi, d, delta = self.phi_eff, self.frame.d, self.delta
         _require_rotation(phi if self.frame.phi > 0 else 0.0, "the transmission curve z(ω)")
         half = math.sin(phi / 2)
-        return d / 2 + ((d / 2) * np.sin(omega - phi / 2) - delta * (np.cos(omega - phi / 2) - math.cos(phi / 2))) / half
+        return (
+            d / 2
+            + (
+                (d / 2) * np.sin(omega - phi / 2)
+                - delta * (np.cos(omega - phi / 2) - math.cos(phi / 2))
+            )
+            / half
+        )
 
     def omega_of_t(self, ts: np.ndarray) -> np.ndarray:
         """The closed-form ``ω(t)``: ``tan(ω/2) = t sin(φ/2) / (1 − t + t cos(φ/2))``."""
