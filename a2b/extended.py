@@ -6,7 +6,7 @@ translation block ``t1, t2, t3``. A pose ``(R, t)`` is the point ``(1, R, t)``. 
 coordinates are written ``x'``.
 
 ``μ'_m(x') = M_m x'`` (eq. 10, 11) gives the primal part ``p``; μ_m (eq. 12) completes it to
-Study parameters with the translation ``x_t / x0`` (``MATH.md``, "Facts that follow").
+Study parameters with the translation ``x_t / x0`` (``docs/math.md``, "Facts a2b relies on").
 """
 
 from __future__ import annotations
@@ -173,7 +173,7 @@ def mu(x, m) -> np.ndarray:
     """The extended kinematic map μ_m: R^13 → Study parameters (eq. 12), ``(..., 13) → (..., 8)``.
 
     ``p = M_m x'`` and ``q = −½ (x_t / x0) p``, so that ``κ(μ_m(x))`` has the rotation of ``p``
-    and the translation ``x_t / x0`` (``MATH.md``). The paper's ``c`` of eq. 16 is
+    and the translation ``x_t / x0`` (``docs/math.md``). The paper's ``c`` of eq. 16 is
     ``x0 · μ_m(x)``.
     """
     x = np.asarray(x, dtype=float)
@@ -251,7 +251,7 @@ def mu_fiber_points(matrix, m, alphas, basis: str = "paper") -> np.ndarray:
 
 
 def psi_from_alpha(m, alpha, basis: str = "paper") -> float:
-    """The homogenising coordinate ``ψ = 1 + Σ α_l f_l[0]`` of a fiber point (``MATH.md``).
+    """The homogenising coordinate ``ψ = 1 + Σ α_l f_l[0]`` of a fiber point (``docs/math.md``).
 
     ``Σ α_l f_l[0]`` is the paper's ``a`` (for α) or ``b`` (for β), section 5.
     """

@@ -26,7 +26,7 @@ def fiber(
         Robotics layout.
     kind : {"kappa", "mu"}
     s : sequence of float
-        κ: the points ``h + s ε p`` (erratum 1 of MATH.md).
+        κ: the points ``h + s ε p`` (docs/math.md, correction 1).
     m : sequence of 4 floats
         μ: the vector m of μ_[m].
     alphas : sequence of 6-tuples

@@ -2,7 +2,7 @@
 
 For poses ``A`` and ``B`` (robotics matrices) the displacement ``D = B A⁻¹`` (so ``B = D A``)
 is a screw: a rotation by ``φ ∈ [0, π]`` about an axis with unit direction ``u`` through the
-point ``c``, and a translation ``d`` along it. In **canonical coordinates** (``MATH.md``) the
+point ``c``, and a translation ``d`` along it. In **canonical coordinates** (``docs/math.md``) the
 axis is the z-axis, ``A = I`` and ``B`` is the rotation by ``φ`` about z with the translation
 ``d`` along z. a2b never needs the change of frame ``F`` to sample a motion (the formulas in
 :mod:`a2b.motions` are written in the given coordinates and stay well conditioned for tiny

@@ -7,7 +7,7 @@
    compared), and the screw axis of ``B A⁻¹`` dashed.
 2. **Trajectories.** The trajectories of a few body points from A to B: by default the tips of
    the moving frame's axes, otherwise the points the caller gives in body coordinates.
-3. **Transmission curve.** In canonical coordinates (``MATH.md``): the rotation angle ω about
+3. **Transmission curve.** In canonical coordinates (``docs/math.md``): the rotation angle ω about
    and the translation z along the screw axis, both relative to A, so that A is ``(0, 0)`` and
    B is ``(φ, d)``. The engine's samples are drawn as dots and the closed form as a line
    through them: the sine ``z = z0 + λ sin(ω + κ)`` of a Darboux motion (Theorem 1), the
@@ -69,13 +69,13 @@ def require_matplotlib():
     Raises
     ------
     MissingDependencyError
-        When matplotlib is not installed; the message says ``pip install 'a2b[plot]'``.
+        When matplotlib is not installed; the message says ``pip install 'a2b-motions[plot]'``.
     """
     try:
         import matplotlib
     except ImportError as exc:
         raise MissingDependencyError(
-            "plotting needs matplotlib, which is not installed: pip install 'a2b[plot]'"
+            "plotting needs matplotlib, which is not installed: pip install 'a2b-motions[plot]'"
         ) from exc
     return matplotlib
 
@@ -254,7 +254,7 @@ def closed_form_z(motion, omega) -> np.ndarray | None:
         translation (``φ = 0``) and the cubic motion in the ``given`` frame (not in a cylinder
         group). Otherwise, with ``φ`` and ``d`` the angle and translation of ``B A⁻¹``:
 
-        * darboux: the sine of Theorem 1 (``MATH.md``, erratum 4),
+        * darboux: the sine of Theorem 1 (``docs/math.md``, correction 4),
 
           .. math:: z = \\frac d2 + \\frac{\\frac d2 \\sin(ω − φ/2) − δ (\\cos(ω − φ/2) − \\cos(φ/2))}{\\sin(φ/2)}
 

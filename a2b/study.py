@@ -1,6 +1,6 @@
 """Quaternions, dual quaternions (Study parameters) and the extended kinematic map κ.
 
-Conventions (see ``MATH.md``):
+Conventions (see ``docs/math.md``):
 
 * a quaternion ``p = p0 + p1 i + p2 j + p3 k`` is stored scalar first, arrays ``(..., 4)``;
 * Study parameters ``h = p + ε q`` are stored ``(p0, p1, p2, p3, q0, q1, q2, q3)``,
@@ -62,7 +62,7 @@ def dq_mul(g: np.ndarray, h: np.ndarray) -> np.ndarray:
 def rotation_numerators(p: np.ndarray, r: np.ndarray | None = None) -> np.ndarray:
     """The nine entries ``a11 … a33`` of eq. 4 (not divided by ``Δ``), row by row.
 
-    With one argument this is the quadratic form of eq. 4 (with erratum 2 of ``MATH.md``:
+    With one argument this is the quadratic form of eq. 4 (with ``docs/math.md``, correction 2:
     ``a32 = 2(p0 p1 + p2 p3)``). With two arguments it is the symmetric bilinear form whose
     diagonal is eq. 4, so that for ``p(t) = (1−t) p + t r`` the Bernstein coefficients of the
     numerators are ``B(p, p), B(p, r), B(r, r)``.
@@ -207,7 +207,7 @@ def kappa(h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def kappa_fiber_points(h: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """Points ``h + s ε p`` of the κ-fiber of ``h`` (erratum 1 of ``MATH.md``).
+    """Points ``h + s ε p`` of the κ-fiber of ``h`` (``docs/math.md``, correction 1).
 
     Projectively, the fiber is the line ``h ∨ εp`` without the point ``εp`` on E. Every point
     maps back to ``κ(h)`` because ``p q̄ − q p̄`` does not change under ``q → q + s p``.

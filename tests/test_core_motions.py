@@ -1,4 +1,4 @@
-"""The motions against the paper's theorems (Theorems 1 and 2) and MATH.md's closed forms."""
+"""The motions against the paper's theorems (Theorems 1 and 2) and docs/math.md's closed forms."""
 
 import math
 import warnings
@@ -201,7 +201,7 @@ def test_darboux_is_in_a_cylinder_group_with_a_sine_transmission(rng, long_way):
             z, info["z0"] + info["lam"] * np.sin(omega + info["kappa"]), atol=1e-12
         )
         np.testing.assert_allclose(z, motion.transmission(omega), atol=1e-12)
-        # the closed forms of MATH.md, by hand
+        # the closed forms of docs/math.md, by hand
         phi = info["rotation_angle"]
         d = info["d"]
         assert info["z0"] == pytest.approx(d / 2 + delta / math.tan(phi / 2))

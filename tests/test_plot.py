@@ -450,7 +450,7 @@ def test_engine_errors_pass_through(poses):
 
 def test_missing_matplotlib_says_how_to_install(monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)
-    with pytest.raises(MissingDependencyError, match=r"pip install 'a2b\[plot\]'") as info:
+    with pytest.raises(MissingDependencyError, match=r"pip install 'a2b-motions\[plot\]'") as info:
         require_matplotlib()
     assert isinstance(info.value, A2bError) and isinstance(info.value, ImportError)
 
@@ -611,7 +611,7 @@ def test_command_without_matplotlib(tmp_path, monkeypatch):
     result = run(QUARTER, "-o", str(tmp_path / "x.png"))
     assert (result.exit_code, result.output) == (
         1,
-        "Error: plotting needs matplotlib, which is not installed: pip install 'a2b[plot]'\n",
+        "Error: plotting needs matplotlib, which is not installed: pip install 'a2b-motions[plot]'\n",
     )
     assert not (tmp_path / "x.png").exists()
 

@@ -481,7 +481,7 @@ def command(jobs, mode, samples, fmt, chunk_size, output, verbose):
     \b
     Example:
       a2b batch samples/jobs.yaml -o motions.csv
-      a2b batch jobs.jsonl --samples 1001 --format matrix > motions.csv
+      a2b batch samples/jobs.jsonl --samples 101 --format matrix -o motions.csv
     """
     from ..io import jobscan
 

@@ -87,7 +87,7 @@ def command(pose, kind, s, m, alphas, basis, as_json):
     """Points of the fiber of the pose in POSE (a file with one pose, or - for stdin).
 
     A fiber is every point of the extended model that maps to the same pose. Under κ it is
-    the line h + s εp (a2b uses the corrected form, see MATH.md); under μ_[m] it is the
+    the line h + s εp (a2b uses the corrected form, see docs/math.md, correction 1); under μ_[m] it is the
     6-dimensional family (1, R) + Σ α_l f_l of affine matrices (eq. 15). Each point is mapped
     back, and the largest deviation from the pose is shown.
 

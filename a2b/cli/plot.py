@@ -123,7 +123,7 @@ def command(
     closed form (darboux a sine, cubic a tangent, screw a line) drawn through the samples.
     Motions that are not in the cylinder group of A and B (cubic with --frame given) have no
     transmission curve. The suffix of -o chooses PNG, SVG or PDF. Needs matplotlib:
-    pip install 'a2b[plot]'.
+    pip install 'a2b-motions[plot]'.
 
     With --compare, each motion parameter applies to the modes that take it. A curve is
     drawn with its control poses (C1, C2, …) or key poses (P1, P2, …) marked; the motion

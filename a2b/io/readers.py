@@ -441,15 +441,31 @@ def _check_yaml_depth(text: str, name: str) -> None:
     The C composer recurses once per level on the C stack, so a file of 50 000 ``[`` would
     crash the interpreter. The parser's events come from a loop, not recursion; counting
     them is safe. Files too small to nest that deep are not scanned.
+
+    libyaml 0.2.5 and newer stop at 1000 levels of their own, and may do so while scanning
+    ahead, before the first event. So when the fast C events end in any error, the events are
+    counted again with PyYAML's pure-Python parser, which has no limit of its own: the message
+    names a2b's limit at the same place whatever version of PyYAML is installed.
     """
     if _yaml_depth_bound(text) <= MAX_DEPTH:
         return
     import yaml
 
+    try:
+        _count_yaml_depth(_yaml_loader()(text), name)
+    except yaml.YAMLError:
+        try:
+            _count_yaml_depth(yaml.SafeLoader(text), name)
+        except yaml.YAMLError:
+            return  # composing stops at the same place and reports the syntax error
+
+
+def _count_yaml_depth(loader, name: str) -> None:
+    import yaml
+
     opening = (yaml.MappingStartEvent, yaml.SequenceStartEvent)
     closing = (yaml.MappingEndEvent, yaml.SequenceEndEvent)
     depth = 0
-    loader = _yaml_loader()(text)
     try:
         while loader.check_event():
             event = loader.get_event()
@@ -463,8 +479,6 @@ def _check_yaml_depth(text: str, name: str) -> None:
                     )
             elif isinstance(event, closing):
                 depth -= 1
-    except yaml.YAMLError:
-        return  # composing stops at the same place and reports the syntax error
     finally:
         loader.dispose()
 

@@ -14,7 +14,7 @@ the curve there, and map every point of it to a pose.
     de Casteljau's curve of the points ``w_i X_i``, and the pose at ``t`` is
     ``κ(μ_m(x(t)))`` in the given coordinates (eq. 12): the rotation of ``p(t) = M_m x'(t)``
     and the translation ``x_t(t) / x0(t)``. Because ``M_m f_l = 0`` and
-    ``M_m (1, R) = 4 (m·p) p`` (``MATH.md``), the rotation and the translation decouple:
+    ``M_m (1, R) = 4 (m·p) p`` (``docs/math.md``), the rotation and the translation decouple:
 
     .. math::
 
@@ -33,7 +33,7 @@ the curve there, and map every point of it to a pose.
 ``space="study"``
     A control pose becomes its unit Study vector ``h_i`` (``|p_i| = 1``), with signs made
     consistent from one control to the next (``p_i·p_{i+1} ≥ 0``), moved within its κ-fiber to
-    ``h_i + s_i ε p_i`` (erratum 1 of ``MATH.md``), and weighted:
+    ``h_i + s_i ε p_i`` (``docs/math.md``, correction 1), and weighted:
     ``h(t) = Σ_i B_i^n(t) w_i (h_i + s_i ε p_i)``. The pose at ``t`` is ``κ(h(t))``, without
     normalising ``h(t)`` or projecting it onto the Study quadric (section 3). With two controls
     and ``s = (−δ/2, δ/2)`` this is the Darboux mode with parameter ``δ``.

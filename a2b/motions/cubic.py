@@ -2,7 +2,7 @@
 
 The fiber points ``A = ((1, RA) + Σ α_l f_l, ψA tA)`` and ``B = ((1, RB) + Σ β_l f_l, ψB tB)``
 with ``ψA = 1 + a``, ``ψB = 1 + b`` span the line ``x(t) = (1−t) A + t B``; the pose at ``t`` is
-``μ_m(x(t))``. Because ``M_m f_l = 0`` and ``M_m (1, R) = 4 (m·p) p`` (``MATH.md``), the
+``μ_m(x(t))``. Because ``M_m f_l = 0`` and ``M_m (1, R) = 4 (m·p) p`` (``docs/math.md``), the
 rotation is that of ``p(t) = (1−t) wA pA + t wB pB`` with ``w = 4 m·p``, and α, β enter only
 through ``a`` and ``b``.
 
@@ -53,7 +53,7 @@ from .base import Motion, _vec, linear_path
 
 
 def default_m(frame: ScrewFrame, which: str) -> np.ndarray:
-    """``m = pA + pB``: ``(1 + cos(φ/2), 0, 0, sin(φ/2))`` in canonical coordinates (``MATH.md``)."""
+    """``m = pA + pB``: ``(1 + cos(φ/2), 0, 0, sin(φ/2))`` in canonical coordinates (``docs/math.md``)."""
     if which == "canonical":
         return np.array([1.0 + frame.r[0], 0.0, 0.0, float(np.linalg.norm(frame.r[1:]))])
     return frame.p_start + frame.p_end

@@ -6,7 +6,7 @@ the fiber points ``hA + sA ε pA`` and ``hB + sB ε pB`` and the line
 normalisation or projection onto the Study quadric. The motion depends on ``δ = sB − sA``
 only; a2b uses ``sA = −δ/2``, ``sB = δ/2``.
 
-In canonical coordinates (``MATH.md``, Theorem 1) the transmission curve is
+In canonical coordinates (``docs/math.md``, Theorem 1) the transmission curve is
 ``z = z0 + λ sin(ω + κ)`` with ``z0 = d/2 + δ cot(φ/2)``, ``λ = √(d²/4 + δ²) / |sin(φ/2)|``,
 and the pitch ``dz/dω`` is ``(d/2) cot(φ/2) ∓ δ`` at the start and the end. For the long way
 round the same formulas hold with ``φ`` replaced by ``φ − 2π``.
@@ -51,7 +51,7 @@ def _require_rotation(phi_eff: float, what: str) -> None:
 
 
 def delta_from_kappa(kappa: float, phi: float, d: float) -> float:
-    """δ for a prescribed phase κ of ``z = z0 + λ sin(ω + κ)`` (``MATH.md``)."""
+    """δ for a prescribed phase κ of ``z = z0 + λ sin(ω + κ)`` (``docs/math.md``)."""
     _require_rotation(phi, "the phase κ")
     half = math.sin(phi / 2)
     theta = kappa + phi / 2 - (math.pi if half < 0 else 0.0)
@@ -268,7 +268,7 @@ class DarbouxMotion(Motion):
         return []
 
     def closed_form(self) -> dict:
-        """The transmission curve's parameters in canonical coordinates (``MATH.md``)."""
+        """The transmission curve's parameters in canonical coordinates (``docs/math.md``)."""
         phi, d, delta = self.phi_eff, self.frame.d, self.delta
         if phi == 0.0:
             return dict(z0=None, lam=None, kappa=None, pitch_start=None, pitch_end=None)
@@ -286,7 +286,7 @@ class DarbouxMotion(Motion):
         )
 
     def transmission(self, omega: np.ndarray) -> np.ndarray:
-        """The closed-form ``z(ω)`` in canonical coordinates (``MATH.md``).
+        """The closed-form ``z(ω)`` in canonical coordinates (``docs/math.md``).
 
         Raises
         ------
