@@ -27,23 +27,29 @@ PARAMETERS = {
 
 
 def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
-    """The motion of the given mode from pose ``start`` to pose ``end``.
+    """The motions of the given mode from poses ``start`` to poses ``end``.
 
     Parameters
     ----------
-    start, end : array_like, shape (4, 4)
+    start, end : array_like, shape (..., 4, 4)
         Robotics-layout homogeneous matrices ``[[R, t], [0, 0, 0, 1]]``, validated with
-        :func:`a2b.poses.check_matrices`.
+        :func:`a2b.poses.check_matrices`. Their leading shapes broadcast to the shape ``S`` of
+        the result; one pair of 4x4 matrices gives a single motion, ``S = ()``.
     mode : {"darboux", "cubic", "screw"}
     **parameters
         darboux: ``delta, kappa, lam, branch, pitch_start, pitch_end, through, long_way``;
         cubic: ``m, alpha, beta, a, b, frame``; screw: none. ``None`` means "not given".
-        See :class:`a2b.motions.darboux.DarbouxMotion` and :class:`a2b.motions.cubic.CubicMotion`.
+        Numbers (and ``m``, ``alpha``, ``beta``, ``through`` by their trailing shape)
+        broadcast against ``S``. See :class:`a2b.motions.darboux.DarbouxMotion` and
+        :class:`a2b.motions.cubic.CubicMotion`.
 
     Returns
     -------
     Motion
-        With ``matrices(ts)``, ``quat_trans(ts)``, ``study(ts)`` and ``describe()``.
+        Of shape ``S``, with ``matrices(ts)``, ``quat_trans(ts)``, ``study(ts)`` (each
+        ``S + (N, ...)``), ``describe()`` and ``motion[i]``. Every element is the motion that
+        its pair of poses and parameters give alone, with the same choices and warnings; in a
+        batch, errors and warnings name the element (``motion i: ...``).
 
     Raises
     ------
@@ -62,19 +68,20 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
     params = {key: value for key, value in parameters.items() if value is not None}
     a = check_matrices(start)
     b = check_matrices(end)
-    if a.shape != (4, 4) or b.shape != (4, 4):
-        raise ParameterError("start and end must each be one 4x4 matrix")
+    try:
+        shape = np.broadcast_shapes(a.shape[:-2], b.shape[:-2])
+    except ValueError:
+        raise ParameterError(
+            f"start and end do not broadcast: shapes {a.shape} and {b.shape}"
+        ) from None
+    a = np.broadcast_to(a, shape + (4, 4))
+    b = np.broadcast_to(b, shape + (4, 4))
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below, as an error
         return _build(a, b, mode, params)
 
 
 def _build(a, b, mode, params) -> Motion:
     frame = screw_frame(a, b)
-    if not (np.isfinite(frame.d) and np.all(np.isfinite(frame.t_disp))):
-        raise ParameterError(
-            f"the displacement from start to end overflows float64 (d = {frame.d}); "
-            "use a smaller length unit"
-        )
     if mode == "darboux":
         from .motions.darboux import DarbouxMotion
 
@@ -88,7 +95,7 @@ def _build(a, b, mode, params) -> Motion:
         from .motions.screw import ScrewMotion
 
         result = ScrewMotion(a, b, frame)
-    check_table(result.table)
+    check_table(result.table, result.shape)
     return result
 
 
@@ -97,10 +104,10 @@ def interpolate(start, end, ts, mode: str = "darboux", **parameters) -> np.ndarr
 
     Parameters
     ----------
-    start, end : array_like, shape (4, 4)
-        Robotics-layout poses.
-    ts : array_like, shape (N,)
-        Sample parameters. ``t = 0`` gives ``start`` and ``t = 1`` gives ``end``; values
+    start, end : array_like, shape (..., 4, 4)
+        Robotics-layout poses, broadcast against each other to the shape ``S`` of the motions.
+    ts : array_like, shape (N,), or int
+        Sample parameters, or a count of evenly spaced ones in [0, 1]. ``t = 0`` gives ``start`` and ``t = 1`` gives ``end``; values
         outside ``[0, 1]`` extrapolate along the same motion (and are checked for
         singularities on the extended range).
     mode, **parameters
@@ -108,7 +115,7 @@ def interpolate(start, end, ts, mode: str = "darboux", **parameters) -> np.ndarr
 
     Returns
     -------
-    ndarray, shape (N, 4, 4)
+    ndarray, shape S + (N, 4, 4)
 
     Examples
     --------

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .elements import refuse
 from .errors import ParameterError, PoseError
 from .poses import matrices_from_rot_trans, quaternions_from_rotations
 from .study import kappa, study_from_quat_trans
@@ -44,14 +45,18 @@ for _row, _terms in enumerate(
 
 
 def check_m(m) -> np.ndarray:
-    """Validate the parameter ``m ∈ R^4 \\ {0}`` of μ_[m] and return it as an array ``(4,)``."""
+    """Validate parameters ``m ∈ R^4 \\ {0}`` of μ_[m], shape ``(..., 4)``, and return them."""
     arr = np.asarray(m, dtype=float)
-    if arr.shape != (4,):
+    if arr.shape[-1:] != (4,):
         raise ParameterError(f"m needs 4 numbers (m0, m1, m2, m3), got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ParameterError("m contains NaN or infinity")
-    if not np.any(arr):
-        raise ParameterError("m = 0: the map μ_[m] is undefined (M_m is the zero matrix)")
+    shape = arr.shape[:-1]
+    refuse(ParameterError, ~np.isfinite(arr).all(axis=-1), lambda i: "m contains NaN or infinity", shape)
+    refuse(
+        ParameterError,
+        ~arr.any(axis=-1),
+        lambda i: "m = 0: the map μ_[m] is undefined (M_m is the zero matrix)",
+        shape,
+    )
     return arr
 
 
@@ -60,8 +65,8 @@ def mu_prime_matrix(m) -> np.ndarray:
     return np.tensordot(check_m(m), _MU_PRIME, axes=1)
 
 
-def _n_values(m: np.ndarray) -> tuple[float, ...]:
-    m0, m1, m2, m3 = m
+def _n_values(m: np.ndarray) -> tuple[np.ndarray, ...]:
+    m0, m1, m2, m3 = np.moveaxis(np.asarray(m, dtype=float), -1, 0)
     return (
         4 * m0 * m1 * m2 * m3,
         m0 * m1 - m2 * m3,
@@ -74,31 +79,31 @@ def _n_values(m: np.ndarray) -> tuple[float, ...]:
 
 
 def paper_kernel_basis(m) -> np.ndarray:
-    """The paper's kernel basis ``f0 … f5`` of ``M_m`` (eq. 13, 14), shape ``(6, 10)``.
+    """The paper's kernel basis ``f0 … f5`` of ``M_m`` (eq. 13, 14), shape ``(..., 6, 10)``.
 
     Entries are quartic in ``m``. The basis degenerates when ``n0 = 4 m0 m1 m2 m3 = 0``
-    (erratum 5): for ``m = (1, 0, 0, 0)`` every vector is zero although the kernel is still
-    six-dimensional. See :func:`paper_basis_degenerate` and :func:`kernel_basis`.
+    (``docs/math.md``, correction 5): for ``m = (1, 0, 0, 0)`` every vector is zero although
+    the kernel is still six-dimensional. See :func:`paper_basis_degenerate` and
+    :func:`kernel_basis`.
     """
     n0, n1, n2, n3, n4, n5, n6 = _n_values(check_m(m))
-    return np.array(
-        [
-            [n1 * n2, -n2 * n4, n0, 0, 0, -n1 * n5, 0, 0, 0, n4 * n5],
-            [-n4 * n6, n1 * n6, 0, n0, 0, -n1 * n3, 0, 0, 0, n3 * n4],
-            [-n4 * n5, n1 * n5, 0, 0, n0, n2 * n4, 0, 0, 0, -n1 * n2],
-            [n2 * n3, n5 * n6, 0, 0, 0, -n3 * n5, n0, 0, 0, -n2 * n6],
-            [n1 * n3, -n3 * n4, 0, 0, 0, n4 * n6, 0, n0, 0, -n1 * n6],
-            [-n5 * n6, -n2 * n3, 0, 0, 0, n2 * n6, 0, 0, n0, n3 * n5],
-        ],
-        dtype=float,
-    )
+    z = np.zeros_like(n0)
+    rows = [
+        [n1 * n2, -n2 * n4, n0, z, z, -n1 * n5, z, z, z, n4 * n5],
+        [-n4 * n6, n1 * n6, z, n0, z, -n1 * n3, z, z, z, n3 * n4],
+        [-n4 * n5, n1 * n5, z, z, n0, n2 * n4, z, z, z, -n1 * n2],
+        [n2 * n3, n5 * n6, z, z, z, -n3 * n5, n0, z, z, -n2 * n6],
+        [n1 * n3, -n3 * n4, z, z, z, n4 * n6, z, n0, z, -n1 * n6],
+        [-n5 * n6, -n2 * n3, z, z, z, n2 * n6, z, z, n0, n3 * n5],
+    ]
+    return np.stack([np.stack(row, axis=-1) for row in rows], axis=-2) + 0.0
 
 
-def paper_basis_degenerate(m) -> bool:
-    """True when the paper's basis (eq. 13) is not a basis: ``|n0| ≤ 1e-12 |m|^4``."""
+def paper_basis_degenerate(m):
+    """Where the paper's basis (eq. 13) is not a basis: ``|n0| ≤ 1e-12 |m|^4`` (shape ``...``)."""
     arr = check_m(m)
     n0 = _n_values(arr)[0]
-    return abs(n0) <= DEGENERATE_TOL * float(np.dot(arr, arr)) ** 2
+    return np.abs(n0) <= DEGENERATE_TOL * np.sum(arr * arr, axis=-1) ** 2
 
 
 def rref_kernel_basis(m) -> np.ndarray:
@@ -208,16 +213,25 @@ def matrices_from_model_points(x, m) -> np.ndarray:
     return matrices_from_rot_trans(*kappa(h))
 
 
-def check_not_orthogonal(m, quat_wxyz, what: str) -> float:
-    """``m·p`` for a unit quaternion ``p``; raise if ``μ_[m]`` is undefined at that pose."""
+def check_not_orthogonal(m, quat_wxyz, what: str):
+    """``m·p`` for unit quaternions ``p`` (``(..., 4)``); raise where ``μ_[m]`` is undefined."""
     arr = check_m(m)
-    dot = float(np.dot(arr, quat_wxyz))
-    if abs(dot) <= ORTHOGONAL_TOL * float(np.linalg.norm(arr)):
-        raise ParameterError(
-            f"m = {arr.tolist()} is orthogonal to the quaternion of the {what} "
-            f"(m·p = {dot:.3g}, tolerance {ORTHOGONAL_TOL:g}·|m|): μ_[m] is undefined at that pose"
-        )
-    return dot
+    quat = np.asarray(quat_wxyz, dtype=float)
+    dot = np.sum(arr * quat, axis=-1)
+    shape = dot.shape
+    bad = np.abs(dot) <= ORTHOGONAL_TOL * np.linalg.norm(arr, axis=-1)
+    flat_m = np.broadcast_to(arr, shape + (4,)).reshape(-1, 4)
+    refuse(
+        ParameterError,
+        bad,
+        lambda i: (
+            f"m = {flat_m[i].tolist()} is orthogonal to the quaternion of the {what} "
+            f"(m·p = {float(dot.reshape(-1)[i]) if shape else float(dot):.3g}, tolerance "
+            f"{ORTHOGONAL_TOL:g}·|m|): μ_[m] is undefined at that pose"
+        ),
+        shape,
+    )
+    return dot[()] if not shape else dot
 
 
 def mu_fiber_points(matrix, m, alphas, basis: str = "paper") -> np.ndarray:

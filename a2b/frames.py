@@ -8,58 +8,70 @@ axis is the z-axis, ``A = I`` and ``B`` is the rotation by ``φ`` about z with t
 :mod:`a2b.motions` are written in the given coordinates and stay well conditioned for tiny
 ``φ``), but :meth:`ScrewFrame.to_canonical` provides it for analysis and tests.
 
-Choices a2b makes, recorded in :attr:`ScrewFrame.choices`:
-
-* the sign of B's quaternion, so that ``pA·pB ≥ 0`` (the short way round);
-* for ``φ = π`` (both signs are short), the axis orientation with ``d > 0`` or, for ``d = 0``,
-  with the first non-zero component of ``u`` positive;
-* for a pure translation (``φ = 0``), the axis along the translation through A's origin;
-  for ``B = A``, the axis parallel to z through A's origin.
+Every function takes pairs of any leading shape ``S``; one pair is the case ``S = ()``.
+The choices a2b makes are recorded in :attr:`ScrewFrame.choices` (see :func:`screw_frame`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from .poses import canonical_sign, quat_trans_from_matrices, study_from_quat_trans
+from .elements import Notes, refuse
+from .errors import ParameterError
+from .poses import (
+    canonical_sign,
+    inverse_matrices,
+    quat_trans_from_matrices,
+    rotations_from_quaternions,
+    study_from_quat_trans,
+)
 from .study import quat_conj, quat_mul
 
 #: ``|sin(φ/2)|`` at or below which the relative rotation of two poses is rounding noise.
 ROTATION_NOISE = 4 * np.finfo(float).eps
 
+_FLIP = "flipped the sign of B's quaternion so that pA·pB ≥ 0 (the short way round)"
+_PURE_TRANSLATION = (
+    "pure translation (φ = 0): the axis is the line through A's origin along the translation"
+)
+_SAME_POSE = "B = A: the axis is chosen parallel to z through A's origin"
+
 
 @dataclass(frozen=True)
 class ScrewFrame:
-    """The screw ``D = B A⁻¹`` of two poses, with consistent unit Study vectors.
+    """The screws ``D = B A⁻¹`` of pairs of poses, with consistent unit Study vectors.
+
+    Every attribute has the leading shape ``S`` of the pairs (``()`` for one pair, where
+    ``phi`` and ``d`` are floats).
 
     Attributes
     ----------
-    phi : float
+    phi : ndarray, shape S
         Rotation angle in ``[0, π]``.
-    d : float
+    d : ndarray, shape S
         Translation along the axis (signed, in the poses' length unit).
-    axis_direction : ndarray (3,)
+    axis_direction : ndarray, shape S + (3,)
         Unit vector ``u``.
-    axis_point : ndarray (3,)
+    axis_point : ndarray, shape S + (3,)
         The point of the axis closest to the origin of the fixed frame.
-    r : ndarray (4,)
+    r : ndarray, shape S + (4,)
         Unit quaternion ``pB p̄A = (cos φ/2, sin φ/2 u)`` of ``D``'s rotation.
-    p_start, p_end : ndarray (4,)
+    p_start, p_end : ndarray, shape S + (4,)
         Unit quaternions of A and B, with ``p_end p̄_start = r``.
-    h_start, h_end : ndarray (8,)
+    h_start, h_end : ndarray, shape S + (8,)
         Unit Study vectors of A and B with these primal parts.
-    t_start, t_end : ndarray (3,)
+    t_start, t_end : ndarray, shape S + (3,)
         Translations of A and B.
-    t_disp : ndarray (3,)
+    t_disp : ndarray, shape S + (3,)
         Translation of ``D``; ``t_perp = t_disp − d u``.
-    choices : list of str
-        Every choice made for the user, in words.
+    notes : Notes
+        Every choice made for the user, in words (:attr:`choices`).
     """
 
-    phi: float
-    d: float
+    phi: np.ndarray
+    d: np.ndarray
     axis_direction: np.ndarray
     axis_point: np.ndarray
     r: np.ndarray
@@ -70,60 +82,81 @@ class ScrewFrame:
     t_start: np.ndarray
     t_end: np.ndarray
     t_disp: np.ndarray
-    choices: list = field(default_factory=list)
+    notes: Notes
+
+    @property
+    def shape(self) -> tuple:
+        return np.shape(self.phi)
+
+    @property
+    def choices(self):
+        """The choices made: a list of str for one pair, nested lists of shape ``S`` else."""
+        return self.notes.tolist()
+
+    def __getitem__(self, index) -> ScrewFrame:
+        fields = {
+            name: _scalar(np.asarray(getattr(self, name))[index])
+            for name in self.__dataclass_fields__
+            if name != "notes"
+        }
+        return ScrewFrame(**fields, notes=self.notes[index])
 
     @property
     def t_perp(self) -> np.ndarray:
-        """Component of the displacement's translation perpendicular to the axis, ``(3,)``."""
-        return self.t_disp - self.d * self.axis_direction
+        """Component of the displacement's translation perpendicular to the axis, ``S + (3,)``."""
+        return self.t_disp - np.asarray(self.d)[..., None] * self.axis_direction
 
     def canonical_transform(self) -> np.ndarray:
-        """A rigid ``F`` (4x4) taking the axis to the z-axis, the axis point to the origin."""
-        u = self.axis_direction
+        """Rigid ``F`` (``S + (4, 4)``) taking the axis to the z-axis, the axis point to the origin."""
+        u = np.asarray(self.axis_direction)
         ez = np.array([0.0, 0.0, 1.0])
         v = np.cross(u, ez)
-        sin_a = np.linalg.norm(v)
-        cos_a = float(np.dot(u, ez))
-        if sin_a < 1e-15:
-            rot = np.eye(3) if cos_a > 0 else np.diag([1.0, -1.0, -1.0])
-        else:
-            k = v / sin_a
-            kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-            rot = np.eye(3) + sin_a * kx + (1 - cos_a) * kx @ kx
-        out = np.eye(4)
-        out[:3, :3] = rot
-        out[:3, 3] = -rot @ self.axis_point
+        sin_a = np.linalg.norm(v, axis=-1)
+        cos_a = u @ ez
+        tiny = sin_a < 1e-15
+        k = v / np.where(tiny, 1.0, sin_a)[..., None]
+        kx = np.zeros(u.shape + (3,))
+        kx[..., 0, 1], kx[..., 0, 2], kx[..., 1, 2] = -k[..., 2], k[..., 1], -k[..., 0]
+        kx[..., 1, 0], kx[..., 2, 0], kx[..., 2, 1] = k[..., 2], -k[..., 1], k[..., 0]
+        rot = np.eye(3) + sin_a[..., None, None] * kx + (1 - cos_a)[..., None, None] * (kx @ kx)
+        flip = np.where((cos_a > 0)[..., None, None], np.eye(3), np.diag([1.0, -1.0, -1.0]))
+        rot = np.where(tiny[..., None, None], flip, rot)
+        out = np.zeros(u.shape[:-1] + (4, 4))
+        out[..., :3, :3] = rot
+        out[..., :3, 3] = -(rot @ self.axis_point[..., None])[..., 0]
+        out[..., 3, 3] = 1.0
         return out
 
     def to_canonical(self, matrices: np.ndarray, start: np.ndarray) -> np.ndarray:
-        """Poses ``(..., 4, 4)`` in canonical coordinates: ``X ↦ F X A⁻¹ F⁻¹``."""
-        from .poses import inverse_matrices
-
+        """Poses in canonical coordinates: ``X ↦ F X A⁻¹ F⁻¹`` (``F``, ``A`` per pair)."""
         f = self.canonical_transform()
         return f @ np.asarray(matrices, dtype=float) @ inverse_matrices(start) @ inverse_matrices(f)
 
     def transmission(self, matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Rotation angle ω and translation z of poses ``(N, 4, 4)`` relative to A about the axis.
+        """Rotation angle ω and translation z of poses ``S + (N, 4, 4)`` relative to A.
 
-        ``ω`` is measured about ``u`` (unwrapped, starting from the branch nearest 0) and
-        ``z = u · t_D`` where ``D = X A⁻¹``. Meaningful for motions in this cylinder group.
+        ``ω`` is measured about ``u`` (unwrapped along the samples, starting from the branch
+        nearest 0) and ``z = u · t_D`` where ``D = X A⁻¹``. Meaningful for motions in this
+        cylinder group.
         """
         quat, trans = quat_trans_from_matrices(matrices)
-        rel = quat_mul(quat, quat_conj(self.p_start))
-        omega = 2.0 * np.arctan2(rel[..., 1:] @ self.axis_direction, rel[..., 0])
+        u = np.asarray(self.axis_direction)[..., None, :]
+        rel = quat_mul(quat, quat_conj(np.asarray(self.p_start)[..., None, :]))
+        omega = 2.0 * np.arctan2(np.sum(rel[..., 1:] * u, axis=-1), rel[..., 0])
         omega = np.where(omega > np.pi, omega - 2 * np.pi, omega)
         omega = np.where(omega <= -np.pi, omega + 2 * np.pi, omega)
-        omega = np.unwrap(omega)
+        omega = np.unwrap(omega, axis=-1)
         mats = np.asarray(matrices, dtype=float)
-        t_disp = trans - np.einsum("...ij,j->...i", mats[..., :3, :3], _rot_t(self))
-        return omega, t_disp @ self.axis_direction
+        # Rᵀ_A t_A: with X = D A, t_X = R_D t_A + t_D and R_D = R_X R_Aᵀ.
+        rot_a = rotations_from_quaternions(self.p_start)
+        local = np.sum(rot_a * np.asarray(self.t_start)[..., :, None], axis=-2)
+        t_disp = trans - (mats[..., :3, :3] @ local[..., None, :, None])[..., 0]
+        return omega, np.sum(t_disp * u, axis=-1)
 
 
-def _rot_t(frame: ScrewFrame) -> np.ndarray:
-    # Rᵀ_A t_A: with X = D A, t_X = R_D t_A + t_D and R_D = R_X R_Aᵀ.
-    from .poses import rotations_from_quaternions
-
-    return rotations_from_quaternions(frame.p_start).T @ frame.t_start
+def _scalar(value):
+    """A 0-d array as a numpy float (which is a float); other arrays as they are."""
+    return value[()] if isinstance(value, np.ndarray) and value.ndim == 0 else value
 
 
 def screw_frame(start: np.ndarray, end: np.ndarray) -> ScrewFrame:
@@ -131,79 +164,126 @@ def screw_frame(start: np.ndarray, end: np.ndarray) -> ScrewFrame:
 
     Parameters
     ----------
-    start, end : ndarray, shape (4, 4)
-        Valid poses (see :func:`a2b.poses.check_matrices`).
+    start, end : ndarray, shape S + (4, 4)
+        Valid poses (see :func:`a2b.poses.check_matrices`), of one shape ``S``.
 
     Returns
     -------
     ScrewFrame
+        Of shape ``S``. The choices, for each pair:
+
+        * the sign of B's quaternion, so that ``pA·pB ≥ 0`` (the short way round);
+        * for ``φ = π`` (both signs are short), the axis orientation with ``d > 0`` or, for
+          ``d = 0``, with the first non-zero component of ``u`` positive;
+        * for a pure translation (``φ = 0``), the axis along the translation through A's
+          origin; for ``B = A``, the axis parallel to z through A's origin.
+
+    Raises
+    ------
+    ParameterError
+        Where the displacement overflows float64.
     """
+    start = np.asarray(start, dtype=float)
+    end = np.asarray(end, dtype=float)
+    shape = start.shape[:-2]
+    with np.errstate(over="ignore", invalid="ignore"):
+        fields, notes = _frames(start.reshape(-1, 4, 4), end.reshape(-1, 4, 4))
+    fields = {
+        name: _scalar(array.reshape(shape + array.shape[1:])) for name, array in fields.items()
+    }
+    frame = ScrewFrame(**fields, notes=Notes(shape, [(
+        None if mask is None else mask.reshape(shape),
+        text if isinstance(text, str) else text.reshape(shape),
+    ) for mask, text in notes]))  # fmt: skip
+    finite = np.isfinite(frame.d) & np.isfinite(frame.t_disp).all(axis=-1)
+    refuse(
+        ParameterError,
+        ~finite,
+        lambda i: (
+            "the displacement from start to end overflows float64 "
+            f"(d = {np.ravel(frame.d)[i]}); use a smaller length unit"
+        ),
+        shape,
+    )
+    return frame
+
+
+def _frames(start: np.ndarray, end: np.ndarray) -> tuple[dict, list]:
+    """The fields of the screw frames of ``J`` pairs ``(J, 4, 4)``, and the choices made."""
     p_a, t_a = quat_trans_from_matrices(start)
     p_b, t_b = quat_trans_from_matrices(end)
-    choices = []
-    if np.array_equal(p_a, p_b):  # identical rotations: no rounding residue from p p̄
-        r = np.array([1.0, 0.0, 0.0, 0.0])
-    else:
-        r = quat_mul(p_b, quat_conj(p_a))
-    s = float(np.linalg.norm(r[1:]))
-    half_turn = s > ROTATION_NOISE and abs(r[0]) <= ROTATION_NOISE
-    if r[0] < 0 and not half_turn:
-        p_b, r = -p_b, -r
-        choices.append("flipped the sign of B's quaternion so that pA·pB ≥ 0 (the short way round)")
-    from .poses import rotations_from_quaternions
+    same = (p_a == p_b).all(axis=-1)  # identical rotations: no rounding residue from p p̄
+    r = quat_mul(p_b, quat_conj(p_a))
+    r[same] = (1.0, 0.0, 0.0, 0.0)
+    s = np.linalg.norm(r[:, 1:], axis=-1)
+    rotating = s > ROTATION_NOISE
+    # A half-turn (pA·pB = 0 within rounding): u and −u are equally short; one is picked and
+    # said, rather than let the sign of rounding noise decide.
+    half_turn = rotating & (np.abs(r[:, 0]) <= ROTATION_NOISE)
+    flip = (r[:, 0] < 0) & ~half_turn
+    p_b = np.where(flip[:, None], -p_b, p_b)
+    r = np.where(flip[:, None], -r, r)
+    t_disp = t_b - (rotations_from_quaternions(r) @ t_a[:, :, None])[:, :, 0]
 
-    rot_d = rotations_from_quaternions(r)
-    t_disp = t_b - rot_d @ t_a
-    if 0.0 < s <= ROTATION_NOISE:
-        choices.append(
-            f"the rotations of A and B differ by |sin(φ/2)| = {s:.3g}, within rounding "
-            f"({ROTATION_NOISE:.3g}): treated as a pure translation"
-        )
-    if s > ROTATION_NOISE:
-        u = r[1:] / s
-        d = float(u @ t_disp)
-        if half_turn:
-            # A half-turn (pA·pB = 0 within rounding): u and −u are equally short; pick one and
-            # say so, rather than let the sign of rounding noise decide.
-            flip = d < 0 or (d == 0 and canonical_sign(u)[0] != u[0])
-            if flip:
-                u, d, p_b, r = -u, -d, -p_b, -r
-            choices.append(
-                f"φ = π (|pA·pB| = {abs(r[0]):.3g} ≤ {ROTATION_NOISE:.3g}): both axis orientations are "
-                "short; chose the one with "
-                + ("d > 0" if d > 0 else "d = 0 and the first non-zero axis component positive")
-            )
-        phi = 2.0 * float(np.arctan2(s, abs(r[0])))
-        t_perp = t_disp - d * u
-        axis_point = 0.5 * (t_perp + np.cross(u, t_perp) * (abs(r[0]) / s))
-    else:
-        phi = 0.0
-        norm_t = float(np.linalg.norm(t_disp))
-        if norm_t > 0.0:
-            u = t_disp / norm_t
-            d = norm_t
-            choices.append(
-                "pure translation (φ = 0): the axis is the line through A's origin along the translation"
-            )
-        else:
-            u = np.array([0.0, 0.0, 1.0])
-            d = 0.0
-            choices.append("B = A: the axis is chosen parallel to z through A's origin")
-        axis_point = t_a - (u @ t_a) * u
-    h_a = study_from_quat_trans(p_a, t_a)
-    h_b = study_from_quat_trans(p_b, t_b)
-    return ScrewFrame(
-        phi=phi,
-        d=d,
-        axis_direction=u,
-        axis_point=axis_point,
-        r=r,
-        p_start=p_a,
-        p_end=p_b,
-        h_start=h_a,
-        h_end=h_b,
-        t_start=t_a,
-        t_end=t_b,
-        t_disp=t_disp,
-        choices=choices,
+    # a rotation: the axis of r, and the half-turn rule
+    u = r[:, 1:] / np.where(rotating, s, 1.0)[:, None]
+    d = np.sum(u * t_disp, axis=-1)
+    turn = half_turn & ((d < 0) | ((d == 0) & (canonical_sign(u)[:, 0] != u[:, 0])))
+    u = np.where(turn[:, None], -u, u)
+    d = np.where(turn, -d, d)
+    p_b = np.where(turn[:, None], -p_b, p_b)
+    r = np.where(turn[:, None], -r, r)
+    c = np.abs(r[:, 0])
+    phi = 2.0 * np.arctan2(s, c)
+    t_perp = t_disp - d[:, None] * u
+    axis_point = 0.5 * (t_perp + np.cross(u, t_perp) * (c / np.where(rotating, s, 1.0))[:, None])
+
+    # no rotation: the axis along the translation, or parallel to z for B = A
+    norm_t = np.linalg.norm(t_disp, axis=-1)
+    moving = norm_t > 0.0
+    u_t = np.where(
+        moving[:, None], t_disp / np.where(moving, norm_t, 1.0)[:, None], [0.0, 0.0, 1.0]
     )
+    axis_point_t = t_a - np.sum(u_t * t_a, axis=-1)[:, None] * u_t
+
+    u = np.where(rotating[:, None], u, u_t)
+    d = np.where(rotating, d, np.where(moving, norm_t, 0.0))
+    phi = np.where(rotating, phi, 0.0)
+    axis_point = np.where(rotating[:, None], axis_point, axis_point_t)
+
+    notes: list = [(flip, _FLIP)]
+    noise = (s > 0.0) & ~rotating
+    if noise.any():
+        texts = np.full(len(s), None, dtype=object)
+        for j in np.flatnonzero(noise).tolist():
+            texts[j] = (
+                f"the rotations of A and B differ by |sin(φ/2)| = {float(s[j]):.3g}, within "
+                f"rounding ({ROTATION_NOISE:.3g}): treated as a pure translation"
+            )
+        notes.append((noise, texts))
+    if half_turn.any():
+        texts = np.full(len(s), None, dtype=object)
+        for j in np.flatnonzero(half_turn).tolist():
+            side = "d > 0" if d[j] > 0 else "d = 0 and the first non-zero axis component positive"
+            texts[j] = (
+                f"φ = π (|pA·pB| = {float(c[j]):.3g} ≤ {ROTATION_NOISE:.3g}): both axis "
+                f"orientations are short; chose the one with {side}"
+            )
+        notes.append((half_turn, texts))
+    notes.append((~rotating & moving, _PURE_TRANSLATION))
+    notes.append((~rotating & ~moving, _SAME_POSE))
+    fields = {
+        "phi": phi,
+        "d": d,
+        "axis_direction": u,
+        "axis_point": axis_point,
+        "r": r,
+        "p_start": p_a,
+        "p_end": p_b,
+        "h_start": study_from_quat_trans(p_a, t_a),
+        "h_end": study_from_quat_trans(p_b, t_b),
+        "t_start": t_a,
+        "t_end": t_b,
+        "t_disp": t_disp,
+    }
+    return fields, notes

@@ -119,80 +119,99 @@ def bern_to_monomial(a: np.ndarray) -> np.ndarray:
 
 
 def make_table(rot, rot_den, trans, trans_den) -> np.ndarray:
-    """Assemble a ``(k, 14)`` table from coefficient arrays ``(k, 9)``, ``(k,)``, ``(k, 3)``, ``(k,)``."""
+    """Tables ``(..., k, 14)`` from coefficients ``(..., k, 9)``, ``(..., k)``, ``(..., k, 3)``, ``(..., k)``."""
     rot = np.asarray(rot, dtype=float)
-    table = np.zeros((rot.shape[0], 14))
-    table[:, ROT_COLS] = rot
-    table[:, TRANS_COLS] = trans
-    table[:, 12] = rot_den
-    table[:, 13] = trans_den
+    trans = np.asarray(trans, dtype=float)
+    rot_den = np.asarray(rot_den, dtype=float)
+    trans_den = np.asarray(trans_den, dtype=float)
+    shape = np.broadcast_shapes(rot.shape[:-1], trans.shape[:-1], rot_den.shape, trans_den.shape)
+    table = np.zeros(shape + (14,))
+    table[..., ROT_COLS] = rot
+    table[..., TRANS_COLS] = trans
+    table[..., 12] = rot_den
+    table[..., 13] = trans_den
     return table
 
 
 def evaluate_table(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
-    """Robotics matrices ``(N, 4, 4)`` from a basis ``(N, k)`` and a table ``(k, 14)``.
+    """Robotics matrices ``S + (N, 4, 4)`` from a basis and tables ``S + (k, 14)``.
 
-    Entry ``j`` of a sample is ``Σ_i (b_i / d) c_ij``, with ``d`` the denominator of that
-    entry: the basis is divided by the denominator first, so that one product
-    ``[b / d_rot, b / d_trans, 1] @ E`` with an extended ``(2k + 1, 16)`` table per block of
-    samples writes finished rows of 16 straight into the output, the bottom row
-    ``(0, 0, 0, 1)`` included (the constant basis function 1 times the coefficient 1). Darboux
-    and screw motions share one denominator and need only ``(k + 1, 16)``.
+    ``basis`` is ``(N, k)``, shared by every table, or ``S + (N, k)``, one per table (the
+    screw motion's depends on φ). Entry ``j`` of a sample is ``Σ_i (b_i / d) c_ij``, with
+    ``d`` the denominator of that entry: the basis is divided by the denominator first, so
+    that one product ``[b / d_rot, b / d_trans, 1] @ E`` with an extended ``(2k + 1, 16)``
+    table per block of samples writes finished rows of 16 straight into the output, the
+    bottom row ``(0, 0, 0, 1)`` included (the constant basis function 1 times the coefficient
+    1). Tables that share one denominator need only ``(k + 1, 16)``, and where every
+    denominator is 1 (the screw motion) nothing is divided.
 
     Each entry ``x_j`` is within about ``k + 2`` units in the last place of the exact value of
     the table, relative to the size ``(Σ_i |b_i c_ij| + |x_j| Σ_i |b_i d_i|) / |d|`` of its
     terms (``Σ_i |b_i c_ij| / |d| + |x_j|`` for ``t ∈ [0, 1]``, where no terms of ``d`` cancel).
     """
-    basis = np.asarray(basis, dtype=float)
-    table = np.asarray(table, dtype=float)
-    n, k = basis.shape
-    out = np.empty((n, 4, 4))
-    shared = bool(np.array_equal(table[:, 12], table[:, 13]))
-    if shared and _denominator_is_one(basis, table[:, 12]):
-        # the screw motion: the first basis function is 1 and so is every denominator
-        extended = np.zeros((k, 16))
-        extended[:, :12] = table[:, :12]
-        extended[0, 15] = 1.0
-        _blocked_matmul(basis, extended, out.reshape(n, 16))
-        return out
+    columns, tables, shape = _flatten(basis, table)
+    jobs, k, _ = tables.shape
+    n = columns.shape[-1]
+    out = np.empty((jobs, n, 4, 4))
+    shared = bool(np.array_equal(tables[:, :, 12], tables[:, :, 13]))
+    if shared and _denominator_is_one(columns, tables[:, :, 12]):
+        extended = np.zeros((jobs, k, 16))
+        extended[:, :, :12] = tables[:, :, :12]
+        extended[:, 0, 15] = 1.0
+        _rows(columns, None, extended, out.reshape(jobs, n, 16), False)
+        return out.reshape(shape + (n, 4, 4))
     dens = 1 if shared else 2
-    extended = np.zeros((dens * k + 1, 16))
+    extended = np.zeros((jobs, dens * k + 1, 16))
     if shared:
-        extended[:k, :12] = table[:, :12]
+        extended[:, :k, :12] = tables[:, :, :12]
     else:
-        extended[:k, ROT_COLS] = table[:, ROT_COLS]
-        extended[k : 2 * k, TRANS_COLS] = table[:, TRANS_COLS]
-    extended[-1, 15] = 1.0
-    if not _scaled_products(basis, table[:, 12 : 12 + dens], extended, out.reshape(n, 16), True):
+        extended[:, :k, ROT_COLS] = tables[:, :, ROT_COLS]
+        extended[:, k : 2 * k, TRANS_COLS] = tables[:, :, TRANS_COLS]
+    extended[:, -1, 15] = 1.0
+    if not _rows(columns, tables[:, :, 12 : 12 + dens], extended, out.reshape(jobs, n, 16), True):
         # 0 · ∞ spread NaN into the bottom row of samples with a vanishing denominator
-        out[:, 3, :3] = 0.0
-        out[:, 3, 3] = 1.0
-    return out
+        out[:, :, 3, :3] = 0.0
+        out[:, :, 3, 3] = 1.0
+    return out.reshape(shape + (n, 4, 4))
 
 
 def evaluate_translations(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
-    """Translations ``(N, 3)`` from a basis ``(N, k)`` and a table ``(k, 14)``.
+    """Translations ``S + (N, 3)`` from a basis and tables ``S + (k, 14)``.
 
     As in :func:`evaluate_table`: ``Σ_i (b_i / d) c_ij`` per block of samples, written straight
     into the output.
     """
-    basis = np.asarray(basis, dtype=float)
-    table = np.asarray(table, dtype=float)
-    out = np.empty((basis.shape[0], 3))
-    if _denominator_is_one(basis, table[:, 13]):
-        _blocked_matmul(basis, table[:, TRANS_COLS], out)
+    columns, tables, shape = _flatten(basis, table)
+    jobs = tables.shape[0]
+    n = columns.shape[-1]
+    out = np.empty((jobs, n, 3))
+    coefficients = np.ascontiguousarray(tables[:, :, TRANS_COLS])
+    if _denominator_is_one(columns, tables[:, :, 13]):
+        _rows(columns, None, coefficients, out, False)
     else:
-        _scaled_products(basis, table[:, 13:14], table[:, TRANS_COLS], out, False)
-    return out
+        _rows(columns, tables[:, :, 13:14], coefficients, out, False)
+    return out.reshape(shape + (n, 3))
 
 
-def _denominator_is_one(basis: np.ndarray, denominator: np.ndarray) -> bool:
-    """Whether ``basis @ denominator`` is exactly 1: ``(1, 0, …, 0)`` on a first column of 1s."""
+def _flatten(basis, table) -> tuple[np.ndarray, np.ndarray, tuple]:
+    """The basis as columns ``(1 or J, k, N)``, the tables as ``(J, k, 14)``, and ``S``."""
+    table = np.asarray(table, dtype=float)
+    basis = np.asarray(basis, dtype=float)
+    shape = table.shape[:-2]
+    jobs = int(np.prod(shape, dtype=np.int64))
+    k = table.shape[-2]
+    columns = np.swapaxes(basis, -1, -2)  # a view: (k, N) contiguous for bernstein_basis
+    columns = columns.reshape((1 if basis.ndim == 2 else jobs, k, basis.shape[-2]))
+    return columns, table.reshape(jobs, k, 14), shape
+
+
+def _denominator_is_one(columns: np.ndarray, denominators: np.ndarray) -> bool:
+    """Whether ``basis @ denominator`` is exactly 1: ``(1, 0, …, 0)`` on a first row of 1s."""
     return bool(
-        denominator[0] == 1.0
-        and not denominator[1:].any()
-        and basis.shape[0]
-        and (basis[:, 0] == 1.0).all()
+        (denominators[:, 0] == 1.0).all()
+        and not denominators[:, 1:].any()
+        and columns.shape[-1]
+        and (columns[:, 0] == 1.0).all()
     )
 
 
@@ -206,47 +225,61 @@ def blocked_product(basis: np.ndarray, coefficients: np.ndarray) -> np.ndarray:
     basis = np.asarray(basis, dtype=float)
     coefficients = np.asarray(coefficients, dtype=float)
     out = np.empty((basis.shape[0], coefficients.shape[1]))
-    _blocked_matmul(basis, coefficients, out)
+    _rows(basis.T[None], None, coefficients[None], out[None], False)
     return out
 
 
-def _blocked_matmul(basis: np.ndarray, coefficients: np.ndarray, out: np.ndarray) -> None:
-    rows = min(SAMPLE_BLOCK, max(256, BLAS_ONE_THREAD // max(coefficients.size, 1)))
-    for start in range(0, basis.shape[0], rows):
-        np.matmul(basis[start : start + rows], coefficients, out=out[start : start + rows])
+def _rows(columns, denominators, coefficients, out, constant) -> bool:
+    """``out = [b / d_1, …, b / d_m, (1)] @ coefficients`` for every job, block by block.
 
-
-def _scaled_products(basis, denominators, coefficients, out, constant) -> bool:
-    """``out = [b / d_1, …, b / d_m, (1)] @ coefficients``, block by block of samples.
-
-    ``basis`` is ``(N, k)``, ``denominators`` ``(k, m)`` and ``coefficients`` ``(m k, w)``, or
-    ``(m k + 1, w)`` with ``constant`` (a last basis function 1). Each block of samples is
-    divided and multiplied while it is in cache, and each BLAS product is small enough to run
-    on one thread. Returns whether every ``1 / d`` was finite.
+    ``columns`` is the basis ``(1 or J, k, N)`` (one row per basis function), ``denominators``
+    ``(J, k, m)`` or ``None`` (every denominator 1: the basis itself), ``coefficients``
+    ``(J, m k (+ 1), w)``, with ``constant`` a last basis function 1, and ``out`` ``(J, N, w)``.
+    A block holds the samples of one job or, for short motions, of several, at most
+    :data:`SAMPLE_BLOCK` rows: it is divided and multiplied while it is in cache, and each
+    BLAS product is small enough to run on one thread. Returns whether every ``1 / d`` was
+    finite.
     """
-    n, k = basis.shape
-    m = denominators.shape[1]
-    rows = min(SAMPLE_BLOCK, max(256, BLAS_ONE_THREAD // coefficients.size))
-    columns = basis.T
-    den_rows = np.ascontiguousarray(denominators.T)
-    coefficients = np.ascontiguousarray(coefficients)
-    width = min(n, rows)
-    inverse = np.empty((m, width))
-    scaled = np.empty((m * k + constant, width))
+    jobs, n, _ = out.shape
+    if not (jobs and n):
+        return True
+    k = columns.shape[1]
+    m = 0 if denominators is None else denominators.shape[2]
+    width = coefficients.shape[1] * coefficients.shape[2]
+    rows = min(SAMPLE_BLOCK, max(256, BLAS_ONE_THREAD // max(width, 1)))
+    samples = min(n, rows)
+    group = max(1, rows // max(n, 1))  # jobs per block
+    den_rows = None if denominators is None else np.ascontiguousarray(np.swapaxes(denominators, 1, 2))
+    inverse = np.empty((group, m, samples))
+    scaled = np.empty((group, m * k + constant, samples))
     if constant:
-        scaled[-1] = 1.0
+        scaled[:, -1] = 1.0
     total = 0.0
-    for start in range(0, n, rows):
-        stop = min(start + rows, n)
-        size = stop - start
-        block = columns[:, start:stop]
-        inv = inverse[:, :size]
-        np.matmul(den_rows, block, out=inv)
-        np.divide(1.0, inv, out=inv)
-        total += float(np.add.reduce(inv, axis=None))
-        for j in range(m):
-            np.multiply(block, inv[j], out=scaled[j * k : (j + 1) * k, :size])
-        np.matmul(scaled[:, :size].T, coefficients, out=out[start:stop])
+    for first in range(0, jobs, group):
+        last = min(first + group, jobs)
+        size = last - first
+        block_columns = columns if columns.shape[0] == 1 else columns[first:last]
+        for start in range(0, n, samples):
+            stop = min(start + samples, n)
+            block = block_columns[:, :, start:stop]
+            if den_rows is None and not constant:
+                np.matmul(
+                    np.swapaxes(np.broadcast_to(block, (size,) + block.shape[1:]), 1, 2),
+                    coefficients[first:last],
+                    out=out[first:last, start:stop],
+                )
+                continue
+            part = scaled[:size, :, : stop - start]
+            if den_rows is None:
+                part[:, :k] = block
+            else:
+                inv = inverse[:size, :, : stop - start]
+                np.matmul(den_rows[first:last], block, out=inv)
+                np.divide(1.0, inv, out=inv)
+                total += float(np.add.reduce(inv, axis=None))
+                for j in range(m):
+                    np.multiply(block, inv[:, j : j + 1], out=part[:, j * k : (j + 1) * k])
+            np.matmul(np.swapaxes(part, 1, 2), coefficients[first:last], out=out[first:last, start:stop])
     return bool(np.isfinite(total))
 
 

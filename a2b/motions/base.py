@@ -1,168 +1,342 @@
-"""The interface every motion of a2b shares."""
+"""The interface every motion of a2b shares, for any number of pose pairs.
+
+A :class:`Motion` has a leading shape ``S``: the shape of the pose pairs it was built from
+(``()`` for one pair). Every per-motion quantity is an array with that leading shape, so one
+implementation serves a single motion and a batch of a million; rare or ill-conditioned cases
+are masks inside it. Sampling at ``N`` parameters ``ts`` gives ``S + (N, ...)``.
+"""
 
 from __future__ import annotations
 
-import warnings
+import numbers
 
 import numpy as np
 
-from ..errors import A2bWarning, ParameterError
+from ..elements import Notes, refuse, value, warn
+from ..errors import ParameterError, SingularMotionError
 from ..frames import ScrewFrame
-from ._rational import evaluate_table, evaluate_translations
+from ..poses import rotations_from_quaternions, study_from_quat_trans
+from ._rational import (
+    EPS,
+    FRAGILE_TOL,
+    SENSITIVE_TOL,
+    SINGULAR_TOL,
+    evaluate_table,
+    evaluate_translations,
+)
 
 
-def check_ts(ts) -> np.ndarray:
-    """Validate sample parameters: a finite 1-D array (values outside [0, 1] extrapolate)."""
+def check_ts(ts, one_dimensional: bool = True) -> np.ndarray:
+    """Sample parameters: a count ``n ≥ 2`` (``n`` evenly spaced t in [0, 1]) or finite values.
+
+    Values outside [0, 1] extrapolate. ``one_dimensional``: the values must be a 1-D array.
+    """
+    if isinstance(ts, numbers.Integral) and not isinstance(ts, (bool, np.bool_)):
+        if ts < 2:
+            raise ParameterError(f"the number of samples must be at least 2, got {ts}")
+        return np.linspace(0.0, 1.0, int(ts))
     arr = np.asarray(ts, dtype=float)
-    if arr.ndim != 1:
-        raise ParameterError(f"ts must be a 1-D array, got shape {arr.shape}")
+    if one_dimensional and arr.ndim != 1:
+        raise ParameterError(f"ts must be a 1-D array or a count, got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
         raise ParameterError("ts contains NaN or infinity")
     return arr
 
 
-def _check_finite(ts: np.ndarray, values: np.ndarray) -> None:
-    """Raise if extrapolating to far-away ``t`` overflowed (values ``(N, ...)`` per sample)."""
-    bad = ~np.isfinite(values.reshape(len(ts), -1)).all(axis=1)
-    if bad.any():
-        raise ParameterError(
-            f"the motion overflows float64 at t = {float(ts[bad][0]):.6g}: extrapolate less far"
-        )
-
-
-def check_table(table: np.ndarray) -> None:
+def check_table(table: np.ndarray, shape: tuple) -> None:
     """Raise if a motion's coefficients overflowed (huge parameters or translations)."""
-    if not np.all(np.isfinite(table)):
-        raise ParameterError(
-            "the motion's coefficients overflow float64 (a parameter or a translation is too large, "
-            f"largest finite entry {float(np.max(np.abs(table[np.isfinite(table)]), initial=0.0)):.3g})"
-        )
+    finite = np.isfinite(table).reshape(shape + (-1,))
+    refuse(
+        ParameterError,
+        ~finite.all(axis=-1),
+        lambda i: (
+            "the motion's coefficients overflow float64 (a parameter or a translation is too "
+            "large, largest finite entry "
+            f"{_largest_finite(table.reshape((-1,) + table.shape[len(shape):])[i]):.3g})"
+        ),
+        shape,
+    )
+
+
+def _largest_finite(values: np.ndarray) -> float:
+    return float(np.max(np.abs(values[np.isfinite(values)]), initial=0.0))
 
 
 def linear_path(ts: np.ndarray, ends: np.ndarray) -> np.ndarray:
-    """``(1−t) ends[0] + t ends[1]`` for every t, shape ``(len(ts), 4)``, without BLAS.
+    """``(1−t) ends[..., 0, :] + t ends[..., 1, :]``: shape ``S + (N, 4)`` for ends ``S + (2, 4)``."""
+    u = (1.0 - ts)[:, None]
+    return u * ends[..., None, 0, :] + ts[:, None] * ends[..., None, 1, :]
 
-    (A ``(N, 2) @ (2, 4)`` product is slow under some OpenBLAS core types; this is not.)
+
+def path_minimum(ends: np.ndarray, lo: float, hi: float) -> tuple[np.ndarray, np.ndarray]:
+    """Where ``|p(t)|²`` of ``p(t) = (1−t) p0 + t p1`` is smallest on ``[lo, hi]``, and how small.
+
+    ``ends`` is ``S + (2, 4)``. Returns ``(t_min, ratio)`` of shape ``S``, with
+    ``ratio = |p(t_min)|² / max(|p0|², |p1|²)``.
     """
-    out = np.multiply.outer(1.0 - ts, ends[0])
-    out += np.multiply.outer(ts, ends[1])
-    return out
+    p_a, p_b = ends[..., 0, :], ends[..., 1, :]
+    diff = p_b - p_a
+    dd = np.sum(diff * diff, axis=-1)
+    flat = dd == 0.0
+    t_min = np.where(flat, 0.0, np.clip(-np.sum(p_a * diff, axis=-1) / np.where(flat, 1.0, dd), lo, hi))
+    p_min = p_a + t_min[..., None] * diff
+    scale = np.maximum(np.sum(p_a * p_a, axis=-1), np.sum(p_b * p_b, axis=-1))
+    return t_min, np.sum(p_min * p_min, axis=-1) / scale
 
 
-def _vec(a) -> list:
-    return [float(x) for x in np.asarray(a, dtype=float).ravel()]
+def linear_root(v0, v1) -> np.ndarray:
+    """The root of ``(1−t) v0 + t v1`` (NaN where it is a non-zero constant; 0 where zero)."""
+    v0, v1 = np.asarray(v0, dtype=float), np.asarray(v1, dtype=float)
+    same = v0 == v1
+    with np.errstate(divide="ignore", invalid="ignore"):
+        root = v0 / (v0 - v1) + 0.0  # + 0.0 turns −0 into 0
+    return np.where(same, np.where(v0 != 0.0, np.nan, 0.0), root)
 
 
 class Motion:
-    """A motion ``C(t)`` with ``C(0) = A`` and ``C(1) = B``, sampled from a coefficient table.
+    """Motions ``C(t)`` with ``C(0) = A`` and ``C(1) = B``, sampled from coefficient tables.
 
     Values of ``t`` outside ``[0, 1]`` extrapolate along the same rational (or, for the screw,
     helical) motion; a2b checks the extended range for singularities too.
 
-    Subclasses set ``mode``, ``table`` (``(k, 14)``), ``frame`` and implement ``_basis``,
-    ``_quats``, ``_check_interval`` and ``_describe``.
+    Every ndarray attribute has the leading shape :attr:`shape` (``motion[i]`` takes elements
+    of all of them at once). Subclasses set ``mode``, ``table`` (``S + (k, 14)``),
+    ``quat_ends`` (``S + (2, 4)``) and implement ``_basis``, ``_quats``, ``_check_interval``
+    and ``_describe``.
     """
 
     mode: str = ""
+    #: Short name of the motion in messages.
+    what: str = "motion"
     table: np.ndarray
-    frame: ScrewFrame
+    quat_ends: np.ndarray
 
     def __init__(self, start: np.ndarray, end: np.ndarray, frame: ScrewFrame):
         self.start = start
         self.end = end
         self.frame = frame
-        self.choices: list[str] = list(frame.choices)
-        self.warnings: list[str] = []
+        self.notes = Notes(frame.shape)
+        self.notes.extend(frame.notes)
+        self.warning_notes = Notes(frame.shape)
 
-    def _warn(self, message: str) -> None:
-        """Record a sensitivity warning for ``describe`` and issue it as an ``A2bWarning``."""
-        if message not in self.warnings:
-            self.warnings.append(message)
-            warnings.warn(A2bWarning(message), stacklevel=3)
+    # -- the batch -----------------------------------------------------------------------------
+    @property
+    def shape(self) -> tuple:
+        return self.frame.shape
 
-    # -- to implement ------------------------------------------------------------------------
+    def __len__(self) -> int:
+        if not self.shape:
+            raise TypeError("a single motion has no length")
+        return self.shape[0]
+
+    def __getitem__(self, index) -> Motion:
+        """The motions ``index`` (any numpy index into the leading shape) as a new Motion."""
+        if not self.shape:
+            raise TypeError("a single motion cannot be indexed")
+        out = object.__new__(type(self))
+        ndim = len(self.shape)
+        for name, item in self.__dict__.items():
+            if isinstance(item, np.ndarray) and item.shape[:ndim] == self.shape:
+                item = item[index]
+                item = item[()] if item.ndim == 0 else item
+            elif isinstance(item, (ScrewFrame, Notes)):
+                item = item[index]
+            out.__dict__[name] = item
+        return out
+
+    @property
+    def choices(self):
+        """Every choice made for the user: a list of str, or nested lists of shape ``S``."""
+        return self.notes.tolist()
+
+    @property
+    def warnings(self):
+        """The sensitivity warnings issued, as :attr:`choices`."""
+        return self.warning_notes.tolist()
+
+    def _refuse(self, error, bad, message) -> None:
+        refuse(error, bad, message, self.shape)
+
+    def _warn(self, where, message) -> None:
+        """Issue an :class:`A2bWarning` where ``where`` holds and record it for ``describe``."""
+        warn(where, message, self.shape, self.warning_notes)
+
+    def _check_path(self, lo: float, hi: float) -> None:
+        """Refuse where ``p(t)`` (nearly) vanishes on ``[lo, hi]``; warn where it comes close.
+
+        ``|p(t)|²`` is a quadratic in t; its minimum on the interval, relative to
+        ``max(|p0|², |p1|²)``, must exceed ``SINGULAR_TOL = 1e-12``. Between that and
+        ``SENSITIVE_TOL = 1e-7`` the motion is defined but amplifies rounding of the input by
+        about ``ε / ratio``, and a2b warns.
+        """
+        t_min, ratio = path_minimum(self.quat_ends, lo, hi)
+        self._refuse(
+            SingularMotionError,
+            ratio <= SINGULAR_TOL,
+            lambda i: (
+                f"the {self.what} passes through p(t) = 0 (no rotation defined) at "
+                f"t = {value(t_min, i):.6g}: |p(t)|² / |p|²_max = {value(ratio, i):.3g}, "
+                f"tolerance {SINGULAR_TOL:g}"
+            ),
+        )
+        self._warn(
+            ratio <= SENSITIVE_TOL,
+            lambda i: (
+                f"the {self.what} passes close to p(t) = 0 at t = {value(t_min, i):.6g} "
+                f"(|p(t)|² / |p|²_max = {value(ratio, i):.3g}): its poses near there change by "
+                f"about {EPS / value(ratio, i):.1g} of the motion's size under rounding of the input"
+            ),
+        )
+
+    # -- to implement --------------------------------------------------------------------------
     def _basis(self, ts: np.ndarray) -> np.ndarray:  # pragma: no cover - abstract
+        """The basis at ``ts``: ``(N, k)`` shared by every motion, or ``S + (N, k)``."""
         raise NotImplementedError
 
-    def _quats(self, ts: np.ndarray) -> np.ndarray:  # pragma: no cover - abstract
-        raise NotImplementedError
+    def _quats(self, ts: np.ndarray) -> np.ndarray:
+        """``p(t)``, not normalised, shape ``S + (N, 4)``."""
+        return linear_path(ts, self.quat_ends)
 
     def _check_interval(self, lo: float, hi: float) -> None:
-        """Raise :class:`SingularMotionError` if the motion is singular on ``[lo, hi]``."""
+        """Raise :class:`SingularMotionError` if a motion is singular on ``[lo, hi]``."""
+        self._check_path(lo, hi)
+
+    def _rotation_is_fragile(self, lo: float, hi: float) -> np.ndarray:
+        """Where the table's rotation would lose rigidity (``p(t)`` close to 0 on [lo, hi])."""
+        return path_minimum(self.quat_ends, lo, hi)[1] < FRAGILE_TOL
 
     def singular_t(self) -> list[float]:
-        """Real ``t`` (any value) where the motion is undefined, for ``describe``."""
+        """Real ``t`` (any value) where a single motion is undefined, for ``describe``."""
         return []
 
     def _describe(self) -> dict:  # pragma: no cover - abstract
         raise NotImplementedError
 
-    # -- shared ------------------------------------------------------------------------------
+    # -- sampling ------------------------------------------------------------------------------
     def _prepare(self, ts) -> np.ndarray:
         arr = check_ts(ts)
         if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
             self._check_interval(min(0.0, float(arr.min())), max(1.0, float(arr.max())))
         return arr
 
-    def _rotation_is_fragile(self, lo: float, hi: float) -> bool:
-        """True where the table's rotation would lose rigidity (``p(t)`` close to 0 on [lo, hi])."""
-        return False
+    def _check_finite(self, ts: np.ndarray, values: np.ndarray) -> None:
+        """Raise if extrapolating to far-away ``t`` overflowed (values ``S + (N, ...)``)."""
+        n = len(ts)
+        bad = ~np.isfinite(values.reshape(self.shape + (n, -1))).all(axis=-1)
+        first = np.argmax(bad, axis=-1)
+        self._refuse(
+            ParameterError,
+            bad.any(axis=-1),
+            lambda i: (
+                f"the motion overflows float64 at t = {float(ts[np.ravel(first)[i]]):.6g}: "
+                "extrapolate less far"
+            ),
+        )
 
     def matrices(self, ts) -> np.ndarray:
-        """Sample the motion: robotics matrices ``(len(ts), 4, 4)`` for a 1-D ``ts``.
+        """Sample the motions: robotics matrices ``S + (N, 4, 4)``.
 
+        ``ts`` is a 1-D array of ``N`` parameters or a count ``N`` (evenly spaced in [0, 1]).
         Where ``p(t)`` comes close to 0 (``|p|²/max|p|² < 1e-2``), the rotation block is taken
-        from the normalised ``p(t)`` instead of the coefficient table, so that every sample stays
-        rigid to rounding.
+        from the normalised ``p(t)`` instead of the coefficient table, so that every sample
+        stays rigid to rounding.
         """
         arr = self._prepare(ts)
         with np.errstate(over="ignore", invalid="ignore"):  # far extrapolation: checked below
             out = evaluate_table(self._basis(arr), self.table)
-        if arr.size and self._rotation_is_fragile(
-            min(0.0, float(arr.min())), max(1.0, float(arr.max()))
-        ):
-            from ..poses import rotations_from_quaternions
-
-            out[:, :3, :3] = rotations_from_quaternions(self._quats(arr))
+            if arr.size:
+                lo, hi = min(0.0, float(arr.min())), max(1.0, float(arr.max()))
+                fragile = self._rotation_is_fragile(lo, hi)
+                if not self.shape and fragile:
+                    out[..., :3, :3] = rotations_from_quaternions(self._quats(arr))
+                elif self.shape and fragile.any():
+                    rotations = rotations_from_quaternions(self[fragile]._quats(arr))
+                    out[fragile, :, :3, :3] = rotations
         if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
-            _check_finite(arr, out[:, :3, :])
+            self._check_finite(arr, out[..., :3, :])
         return out
 
     def quat_trans(self, ts) -> tuple[np.ndarray, np.ndarray]:
-        """Unit quaternions ``(N, 4)`` (w, x, y, z) and translations ``(N, 3)``.
+        """Unit quaternions ``S + (N, 4)`` (w, x, y, z) and translations ``S + (N, 3)``.
 
         The quaternions come from the motion's own ``p(t)`` and are therefore continuous in
         ``t`` (no sign jumps), starting at the sign of A's quaternion with ``w ≥ 0``.
         """
         arr = self._prepare(ts)
         quat = self._quats(arr)
-        quat /= np.sqrt(np.einsum("ij,ij->i", quat, quat))[:, None]
+        quat /= np.sqrt(np.einsum("...i,...i->...", quat, quat))[..., None]
         with np.errstate(over="ignore", invalid="ignore"):  # far extrapolation: checked below
             trans = evaluate_translations(self._basis(arr), self.table)
         if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
-            _check_finite(arr, trans)
+            self._check_finite(arr, trans)
         return quat, trans
 
     def study(self, ts) -> np.ndarray:
-        """Unit Study parameters ``(N, 8)`` of the samples (``|p| = 1``, ``q = −½ t p``)."""
-        from ..poses import study_from_quat_trans
-
+        """Unit Study parameters ``S + (N, 8)`` of the samples (``|p| = 1``, ``q = −½ t p``)."""
         quat, trans = self.quat_trans(ts)
         return study_from_quat_trans(quat, trans)
 
-    def describe(self) -> dict:
-        """The canonical frame, the essential parameters and the choices made, as plain data."""
+    def describe(self):
+        """The canonical frame, the essential parameters and the choices made, as plain data.
+
+        A dict for a single motion; nested lists of dicts, of shape ``S``, for a batch.
+        """
+        if self.shape:
+            return _nested_map(self, self.shape)
         f = self.frame
         out = {
             "mode": self.mode,
-            "phi": f.phi,
+            "phi": float(f.phi),
             "phi_degrees": float(np.degrees(f.phi)),
-            "d": f.d,
+            "d": float(f.d),
             "axis_point": _vec(f.axis_point),
             "axis_direction": _vec(f.axis_direction),
         }
         out.update(self._describe())
         out["singular_t"] = [float(t) for t in self.singular_t()]
-        out["choices"] = list(self.choices)
-        out["warnings"] = list(self.warnings)
+        out["choices"] = self.choices
+        out["warnings"] = self.warnings
         return out
+
+
+def _nested_map(motion: Motion, shape: tuple) -> list:
+    return [
+        motion[i].describe() if len(shape) == 1 else _nested_map(motion[i], shape[1:])
+        for i in range(shape[0])
+    ]
+
+
+def _vec(a) -> list:
+    return [float(x) for x in np.asarray(a, dtype=float).ravel()]
+
+
+def broadcast_parameter(values, shape: tuple, name: str, width: int | None = None) -> np.ndarray:
+    """A float parameter broadcast to ``shape`` (``+ (width,)``), finite, or a clear error."""
+    try:
+        arr = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a number, got {values!r}") from None
+    trailing = () if width is None else (width,)
+    if arr.shape[len(arr.shape) - len(trailing) :] != trailing or (width and arr.ndim < 1):
+        raise ParameterError(f"{name} needs {width} numbers, got shape {arr.shape}")
+    try:
+        arr = np.broadcast_to(arr, shape + trailing)
+    except ValueError:
+        raise ParameterError(
+            f"{name} of shape {np.shape(values)} does not broadcast against the poses' "
+            f"shape {shape}"
+        ) from None
+    bad = ~np.isfinite(arr)
+    if width:
+        bad = bad.any(axis=-1)
+    refuse(
+        ParameterError,
+        bad,
+        lambda i: f"{name} must be finite, got {_show(arr.reshape((-1,) + trailing)[i])}",
+        shape,
+    )
+    return arr
+
+
+def _show(item) -> str:
+    return str(float(item)) if np.ndim(item) == 0 else str(np.asarray(item).tolist())

@@ -26,86 +26,81 @@ no term divides by ``sin(φ/2)``, so tiny rotation angles lose no accuracy.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from ..elements import refuse, value
 from ..errors import ParameterError, SingularMotionError
-from ..extended import check_m, check_not_orthogonal, kernel_basis, paper_basis_degenerate
+from ..extended import check_m, check_not_orthogonal, paper_basis_degenerate, paper_kernel_basis
 from ..frames import ScrewFrame
 from ..names import FRAMES
 from ..study import rotation_numerators
-from ._rational import (
-    EPS,
-    FRAGILE_TOL,
-    bern_elevate,
-    bern_mul,
-    bernstein_basis,
-    check_quaternion_path,
-    linear_root,
-    make_table,
-    quaternion_path_minimum,
-)
+from ._rational import EPS, bern_elevate, bern_mul, bernstein_basis, make_table
+from .base import Motion, _vec, broadcast_parameter, linear_root
 
 #: Relative sensitivity to rounding of the input above which a canonical cubic motion warns.
 SENSITIVITY_WARNING = 1e-9
-from .base import Motion, _vec, linear_path
 
 
 def default_m(frame: ScrewFrame, which: str) -> np.ndarray:
     """``m = pA + pB``: ``(1 + cos(φ/2), 0, 0, sin(φ/2))`` in canonical coordinates (``docs/math.md``)."""
     if which == "canonical":
-        return np.array([1.0 + frame.r[0], 0.0, 0.0, float(np.linalg.norm(frame.r[1:]))])
-    return frame.p_start + frame.p_end
+        r = np.asarray(frame.r)
+        out = np.zeros(r.shape)
+        out[..., 0] = 1.0 + r[..., 0]
+        out[..., 3] = np.linalg.norm(r[..., 1:], axis=-1)
+        return out
+    return np.asarray(frame.p_start) + frame.p_end
 
 
-def _psi(m, coeffs, scalar, name: str, letter: str) -> float:
+def _psi(m, coeffs, scalar, name: str, letter: str, shape: tuple) -> np.ndarray:
+    """``ψ = 1 + a`` from the scalar, or from fiber coefficients in the paper's basis."""
     if coeffs is not None and scalar is not None:
         raise ParameterError(f"give either {name} or {letter}, not both")
     if scalar is not None:
-        value = float(scalar)
-        if not math.isfinite(value):
-            raise ParameterError(f"{letter} must be finite, got {value}")
-        return 1.0 + value
+        return 1.0 + broadcast_parameter(scalar, shape, letter)
     if coeffs is None:
-        return 1.0
+        return np.ones(shape)
     arr = np.asarray(coeffs, dtype=float)
-    if arr.shape != (6,):
-        raise ParameterError(
-            f"{name} needs 6 numbers (coefficients of f0 … f5), got shape {arr.shape}"
-        )
+    if arr.shape[-1:] != (6,):
+        raise ParameterError(f"{name} needs 6 numbers (coefficients of f0 … f5), got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
         raise ParameterError(f"{name} contains NaN or infinity")
-    if paper_basis_degenerate(m):
-        raise ParameterError(
-            f"{name} is given in the paper's kernel basis f0 … f5 (eq. 13), which degenerates for "
-            f"m = {np.asarray(m).tolist()} (n0 = 4 m0 m1 m2 m3 = 0, every f_l[0] = 0); "
+    flat_m = np.broadcast_to(m, shape + (4,)).reshape(-1, 4)
+    refuse(
+        ParameterError,
+        paper_basis_degenerate(m),
+        lambda i: (
+            f"{name} is given in the paper's kernel basis f0 … f5 (eq. 13), which degenerates "
+            f"for m = {flat_m[i].tolist()} (n0 = 4 m0 m1 m2 m3 = 0, every f_l[0] = 0); "
             f"choose an m with all four components non-zero, or give {letter} directly"
-        )
-    basis, _ = kernel_basis(m, "paper")
-    return 1.0 + float(arr @ basis[:, 0])
+        ),
+        shape,
+    )
+    coefficients = broadcast_parameter(arr, shape, name, 6)
+    return 1.0 + np.sum(coefficients * paper_kernel_basis(m)[..., 0], axis=-1)
 
 
 class CubicMotion(Motion):
-    """A cubic circular motion between two poses (Theorem 2).
+    """Cubic circular motions between pairs of poses (Theorem 2).
 
     Parameters
     ----------
-    start, end : ndarray (4, 4)
+    start, end : ndarray, shape S + (4, 4)
     frame : ScrewFrame
-    m : array_like (4,), optional
+    m : array_like, shape (..., 4), optional
         The parameter of μ_[m], in canonical coordinates for ``frame="canonical"``, in the
         given coordinates for ``frame="given"``. Default ``pA + pB``.
-    alpha, beta : array_like (6,), optional
+    alpha, beta : array_like, shape (..., 6), optional
         Fiber coefficients in the paper's basis f0 … f5 for m (eq. 13); they matter only
         through ``a = Σ α_l f_l[0]`` and ``b = Σ β_l f_l[0]``. Note that the ``f_l`` are quartic
         in ``m``, so the effect of α depends on the scale of m.
-    a, b : float, optional
+    a, b : float or array_like, optional
         The essential scalars directly (instead of alpha, beta). Default 0.
     frame_name : {"canonical", "given"}
     """
 
     mode = "cubic"
+    what = "cubic motion"
 
     def __init__(
         self,
@@ -123,45 +118,57 @@ class CubicMotion(Motion):
         super().__init__(start, end, frame)
         if frame_name not in FRAMES:
             raise ParameterError(f"unknown frame {frame_name!r}; expected one of {FRAMES}")
+        shape = self.shape
         self.frame_name = frame_name
         if m is None:
             m_arr = default_m(frame, frame_name)
-            self.choices.append(
+            self.notes.add(
                 f"m defaults to pA + pB in {frame_name} coordinates, so both weights are equal"
             )
         else:
             m_arr = check_m(m)
-        self.m = m_arr
-        self.psi_a = _psi(m_arr, alpha, a, "alpha", "a")
-        self.psi_b = _psi(m_arr, beta, b, "beta", "b")
-        r, p_a, p_b = frame.r, frame.p_start, frame.p_end
-        c = float(r[0])
-        s = float(np.linalg.norm(r[1:]))
+            try:
+                m_arr = np.broadcast_to(m_arr, shape + (4,))
+            except ValueError:
+                raise ParameterError(
+                    f"m of shape {m_arr.shape} does not broadcast against the poses' shape {shape}"
+                ) from None
+        self.m = np.array(m_arr, dtype=float)
+        self.psi_a = _psi(m_arr, alpha, a, "alpha", "a", shape) + 0.0
+        self.psi_b = _psi(m_arr, beta, b, "beta", "b", shape) + 0.0
+        r = np.asarray(frame.r)
+        p_a, p_b = np.asarray(frame.p_start), np.asarray(frame.p_end)
+        c = r[..., 0]
+        s = np.linalg.norm(r[..., 1:], axis=-1)
         if frame_name == "canonical":
-            p_a_can = np.array([1.0, 0.0, 0.0, 0.0])
-            p_b_can = np.array([c, 0.0, 0.0, s])
+            p_a_can = np.zeros(r.shape)
+            p_a_can[..., 0] = 1.0
+            p_b_can = np.zeros(r.shape)
+            p_b_can[..., 0] = c
+            p_b_can[..., 3] = s
             w_a = 4.0 * check_not_orthogonal(m_arr, p_a_can, "start pose (canonical coordinates)")
             w_b = 4.0 * check_not_orthogonal(m_arr, p_b_can, "end pose (canonical coordinates)")
         else:
             w_a = 4.0 * check_not_orthogonal(m_arr, p_a, "start pose")
             w_b = 4.0 * check_not_orthogonal(m_arr, p_b, "end pose")
-        self.weights = (w_a, w_b)
+        self.weights = np.stack(np.broadcast_arrays(w_a, w_b), axis=-1)
         self._check_psi()
+        w_a, w_b = np.asarray(w_a)[..., None], np.asarray(w_b)[..., None]
         pa_w, pb_w = w_a * p_a, w_b * p_b
-        self._p = np.stack([pa_w, pb_w])
+        self.quat_ends = np.stack([pa_w, pb_w], axis=-2)
         rot = np.stack(
             [rotation_numerators(pa_w), rotation_numerators(pa_w, pb_w), rotation_numerators(pb_w)]
-        )
-        delta = np.array([pa_w @ pa_w, pa_w @ pb_w, pb_w @ pb_w])
-        x0 = np.array([self.psi_a, self.psi_b])
-        t_a = frame.t_start
+        )  # coefficients first, as bern_mul and bern_elevate take them
+        delta = np.stack([np.sum(pa_w * pa_w, -1), np.sum(pa_w * pb_w, -1), np.sum(pb_w * pb_w, -1)])
+        x0 = np.stack([self.psi_a, self.psi_b])
+        t_a = np.asarray(frame.t_start)
         if frame_name == "given":
-            t_b = frame.t_end
-            trans_num = np.stack([self.psi_a * t_a, self.psi_b * t_b])
-            trans = bern_elevate(trans_num, 3)
+            t_b = np.asarray(frame.t_end)
+            trans = bern_elevate(np.stack([self.psi_a[..., None] * t_a, self.psi_b[..., None] * t_b]), 3)
             trans_den = bern_elevate(x0, 3)
         else:
-            rho_a = np.array([w_a, 0.0, 0.0, 0.0])
+            rho_a = np.zeros(r.shape)
+            rho_a[..., 0] = w_a[..., 0]
             rho_b = w_b * r
             n_rho = np.stack(
                 [
@@ -169,24 +176,39 @@ class CubicMotion(Motion):
                     rotation_numerators(rho_a, rho_b),
                     rotation_numerators(rho_b),
                 ]
-            )
-            rotated_start = n_rho.reshape(3, 3, 3) @ t_a
+            )  # (3,) + S + (9,)
+            rotated_start = (n_rho.reshape(n_rho.shape[:-1] + (3, 3)) @ t_a[..., None])[..., 0]
             t_perp = frame.t_perp
-            cross = np.cross(r[1:], t_perp)
+            cross = np.cross(r[..., 1:], t_perp)
             n_disp = np.stack(
-                [np.zeros(3), 0.5 * w_a * w_b * (c * t_perp - cross), w_b * w_b * t_perp]
+                [
+                    np.zeros(t_perp.shape),
+                    0.5 * w_a * w_b * (c[..., None] * t_perp - cross),
+                    w_b * w_b * t_perp,
+                ]
             )
-            first = bern_mul(rotated_start + n_disp, x0)  # over Δ · x0
-            z_num = np.stack([np.zeros(3), frame.d * self.psi_b * frame.axis_direction])  # t d ψB u
-            second = bern_mul(z_num, delta)
-            trans = first + second
+            first = bern_mul(rotated_start + n_disp, x0[..., None])  # over Δ · x0
+            z_num = np.stack(
+                [
+                    np.zeros(t_perp.shape),
+                    (np.asarray(frame.d) * self.psi_b)[..., None] * frame.axis_direction,
+                ]
+            )  # t d ψB u
+            trans = first + bern_mul(z_num, delta[..., None])
             trans_den = bern_mul(delta, x0)
-        self.table = make_table(bern_elevate(rot, 3), bern_elevate(delta, 3), trans, trans_den)
+        self.table = make_table(
+            np.moveaxis(bern_elevate(rot, 3), 0, -2),
+            np.moveaxis(bern_elevate(delta, 3), 0, -1),
+            np.moveaxis(trans, 0, -2),
+            np.moveaxis(trans_den, 0, -1),
+        )
         self._check_interval(0.0, 1.0)
         if frame_name == "canonical":
             self._check_axis_sensitivity(s)
+        if not shape:
+            self.psi_a, self.psi_b = self.psi_a[()], self.psi_b[()]
 
-    def _check_axis_sensitivity(self, s: float) -> None:
+    def _check_axis_sensitivity(self, s) -> None:
         """Warn when a nearly pure translation makes the canonical motion depend on rounding.
 
         For small φ the canonical cubic moves the part ``t⊥`` of the displacement across the
@@ -195,56 +217,60 @@ class CubicMotion(Motion):
         known to about ``ε / sin(φ/2)``, so the poses move by about
         ``ε / sin(φ/2) · max |f − g|`` of the motion's size. (With the defaults f = g.)
         """
-        if s == 0.0:
-            return
-        w_a, w_b = self.weights
+        w_a, w_b = self.weights[..., 0, None], self.weights[..., 1, None]
+        psi_a, psi_b = np.asarray(self.psi_a)[..., None], np.asarray(self.psi_b)[..., None]
         ts = np.linspace(0.0, 1.0, 101)
         with np.errstate(divide="ignore", invalid="ignore"):
             f = ts * w_b / ((1 - ts) * w_a + ts * w_b)
-            g = ts * self.psi_b / ((1 - ts) * self.psi_a + ts * self.psi_b)
-        diff = np.abs(f - g)
-        spread = float(np.max(diff[np.isfinite(diff)], initial=0.0))
-        estimate = EPS / s * spread
-        if estimate > SENSITIVITY_WARNING:
-            self._warn(
-                f"the rotation angle φ = {self.frame.phi:.3g} is so small that the screw axis is "
-                f"ill-determined, and with wB/wA ≠ ψB/ψA the canonical cubic motion depends on it: "
-                f"its poses change by about {estimate:.1g} of the motion's size under rounding of "
-                "the input (the defaults m = pA + pB, a = b = 0, or frame given, avoid this)"
-            )
+            g = ts * psi_b / ((1 - ts) * psi_a + ts * psi_b)
+            diff = np.abs(f - g)
+            spread = np.max(np.where(np.isfinite(diff), diff, 0.0), axis=-1, initial=0.0)
+            estimate = np.where(s == 0.0, 0.0, EPS / np.where(s == 0.0, 1.0, s) * spread)
+        self._warn(
+            estimate > SENSITIVITY_WARNING,
+            lambda i: (
+                f"the rotation angle φ = {value(self.frame.phi, i):.3g} is so small that the "
+                "screw axis is ill-determined, and with wB/wA ≠ ψB/ψA the canonical cubic motion "
+                f"depends on it: its poses change by about {value(estimate, i):.1g} of the "
+                "motion's size under rounding of the input (the defaults m = pA + pB, a = b = 0, "
+                "or frame given, avoid this)"
+            ),
+        )
 
     def _check_psi(self):
         root = linear_root(self.psi_a, self.psi_b)
-        if self.psi_a * self.psi_b <= 0.0:
-            where = "every t" if (self.psi_a == 0.0 and self.psi_b == 0.0) else f"t = {root:.6g}"
-            raise SingularMotionError(
-                f"the cubic motion passes through infinity at {where}: ψA = 1 + a = {self.psi_a:.6g} and "
-                f"ψB = 1 + b = {self.psi_b:.6g} need the same sign (x0(t) = (1−t) ψA + t ψB vanishes)"
-            )
+        both_zero = (self.psi_a == 0.0) & (self.psi_b == 0.0)
+        self._refuse(
+            SingularMotionError,
+            self.psi_a * self.psi_b <= 0.0,
+            lambda i: (
+                "the cubic motion passes through infinity at "
+                + ("every t" if value(both_zero, i) else f"t = {value(root, i):.6g}")
+                + f": ψA = 1 + a = {value(self.psi_a, i):.6g} and ψB = 1 + b = "
+                f"{value(self.psi_b, i):.6g} need the same sign (x0(t) = (1−t) ψA + t ψB vanishes)"
+            ),
+        )
 
     def _basis(self, ts):
         return bernstein_basis(ts, 3)
 
-    def _quats(self, ts):
-        return linear_path(ts, self._p)
-
-    def _rotation_is_fragile(self, lo, hi):
-        return quaternion_path_minimum(self._p[0], self._p[1], lo, hi)[1] < FRAGILE_TOL
-
     def _check_interval(self, lo, hi):
         root = linear_root(self.psi_a, self.psi_b)
-        if root is not None and lo <= root <= hi:
-            raise SingularMotionError(
-                f"the cubic motion passes through infinity at t = {root:.6g} (x0(t) = 0), inside the "
-                f"sampled range [{lo:.6g}, {hi:.6g}]"
-            )
-        check_quaternion_path(self._p[0], self._p[1], lo, hi, "cubic motion", warn=self._warn)
+        self._refuse(
+            SingularMotionError,
+            (lo <= root) & (root <= hi),
+            lambda i: (
+                f"the cubic motion passes through infinity at t = {value(root, i):.6g} "
+                f"(x0(t) = 0), inside the sampled range [{lo:.6g}, {hi:.6g}]"
+            ),
+        )
+        self._check_path(lo, hi)
 
     def singular_t(self):
-        root = linear_root(self.psi_a, self.psi_b)
-        return [] if root is None else [root]
+        root = float(linear_root(self.psi_a, self.psi_b))
+        return [] if np.isnan(root) else [root]
 
-    def canonical_m(self) -> tuple[float, float]:
+    def canonical_m(self) -> tuple:
         """``(m0, m3)`` in canonical coordinates that give this motion's rotation (eq. 17).
 
         For ``frame="canonical"`` these are the user's; for ``"given"`` they are the canonical
@@ -252,42 +278,48 @@ class CubicMotion(Motion):
         is not).
         """
         if self.frame_name == "canonical":
-            return float(self.m[0]), float(self.m[3])
-        w_a, w_b = self.weights
-        c = float(self.frame.r[0])
-        s = float(np.linalg.norm(self.frame.r[1:]))
+            return self.m[..., 0][()], self.m[..., 3][()]
+        w_a, w_b = self.weights[..., 0], self.weights[..., 1]
+        c = np.asarray(self.frame.r)[..., 0]
+        s = np.linalg.norm(np.asarray(self.frame.r)[..., 1:], axis=-1)
         m0 = w_a / 4
-        m3 = (w_b / 4 - m0 * c) / s if s > 0 else 0.0
-        return m0, m3
+        m3 = np.where(s > 0, (w_b / 4 - m0 * c) / np.where(s > 0, s, 1.0), 0.0)
+        return m0[()], m3[()]
 
     def tan_half_omega(self, ts: np.ndarray) -> np.ndarray:
         """Eq. 17 with the canonical ``m0, m3``."""
-        m0, m3 = self.canonical_m()
-        phi = self.frame.phi
+        m0, m3 = (np.asarray(x)[..., None] if self.shape else x for x in self.canonical_m())
+        phi = np.asarray(self.frame.phi)
+        phi = phi[..., None] if self.shape else phi
         t = np.asarray(ts, dtype=float)
-        return -((m3 * (math.cos(phi) - 1) - m0 * math.sin(phi)) * t) / (
-            (m0 * (math.cos(phi) - 1) + m3 * math.sin(phi)) * t + 2 * m0
+        return -((m3 * (np.cos(phi) - 1) - m0 * np.sin(phi)) * t) / (
+            (m0 * (np.cos(phi) - 1) + m3 * np.sin(phi)) * t + 2 * m0
         )
 
     def z_of_t(self, ts: np.ndarray) -> np.ndarray:
         """Eq. 18: ``z = t d (1 + b) / ((1−t)(1 + a) + t(1 + b))``."""
+        d, psi_a, psi_b = (np.asarray(x) for x in (self.frame.d, self.psi_a, self.psi_b))
+        if self.shape:
+            d, psi_a, psi_b = d[..., None], psi_a[..., None], psi_b[..., None]
         t = np.asarray(ts, dtype=float)
-        return t * self.frame.d * self.psi_b / ((1 - t) * self.psi_a + t * self.psi_b)
+        return t * d * psi_b / ((1 - t) * psi_a + t * psi_b)
 
     def _describe(self):
         m0, m3 = self.canonical_m()
-        basis_name = "paper" if not paper_basis_degenerate(self.m) else "paper (degenerate: n0 = 0)"
+        degenerate = paper_basis_degenerate(self.m)
         return {
             "frame": self.frame_name,
             "m": _vec(self.m),
-            "m0": m0,
-            "m3": m3,
-            "a": self.psi_a - 1.0,
-            "b": self.psi_b - 1.0,
-            "psi_start": self.psi_a,
-            "psi_end": self.psi_b,
+            "m0": float(m0),
+            "m3": float(m3),
+            "a": float(self.psi_a - 1.0),
+            "b": float(self.psi_b - 1.0),
+            "psi_start": float(self.psi_a),
+            "psi_end": float(self.psi_b),
             "weights": [float(w) for w in self.weights],
-            "kernel_basis": basis_name,
-            "in_cylinder_group": self.frame_name == "canonical" or self.frame.phi == 0.0,
-            "transmission_curve": "tan(omega/2) by eq. 17, z = t d (1+b) / ((1-t)(1+a) + t(1+b)) (eq. 18)",
+            "kernel_basis": "paper (degenerate: n0 = 0)" if degenerate else "paper",
+            "in_cylinder_group": bool(self.frame_name == "canonical" or self.frame.phi == 0.0),
+            "transmission_curve": (
+                "tan(omega/2) by eq. 17, z = t d (1+b) / ((1-t)(1+a) + t(1+b)) (eq. 18)"
+            ),
         }

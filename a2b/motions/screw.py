@@ -13,14 +13,12 @@ point of a nearly pure translation.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..frames import ScrewFrame
 from ..poses import rotations_from_quaternions
 from ..study import quat_mul
-from ._rational import blocked_product, make_table
+from ._rational import make_table
 from .base import Motion
 
 #: Largest |tφ/2| for which the screw basis is computed from tan(tφ/2) (see ``_basis``); numpy's
@@ -29,37 +27,52 @@ HALF_ANGLE_TAN = 1.6
 
 
 class ScrewMotion(Motion):
-    """The helical interpolant of two poses (ScLERP)."""
+    """The helical interpolants of pairs of poses (ScLERP)."""
 
     mode = "screw"
+    what = "screw motion"
 
     def __init__(self, start, end, frame: ScrewFrame):
         super().__init__(start, end, frame)
-        phi, d = frame.phi, frame.d
-        u = frame.axis_direction
-        k = np.array([[0.0, -u[2], u[1]], [u[2], 0.0, -u[0]], [-u[1], u[0], 0.0]])
+        phi, d = np.asarray(frame.phi), np.asarray(frame.d)
+        u = np.asarray(frame.axis_direction)
+        k = np.zeros(u.shape + (3,))
+        k[..., 0, 1], k[..., 0, 2], k[..., 1, 2] = -u[..., 2], u[..., 1], -u[..., 0]
+        k[..., 1, 0], k[..., 2, 0], k[..., 2, 1] = u[..., 2], -u[..., 1], u[..., 0]
         k2 = k @ k
         rot_a = rotations_from_quaternions(frame.p_start)
-        t_a = frame.t_start
+        t_a = np.asarray(frame.t_start)
         t_perp = frame.t_perp
         cross = np.cross(u, t_perp)
-        rot = np.stack([rot_a, np.zeros((3, 3)), k @ rot_a, k2 @ rot_a]).reshape(4, 9)
-        trans = np.stack([t_a, d * u, k @ t_a, k2 @ t_a])
-        if phi > 0.0:
-            cot = math.cos(phi / 2) / math.sin(phi / 2)
-            trans[2] += 0.5 * cot * t_perp - 0.5 * cross
-            trans[3] += 0.5 * t_perp + 0.5 * cot * cross
-        else:
-            trans[1] += t_perp
-        self.table = make_table(rot, [1.0, 0.0, 0.0, 0.0], trans, [1.0, 0.0, 0.0, 0.0])
+        rot = np.stack([rot_a, np.zeros(rot_a.shape), k @ rot_a, k2 @ rot_a], axis=-3)
+        rot = rot.reshape(rot.shape[:-2] + (9,))
+        trans = np.stack(
+            [t_a, d[..., None] * u, (k @ t_a[..., None])[..., 0], (k2 @ t_a[..., None])[..., 0]],
+            axis=-2,
+        )
+        turning = (phi > 0.0)[..., None]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            half_cot = np.where(turning, 0.5 * np.cos(phi / 2)[..., None] / np.sin(phi / 2)[..., None], 0.0)
+        trans[..., 2, :] += np.where(turning, half_cot * t_perp - 0.5 * cross, 0.0)
+        trans[..., 3, :] += np.where(turning, 0.5 * t_perp + half_cot * cross, 0.0)
+        trans[..., 1, :] += np.where(turning, 0.0, t_perp)
+        unit = np.array([1.0, 0.0, 0.0, 0.0])
+        self.table = make_table(rot, unit, trans, unit)
+        # p(t) = cos(tφ/2) pA + sin(tφ/2) u pA: the "ends" of this path are pA and u pA
+        u_quat = np.concatenate([np.zeros(u.shape[:-1] + (1,)), u], axis=-1)
+        self.quat_ends = np.stack([frame.p_start, quat_mul(u_quat, frame.p_start)], axis=-2)
 
     def _basis(self, ts):
-        # Rows (1, t, sin tφ, vers tφ) of one array, returned transposed, as bernstein_basis.
+        """Rows ``(1, t, sin tφ, vers tφ)``: ``(N, 4)`` for one motion, ``S + (N, 4)`` else."""
+        phi = np.asarray(self.frame.phi)
         t = np.asarray(ts, dtype=float)
+        if phi.ndim:
+            t = np.broadcast_to(t, phi.shape + t.shape)
+            phi = phi[..., None]
         out = np.empty((4,) + t.shape)
         out[0] = 1.0
         out[1] = t
-        half = np.multiply(t, 0.5 * self.frame.phi, out=out[3])
+        half = np.multiply(t, 0.5 * phi, out=out[3])
         if t.size and max(-float(half.min()), float(half.max())) <= HALF_ANGLE_TAN:
             # τ = tan(tφ/2): sin = 2τ / (1 + τ²) and vers = 2 sin²(tφ/2) = τ sin. numpy
             # vectorises tan but not sin: one tan takes a fifth of the time of two sines,
@@ -72,29 +85,29 @@ class ScrewMotion(Motion):
             sin *= 2.0
             np.multiply(tau, sin, out=tau)
         else:
-            angle = np.multiply(t, self.frame.phi, out=out[2])
+            angle = np.multiply(t, phi, out=out[2])
             np.sin(half, out=half)
             np.multiply(half, half, out=half)
             half *= 2.0
             np.sin(angle, out=angle)
-        return out.T if t.ndim == 1 else np.moveaxis(out, 0, -1)
+        return np.moveaxis(out, 0, -1)
 
     def _quats(self, ts):
-        # exp(tφ/2 u) pA = cos(tφ/2) pA + sin(tφ/2) (u pA): one (N, 2) @ (2, 4) product
+        # exp(tφ/2 u) pA = cos(tφ/2) pA + sin(tφ/2) (u pA): (N, 2) @ (2, 4) per motion
+        phi = np.asarray(self.frame.phi)
         t = np.asarray(ts, dtype=float)
-        half = np.empty((2,) + t.shape)
-        np.multiply(t, 0.5 * self.frame.phi, out=half[1])
-        np.cos(half[1], out=half[0])
-        np.sin(half[1], out=half[1])
-        p_a = self.frame.p_start
-        u_p_a = quat_mul(np.concatenate([[0.0], self.frame.axis_direction]), p_a)
-        half = half.T if t.ndim == 1 else np.moveaxis(half, 0, -1)
-        if half.ndim != 2:
-            return half @ np.stack([p_a, u_p_a])
-        return blocked_product(half, np.stack([p_a, u_p_a]))
+        angle = np.multiply.outer(0.5 * phi, t)
+        half = np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+        return half @ self.quat_ends
+
+    def _check_interval(self, lo, hi):
+        """A screw motion is defined for every t."""
+
+    def _rotation_is_fragile(self, lo, hi):
+        return np.zeros(self.shape, dtype=bool)
 
     def _describe(self):
-        phi, d = self.frame.phi, self.frame.d
+        phi, d = float(self.frame.phi), float(self.frame.d)
         return {
             "pitch": d / phi if phi > 0 else None,
             "transmission_curve": "z = d * omega / phi (a straight line)",

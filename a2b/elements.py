@@ -1,0 +1,121 @@
+"""What a2b says about each element of a batch: its choices, its warnings, its errors.
+
+Every quantity of the core has a leading shape ``S`` (``()`` for a single motion). A choice or
+a warning holds for the elements where a mask is true; an error names the first element where
+it holds. A single motion's messages carry no index, so that they read as they always have;
+in a batch they begin with ``motion i:`` (``motion (i, j):`` for more than one dimension), and
+the exception or warning carries ``index`` (the flat index) and ``reason`` (the message
+without the index), so that a caller such as ``a2b batch`` can name the element its own way.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Callable
+
+import numpy as np
+
+from .errors import A2bError, A2bWarning
+
+
+def label(shape: tuple, flat: int) -> str:
+    """``""`` for a single element, else ``"motion i: "`` with its (multi-)index."""
+    if shape == ():
+        return ""
+    index = np.unravel_index(flat, shape)
+    where = int(index[0]) if len(shape) == 1 else tuple(int(i) for i in index)
+    return f"motion {where}: "
+
+
+def refuse(error: type[A2bError], bad, message: Callable[[int], str], shape: tuple) -> None:
+    """Raise ``error`` for the first element where ``bad`` holds, with ``message(flat)``."""
+    bad = np.broadcast_to(bad, shape)
+    if not bad.any():
+        return
+    flat = int(np.flatnonzero(bad.ravel())[0]) if shape else 0
+    reason = message(flat)
+    exception = error(label(shape, flat) + reason)
+    exception.index = flat
+    exception.reason = reason
+    raise exception
+
+
+def warn(where, message: Callable[[int], str], shape: tuple, notes: Notes) -> None:
+    """Issue an :class:`A2bWarning` for every element where ``where`` holds, and note it."""
+    mask = np.broadcast_to(where, shape)
+    if not mask.any():
+        return
+    texts = np.full(shape, None, dtype=object)
+    for flat in np.flatnonzero(mask.ravel()).tolist() if shape else [0]:
+        reason = message(flat)
+        texts.flat[flat] = reason
+        warning = A2bWarning(label(shape, flat) + reason)
+        warning.index = flat
+        warning.reason = reason
+        warnings.warn(warning, stacklevel=4)
+    notes.add(texts, mask)
+
+
+def value(array, flat: int) -> float:
+    """Element ``flat`` of an array of shape ``S`` (or a scalar), as a float."""
+    return float(np.asarray(array).reshape(-1)[flat]) if np.ndim(array) else float(array)
+
+
+class Notes:
+    """Remarks (choices or warnings) on the elements of a batch of shape ``S``, in order.
+
+    Each rule is a text, or an object array of texts of shape ``S``, with the mask of the
+    elements it concerns (``None``: all). Masks are kept, not expanded, so that a remark
+    that holds for many elements costs one array, not one list per element.
+    """
+
+    def __init__(self, shape: tuple, rules: list | None = None):
+        self.shape = tuple(shape)
+        self.rules: list = [] if rules is None else rules
+
+    def add(self, text, where=None) -> None:
+        """Note ``text`` (a str, or texts of shape ``S``) for the elements ``where`` holds."""
+        mask = None if where is None else np.broadcast_to(where, self.shape)
+        if mask is not None and not mask.any():
+            return
+        self.rules.append((mask, text))
+
+    def extend(self, other: Notes) -> None:
+        self.rules.extend(other.rules)
+
+    def __getitem__(self, index) -> Notes:
+        shape = np.empty(self.shape, dtype=bool)[index].shape
+        rules = [
+            (
+                None if mask is None else mask[index],
+                text if isinstance(text, str) else text[index],
+            )
+            for mask, text in self.rules
+        ]
+        return Notes(shape, rules)
+
+    def of(self, flat: int) -> list[str]:
+        """The remarks on element ``flat``, in order, each once."""
+        out: list[str] = []
+        for mask, text in self.rules:
+            if mask is not None and not mask.reshape(-1)[flat]:
+                continue
+            item = text if isinstance(text, str) else text.reshape(-1)[flat]
+            if item is not None and item not in out:
+                out.append(item)
+        return out
+
+    def tolist(self):
+        """The remarks: a list of str for a single element, else nested lists of shape ``S``."""
+        if self.shape == ():
+            return self.of(0)
+        flat = np.empty(int(np.prod(self.shape)), dtype=object)
+        for i in range(flat.size):
+            flat[i] = self.of(i)
+        return _nested(flat.reshape(self.shape))
+
+
+def _nested(array: np.ndarray):
+    if array.ndim == 1:
+        return list(array)
+    return [_nested(part) for part in array]
