@@ -26,6 +26,10 @@ PARAMETERS = {
 }
 
 
+#: Trailing dimensions of the parameters that are arrays for one motion.
+TRAILING = {"m": 1, "alpha": 1, "beta": 1, "through": 2}
+
+
 def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
     """The motions of the given mode from poses ``start`` to poses ``end``.
 
@@ -34,13 +38,14 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
     start, end : array_like, shape (..., 4, 4)
         Robotics-layout homogeneous matrices ``[[R, t], [0, 0, 0, 1]]``, validated with
         :func:`a2b.poses.check_matrices`. Their leading shapes broadcast to the shape ``S`` of
-        the result; one pair of 4x4 matrices gives a single motion, ``S = ()``.
+        the result, with the parameters'; one pair of 4x4 matrices (and scalar parameters)
+        gives a single motion, ``S = ()``.
     mode : {"darboux", "cubic", "screw"}
     **parameters
         darboux: ``delta, kappa, lam, branch, pitch_start, pitch_end, through, long_way``;
         cubic: ``m, alpha, beta, a, b, frame``; screw: none. ``None`` means "not given".
-        Numbers (and ``m``, ``alpha``, ``beta``, ``through`` by their trailing shape)
-        broadcast against ``S``. See :class:`a2b.motions.darboux.DarbouxMotion` and
+        Numbers (and ``m``, ``alpha``, ``beta``, ``through`` by their leading shape)
+        broadcast with the poses: ``S`` is the broadcast shape of all of them. See :class:`a2b.motions.darboux.DarbouxMotion` and
         :class:`a2b.motions.cubic.CubicMotion`.
 
     Returns
@@ -68,12 +73,15 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
     params = {key: value for key, value in parameters.items() if value is not None}
     a = check_matrices(start)
     b = check_matrices(end)
+    shapes = {"start": a.shape[:-2], "end": b.shape[:-2]}
+    for key, item in params.items():
+        if not isinstance(item, str):
+            shapes[key] = np.shape(item)[: max(np.ndim(item) - TRAILING.get(key, 0), 0)]
     try:
-        shape = np.broadcast_shapes(a.shape[:-2], b.shape[:-2])
+        shape = np.broadcast_shapes(*shapes.values())
     except ValueError:
-        raise ParameterError(
-            f"start and end do not broadcast: shapes {a.shape} and {b.shape}"
-        ) from None
+        described = ", ".join(f"{key} {value}" for key, value in shapes.items())
+        raise ParameterError(f"the leading shapes do not broadcast: {described}") from None
     a = np.broadcast_to(a, shape + (4, 4))
     b = np.broadcast_to(b, shape + (4, 4))
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below, as an error

@@ -425,24 +425,6 @@ def check_finite(data, what: str) -> None:
     walk(data, "a value")
 
 
-def evenly_spaced(samples: int, size: int):
-    """``t = i / (samples − 1)``, ``i = 0 … samples − 1``, as arrays of at most ``size``.
-
-    Bit for bit the values of ``numpy.linspace(0, 1, samples)``, without ever holding them
-    all: 10⁹ samples cost one chunk of memory.
-    """
-    import numpy as np
-
-    step = 1.0 / (samples - 1)
-    for lo in range(0, samples, size):
-        hi = min(lo + size, samples)
-        ts = np.arange(lo, hi, dtype=np.int64).astype(np.float64)
-        ts *= step
-        if hi == samples:
-            ts[-1] = 1.0
-        yield ts
-
-
 def motion_chunks(motion, samples: int, representation: str):
     """Sample ``motion`` at ``samples`` evenly spaced t in [0, 1], one writer chunk at a time.
 
@@ -453,6 +435,7 @@ def motion_chunks(motion, samples: int, representation: str):
 
     from ..errors import A2bError
     from ..io.writers import CHUNK_SAMPLES, sample_chunks
+    from ..motions.base import evenly_spaced
 
     for ts in evenly_spaced(samples, CHUNK_SAMPLES):
         for chunk in sample_chunks(motion, ts, representation, size=len(ts)):

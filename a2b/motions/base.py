@@ -62,6 +62,22 @@ def _largest_finite(values: np.ndarray) -> float:
     return float(np.max(np.abs(values[np.isfinite(values)]), initial=0.0))
 
 
+def evenly_spaced(samples: int, size: int):
+    """``t = i / (samples − 1)``, ``i = 0 … samples − 1``, as arrays of at most ``size``.
+
+    Bit for bit the values of ``numpy.linspace(0, 1, samples)``, without ever holding them
+    all: 10⁹ samples cost one chunk of memory.
+    """
+    step = 1.0 / (samples - 1)
+    for lo in range(0, samples, size):
+        hi = min(lo + size, samples)
+        ts = np.arange(lo, hi, dtype=np.int64).astype(np.float64)
+        ts *= step
+        if hi == samples:
+            ts[-1] = 1.0
+        yield ts
+
+
 def linear_path(ts: np.ndarray, ends: np.ndarray) -> np.ndarray:
     """``(1−t) ends[..., 0, :] + t ends[..., 1, :]``: shape ``S + (N, 4)`` for ends ``S + (2, 4)``."""
     u = (1.0 - ts)[:, None]

@@ -1,0 +1,221 @@
+"""Many motions described as jobs, built block by block through the one motion core.
+
+A job is a pair of poses with, optionally, a name, a mode, a sample count and parameters (see
+``a2b batch --help``). :func:`sample` builds each block of jobs as a few batched motions, one
+per kind of job (mode and the names of its parameters), with :func:`a2b.motion`, and samples
+consecutive jobs of one kind and one sample count together. What a job gets (its samples, its
+choices, its warnings, its error) is what the same motion gets built alone; errors and
+warnings name the job (``job NAME: ...``), and the samples of every job before a failing one
+are yielded before its error is raised.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from .api import motion as build_motion
+from .errors import A2bError, A2bWarning
+from .motions.base import Motion, evenly_spaced
+
+#: Rows in one piece of samples: about 10 MB of CSV text.
+PIECE_ROWS = 65536
+
+#: The representations :func:`sample` yields: the fields of each.
+FIELDS = {
+    "quat_trans": ("quat_wxyz", "trans"),
+    "matrices": ("matrices",),
+    "study": ("study",),
+}
+
+
+@dataclass
+class Piece:
+    """Consecutive rows of samples: ``names[i]`` for ``counts[i]`` rows, in order.
+
+    ``t (n,)`` and the fields of the representation: ``quat_wxyz (n, 4)`` and
+    ``trans (n, 3)``, or ``matrices (n, 4, 4)``, or ``study (n, 8)``.
+    """
+
+    names: list
+    counts: list
+    t: np.ndarray
+    fields: dict
+
+
+def sample(
+    blocks: Iterable,
+    *,
+    mode: str = "darboux",
+    samples: int = 101,
+    representation: str = "quat_trans",
+    rows: int = PIECE_ROWS,
+    report: Callable[[str, list], None] | None = None,
+    advance: Callable[[int], None] | None = None,
+) -> Iterator[Piece]:
+    """Sample every job of ``blocks`` at evenly spaced t in [0, 1], in order.
+
+    Parameters
+    ----------
+    blocks : iterable of job blocks
+        Each with ``start``, ``end`` (stacked robotics matrices ``(J, 4, 4)``, valid) and the
+        lists ``names``, ``modes``, ``samples``, ``parameters`` (``None`` where a job does not
+        give one), as :class:`a2b.io.readers.JobBlock`.
+    mode, samples :
+        For jobs that give none.
+    representation : {"quat_trans", "matrices", "study"}
+    rows : int
+        The most rows of one :class:`Piece`; memory is bounded by it and the block size.
+    report : callable, optional
+        ``report(name, choices)`` for every job, before its samples.
+    advance : callable, optional
+        ``advance(n)`` after the ``n`` jobs of each block.
+
+    Yields
+    ------
+    Piece
+    """
+    first = 0
+    for block in blocks:
+        yield from _block(block, first, mode, samples, representation, rows, report)
+        first += len(block.names)
+        if advance is not None:
+            advance(len(block.names))
+
+
+def _kind(mode: str, parameters: dict) -> tuple:
+    """Jobs of one kind are built together: one mode, the same parameters given, one frame."""
+    return (mode, tuple(sorted(parameters)), parameters.get("frame"))
+
+
+def _block(block, first, mode, samples, representation, rows, report) -> Iterator[Piece]:
+    count = len(block.names)
+    names = [str(first + i) if name is None else name for i, name in enumerate(block.names)]
+    modes = [m or mode for m in block.modes]
+    counts = [s or samples for s in block.samples]
+    kinds: dict = {}
+    for i in range(count):
+        kinds.setdefault(_kind(modes[i], block.parameters[i]), []).append(i)
+    # Build every kind; where a job cannot be built, build again without it and the jobs after
+    # it, so that the jobs before it are sampled before its error is raised.
+    stop, failure = count, None
+    while True:
+        kinds = {k: [i for i in members if i < stop] for k, members in kinds.items()}
+        kinds = {k: members for k, members in kinds.items() if members}
+        built: dict = {}  # kind -> (motion, warnings by member)
+        first_failure = None
+        for kind, members in kinds.items():
+            try:
+                built[kind] = _build(block, kind, members)
+            except A2bError as e:
+                position = members[getattr(e, "index", 0)]
+                if first_failure is None or position < first_failure[0]:
+                    first_failure = (position, e)
+        if first_failure is None:
+            break
+        failure = first_failure
+        stop = failure[0]
+    place = {}  # position -> (kind, index in its motion)
+    for kind, members in kinds.items():
+        for j, i in enumerate(members):
+            if i < stop:
+                place[i] = (kind, j)
+    i = 0
+    while i < stop:
+        kind, j = place[i]
+        motion, caught = built[kind]
+        for message in caught.get(j, ()):
+            warnings.warn(A2bWarning(f"job {names[i]}: {message}"), stacklevel=2)
+        if report is not None:
+            report(names[i], motion.notes.of(j))
+        # consecutive jobs of this kind and sample count are sampled together
+        last = i + 1
+        while (
+            last < stop
+            and place[last][0] == kind
+            and place[last][1] == j + (last - i)
+            and counts[last] == counts[i]
+            and not built[kind][1].get(place[last][1])
+        ):
+            if report is not None:
+                report(names[last], motion.notes.of(place[last][1]))
+            last += 1
+        yield from _pieces(motion, j, j + last - i, names[i:last], counts[i], representation, rows)
+        i = last
+    if failure is not None:
+        position, e = failure
+        reason = getattr(e, "reason", str(e))
+        raise type(e)(f"job {names[position]}: {reason}") from e
+
+
+def _build(block, kind, members: list) -> tuple[Motion, dict]:
+    """The motion of shape ``(len(members),)`` of jobs of one kind, and their warnings."""
+    mode, keys, frame = kind
+    index = np.asarray(members)
+    parameters = {}
+    for key in keys:
+        values = [block.parameters[i][key] for i in members]
+        if key == "frame":
+            parameters[key] = frame
+        elif key == "long_way":
+            parameters[key] = np.array(values, dtype=bool)
+        else:
+            parameters[key] = np.array(values, dtype=float)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", A2bWarning)
+        motion = build_motion(block.start[index], block.end[index], mode, **parameters)
+    by_member: dict = {}
+    for warning in caught:
+        message = warning.message
+        if isinstance(message, A2bWarning) and hasattr(message, "index"):
+            by_member.setdefault(message.index, []).append(message.reason)
+        else:
+            warnings.warn_explicit(message, warning.category, warning.filename, warning.lineno)
+    return motion, by_member
+
+
+def _pieces(motion: Motion, lo: int, hi: int, names, count, representation, rows):
+    """Pieces of the samples of jobs ``lo:hi`` of ``motion``, each at ``count`` samples."""
+    if count > rows:  # one long job streams in pieces
+        for j, name in zip(range(lo, hi), names):
+            single = motion[j]
+            for ts in evenly_spaced(count, rows):
+                yield Piece([name], [len(ts)], ts, _fields(single, ts, representation, [name]))
+        return
+    ts = next(evenly_spaced(count, count))
+    per_piece = max(1, rows // count)
+    for start in range(lo, hi, per_piece):
+        stop = min(start + per_piece, hi)
+        part = names[start - lo : stop - lo]
+        fields = _fields(motion[start:stop], ts, representation, part)
+        yield Piece(part, [count] * len(part), np.tile(ts, stop - start), fields)
+
+
+def _fields(motion: Motion, ts: np.ndarray, representation: str, names: list) -> dict:
+    """The samples of ``motion`` (shape ``()`` or ``(J,)``) at ``ts`` as rows, checked finite."""
+    if representation == "quat_trans":
+        quat, trans = motion.quat_trans(ts)
+        values = {"quat_wxyz": quat, "trans": trans}
+    elif representation == "matrices":
+        values = {"matrices": motion.matrices(ts)}
+    elif representation == "study":
+        values = {"study": motion.study(ts)}
+    else:
+        raise ValueError(f"unknown representation {representation!r}")
+    n = len(ts)
+    rows = {}
+    for key, array in values.items():
+        flat = array.reshape((-1,) + array.shape[len(motion.shape) + 1 :])
+        finite = np.isfinite(flat.reshape(len(flat), -1)).all(axis=1)
+        if not finite.all():
+            row = int(np.argmin(finite))
+            raise A2bError(
+                f"job {names[row // n]}: the sample at t = {float(ts[row % n]):.17g} is not "
+                "finite: the motion overflows double precision; the poses or parameters are "
+                "too large"
+            )
+        rows[key] = flat
+    return rows
