@@ -8,26 +8,13 @@ from .errors import ParameterError
 from .frames import screw_frame
 from .motions.base import Motion, check_table
 from .names import MODES
+from .parameters import OF_MODE, TABLE
 from .poses import check_matrices
 
-PARAMETERS = {
-    "darboux": (
-        "delta",
-        "kappa",
-        "lam",
-        "branch",
-        "pitch_start",
-        "pitch_end",
-        "through",
-        "long_way",
-    ),
-    "cubic": ("m", "alpha", "beta", "a", "b", "frame"),
-    "screw": (),
-}
-
-
+#: mode -> the names of its parameters (the table of :mod:`a2b.parameters`).
+PARAMETERS = OF_MODE
 #: Trailing dimensions of the parameters that are arrays for one motion.
-TRAILING = {"m": 1, "alpha": 1, "beta": 1, "through": 2}
+TRAILING = {p.name: p.trailing for p in TABLE if p.trailing}
 
 
 def motion(start, end, mode: str = "darboux", **parameters) -> Motion:

@@ -50,7 +50,12 @@ def check_m(m) -> np.ndarray:
     if arr.shape[-1:] != (4,):
         raise ParameterError(f"m needs 4 numbers (m0, m1, m2, m3), got shape {arr.shape}")
     shape = arr.shape[:-1]
-    refuse(ParameterError, ~np.isfinite(arr).all(axis=-1), lambda i: "m contains NaN or infinity", shape)
+    refuse(
+        ParameterError,
+        ~np.isfinite(arr).all(axis=-1),
+        lambda i: "m contains NaN or infinity",
+        shape,
+    )
     refuse(
         ParameterError,
         ~arr.any(axis=-1),

@@ -53,7 +53,10 @@ CASES = {
     "cubic-ab": lambda rng, n: {"a": 0.3 * rng.normal(size=n), "b": 0.3 * rng.normal(size=n)},
     "cubic-m": lambda rng, n: {"m": 1.0 + rng.random((n, 4))},
     "cubic-given": lambda rng, n: {"m": 1.0 + rng.random((n, 4)), "frame": "given"},
-    "cubic-alpha": lambda rng, n: {"m": 1.0 + rng.random((n, 4)), "alpha": 0.01 * rng.normal(size=(n, 6))},
+    "cubic-alpha": lambda rng, n: {
+        "m": 1.0 + rng.random((n, 4)),
+        "alpha": 0.01 * rng.normal(size=(n, 6)),
+    },
     "screw": lambda rng, n: {},
 }
 
@@ -233,9 +236,21 @@ def test_jobs_of_mixed_kinds_come_out_in_order_as_alone(rng):
     start = np.stack([random_pose(rng) for _ in range(n)])
     end = np.stack([random_pose(rng) for _ in range(n)])
     modes = ["darboux", "cubic", "darboux", "screw", "cubic", None, "darboux", "screw", None]
-    params = [{}, {"a": 0.2}, {"delta": 0.5}, {}, {"m": [1, 2, 3, 4], "frame": "given"}, {}, {}, {}, {}]
+    params = [
+        {},
+        {"a": 0.2},
+        {"delta": 0.5},
+        {},
+        {"m": [1, 2, 3, 4], "frame": "given"},
+        {},
+        {},
+        {},
+        {},
+    ]
     counts = [3, 5, None, 5, 5, 2, 3, 70, 4]
-    block = Block(start, end, [None, "b", None, "d", "e", None, "g", "h", None], modes, counts, params)
+    block = Block(
+        start, end, [None, "b", None, "d", "e", None, "g", "h", None], modes, counts, params
+    )
     pieces = list(sample([block], mode="cubic", samples=4, rows=64))
     names = [name for p in pieces for name, c in zip(p.names, p.counts) for _ in range(c)]
     expected_names = ["0", "b", "2", "d", "e", "5", "g", "h", "8"]

@@ -11,6 +11,7 @@ import math
 import click
 
 from ..names import MAX_SAMPLES, MIN_SAMPLES, MODES
+from ..parameters import BY_NAME, EXCLUSIVE, OF_MODE, TABLE
 
 FORMATS = ("csv", "matrix", "study", "tum", "kitti", "mcap")
 SPACES = ("matrix", "study")
@@ -114,70 +115,29 @@ def alphas_option(help_: str):
     return click.option("--alpha", "alphas", type=ALPHA_VECTOR, multiple=True, help=help_)
 
 
-#: Motion parameter options, in the order of ``a2b.motion``'s documentation.
-_MOTION_OPTIONS = [
-    click.option(
-        "--delta", type=FLOAT, help="darboux: the fiber offset δ = sB − sA, a length (default 0)."
-    ),
-    click.option(
-        "--kappa",
-        type=FLOAT,
-        help="darboux: the phase κ of the transmission curve z = z0 + λ sin(ω + κ), radians.",
-    ),
-    click.option(
-        "--lam",
-        type=FLOAT,
-        help="darboux: the amplitude λ of the transmission curve (two solutions: see --branch).",
-    ),
-    click.option(
-        "--branch", type=Branch(), help="darboux: which of the two solutions for --lam, +1 or -1."
-    ),
-    click.option(
-        "--pitch-start",
-        type=FLOAT,
-        help="darboux: the pitch dz/dω at the start, length per radian.",
-    ),
-    click.option(
-        "--pitch-end", type=FLOAT, help="darboux: the pitch dz/dω at the end, length per radian."
-    ),
-    click.option(
-        "--through",
-        type=click.File("rb"),
-        metavar="POSEFILE",
-        help="darboux: a file with a third pose the motion passes through.",
-    ),
-    click.option(
-        "--long-way/--short-way",
-        "long_way",
-        default=None,
-        help="darboux: go the long way round (the other sign of the end pose's Study vector).",
-    ),
-    m_option("cubic: the vector m of μ_[m], e.g. 1,0,0,0.5."),
-    click.option(
-        "--alpha",
-        type=ALPHA_VECTOR,
-        help="cubic: fiber coordinates α of the start pose in the kernel basis.",
-    ),
-    click.option(
-        "--beta",
-        type=Vector(6, "β0 … β5"),
-        help="cubic: fiber coordinates β of the end pose in the kernel basis.",
-    ),
-    click.option(
-        "--a", "a", type=FLOAT, help="cubic: the essential scalar a (instead of --alpha)."
-    ),
-    click.option("--b", "b", type=FLOAT, help="cubic: the essential scalar b (instead of --beta)."),
-    click.option(
-        "--frame",
-        type=click.Choice(["canonical", "given"]),
-        help="cubic: construct in the canonical frame of the two poses (default) or apply μ_[m] in the given coordinates.",
-    ),
-]
+def _motion_option(parameter):
+    """The click option of a motion parameter of :mod:`a2b.parameters`."""
+    from ..names import FRAMES
 
-MOTION_PARAMETERS = (
-    "delta", "kappa", "lam", "branch", "pitch_start", "pitch_end", "through", "long_way",
-    "m", "alpha", "beta", "a", "b", "frame",
-)  # fmt: skip
+    flag = "--" + parameter.name.replace("_", "-")
+    help_ = f"{parameter.mode}: {parameter.help}"
+    if parameter.kind == "bool":
+        off = "--" + parameter.off.replace("_", "-")
+        return click.option(f"{flag}/{off}", parameter.name, default=None, help=help_)
+    kinds = {
+        "number": FLOAT,
+        "branch": Branch(),
+        "pose": click.File("rb"),
+        "frame": click.Choice(FRAMES),
+    }
+    kind = kinds.get(parameter.kind) or Vector(parameter.size, parameter.components)
+    metavar = "POSEFILE" if parameter.kind == "pose" else None
+    return click.option(flag, parameter.name, type=kind, metavar=metavar, help=help_)
+
+
+#: Motion parameter options, in the order of the table of :mod:`a2b.parameters`.
+_MOTION_OPTIONS = [_motion_option(parameter) for parameter in TABLE]
+MOTION_PARAMETERS = tuple(BY_NAME)
 
 
 def motion_options(f):
@@ -289,14 +249,6 @@ json_option = click.option(
 )
 
 
-#: Parameters that choose the same thing; giving one on the command line drops the file's others.
-EXCLUSIVE = (
-    {"delta", "kappa", "lam", "branch", "pitch_start", "pitch_end", "through"},
-    {"alpha", "a"},
-    {"beta", "b"},
-)
-
-
 def merge_parameters(from_file: dict, from_command_line: dict, mode: str | None = None) -> dict:
     """The file's motion parameters, overridden by those given on the command line.
 
@@ -307,9 +259,7 @@ def merge_parameters(from_file: dict, from_command_line: dict, mode: str | None 
     """
     merged = dict(from_file)
     if mode is not None:
-        from ..api import PARAMETERS
-
-        merged = {k: v for k, v in merged.items() if k in PARAMETERS[mode]}
+        merged = {k: v for k, v in merged.items() if k in OF_MODE[mode]}
     given = {k: v for k, v in from_command_line.items() if v is not None}
     for group in EXCLUSIVE:
         if group & set(given):

@@ -249,7 +249,9 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
     rows = min(SAMPLE_BLOCK, max(256, BLAS_ONE_THREAD // max(width, 1)))
     samples = min(n, rows)
     group = max(1, rows // max(n, 1))  # jobs per block
-    den_rows = None if denominators is None else np.ascontiguousarray(np.swapaxes(denominators, 1, 2))
+    den_rows = (
+        None if denominators is None else np.ascontiguousarray(np.swapaxes(denominators, 1, 2))
+    )
     inverse = np.empty((group, m, samples))
     scaled = np.empty((group, m * k + constant, samples))
     if constant:
@@ -279,7 +281,9 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
                 total += float(np.add.reduce(inv, axis=None))
                 for j in range(m):
                     np.multiply(block, inv[:, j : j + 1], out=part[:, j * k : (j + 1) * k])
-            np.matmul(np.swapaxes(part, 1, 2), coefficients[first:last], out=out[first:last, start:stop])
+            np.matmul(
+                np.swapaxes(part, 1, 2), coefficients[first:last], out=out[first:last, start:stop]
+            )
     return bool(np.isfinite(total))
 
 

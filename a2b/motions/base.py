@@ -52,7 +52,7 @@ def check_table(table: np.ndarray, shape: tuple) -> None:
         lambda i: (
             "the motion's coefficients overflow float64 (a parameter or a translation is too "
             "large, largest finite entry "
-            f"{_largest_finite(table.reshape((-1,) + table.shape[len(shape):])[i]):.3g})"
+            f"{_largest_finite(table.reshape((-1,) + table.shape[len(shape) :])[i]):.3g})"
         ),
         shape,
     )
@@ -94,7 +94,9 @@ def path_minimum(ends: np.ndarray, lo: float, hi: float) -> tuple[np.ndarray, np
     diff = p_b - p_a
     dd = np.sum(diff * diff, axis=-1)
     flat = dd == 0.0
-    t_min = np.where(flat, 0.0, np.clip(-np.sum(p_a * diff, axis=-1) / np.where(flat, 1.0, dd), lo, hi))
+    t_min = np.where(
+        flat, 0.0, np.clip(-np.sum(p_a * diff, axis=-1) / np.where(flat, 1.0, dd), lo, hi)
+    )
     p_min = p_a + t_min[..., None] * diff
     scale = np.maximum(np.sum(p_a * p_a, axis=-1), np.sum(p_b * p_b, axis=-1))
     return t_min, np.sum(p_min * p_min, axis=-1) / scale

@@ -62,7 +62,9 @@ def _psi(m, coeffs, scalar, name: str, letter: str, shape: tuple) -> np.ndarray:
         return np.ones(shape)
     arr = np.asarray(coeffs, dtype=float)
     if arr.shape[-1:] != (6,):
-        raise ParameterError(f"{name} needs 6 numbers (coefficients of f0 … f5), got shape {arr.shape}")
+        raise ParameterError(
+            f"{name} needs 6 numbers (coefficients of f0 … f5), got shape {arr.shape}"
+        )
     if not np.all(np.isfinite(arr)):
         raise ParameterError(f"{name} contains NaN or infinity")
     flat_m = np.broadcast_to(m, shape + (4,)).reshape(-1, 4)
@@ -159,12 +161,16 @@ class CubicMotion(Motion):
         rot = np.stack(
             [rotation_numerators(pa_w), rotation_numerators(pa_w, pb_w), rotation_numerators(pb_w)]
         )  # coefficients first, as bern_mul and bern_elevate take them
-        delta = np.stack([np.sum(pa_w * pa_w, -1), np.sum(pa_w * pb_w, -1), np.sum(pb_w * pb_w, -1)])
+        delta = np.stack(
+            [np.sum(pa_w * pa_w, -1), np.sum(pa_w * pb_w, -1), np.sum(pb_w * pb_w, -1)]
+        )
         x0 = np.stack([self.psi_a, self.psi_b])
         t_a = np.asarray(frame.t_start)
         if frame_name == "given":
             t_b = np.asarray(frame.t_end)
-            trans = bern_elevate(np.stack([self.psi_a[..., None] * t_a, self.psi_b[..., None] * t_b]), 3)
+            trans = bern_elevate(
+                np.stack([self.psi_a[..., None] * t_a, self.psi_b[..., None] * t_b]), 3
+            )
             trans_den = bern_elevate(x0, 3)
         else:
             rho_a = np.zeros(r.shape)

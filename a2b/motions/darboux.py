@@ -21,6 +21,7 @@ import numpy as np
 from ..elements import refuse, value
 from ..errors import ParameterError
 from ..frames import ScrewFrame
+from ..parameters import SOLVERS
 from ..poses import check_matrices, quat_trans_from_matrices, rotations_from_quaternions
 from ..study import quat_conj, quat_mul, rotation_numerators, translation_numerators
 from ._rational import bernstein_basis, make_table
@@ -28,8 +29,6 @@ from .base import Motion, broadcast_parameter
 
 #: Relative tolerance for a third pose to count as a member of the cylinder group of A and B.
 CYLINDER_TOL = 1e-9
-
-SOLVERS = ("delta", "kappa", "lam", "pitch_start", "pitch_end", "through")
 
 
 def _wrap(angle):
@@ -224,7 +223,9 @@ class DarbouxMotion(Motion):
         self.long_way = np.broadcast_to(np.asarray(long_way, dtype=bool), shape).copy()
         phi, d = np.asarray(frame.phi), np.asarray(frame.d)
         turning = phi > 0
-        self.phi_eff = np.where(self.long_way, np.where(turning, phi - 2 * math.pi, -2 * math.pi), phi)
+        self.phi_eff = np.where(
+            self.long_way, np.where(turning, phi - 2 * math.pi, -2 * math.pi), phi
+        )
         phi_e = np.where(turning, self.phi_eff, 0.0)
         solved_from = next(iter(given), "delta")
         if solved_from == "through":

@@ -52,7 +52,9 @@ class ScrewMotion(Motion):
         )
         turning = (phi > 0.0)[..., None]
         with np.errstate(divide="ignore", invalid="ignore"):
-            half_cot = np.where(turning, 0.5 * np.cos(phi / 2)[..., None] / np.sin(phi / 2)[..., None], 0.0)
+            half_cot = np.where(
+                turning, 0.5 * np.cos(phi / 2)[..., None] / np.sin(phi / 2)[..., None], 0.0
+            )
         trans[..., 2, :] += np.where(turning, half_cot * t_perp - 0.5 * cross, 0.0)
         trans[..., 3, :] += np.where(turning, 0.5 * t_perp + half_cot * cross, 0.0)
         trans[..., 1, :] += np.where(turning, 0.0, t_perp)
