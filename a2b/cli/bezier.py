@@ -6,9 +6,6 @@ import click
 
 from . import CONTEXT_SETTINGS, options
 
-BASES = ("paper", "rref", "auto")
-
-
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=click.File("rb"))
 @options.space_option
@@ -24,16 +21,8 @@ BASES = ("paper", "rref", "auto")
     "matrix: fiber coordinates α of a control pose in the kernel basis; repeat once per "
     "control pose, in order."
 )
-@click.option(
-    "--basis",
-    type=click.Choice(BASES),
-    help="matrix: the kernel basis of --alpha (default paper, eq. 13).",
-)
-@click.option(
-    "--offsets",
-    type=options.NumberList(),
-    help="study: κ-fiber offsets s, one per control pose (h + s ε p).",
-)
+@options.basis_option("matrix: the kernel basis of --alpha", default=None)
+@options.offsets_option("study: κ-fiber offsets s, one per control pose (h + s εp).")
 @options.trajectory_options
 def command(poses, space, samples, verbose, **parameters):
     """Sample the Bézier motion of the control poses in POSES (a file, or - for stdin).

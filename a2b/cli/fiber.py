@@ -64,36 +64,24 @@ def render(result: dict) -> None:
     show_default=True,
     help="κ (extended dual-quaternion model, points of P^7) or μ_[m] (extended matrix model, points of R^13).",
 )
-@click.option(
-    "--s",
-    "s",
-    type=options.FLOAT,
-    multiple=True,
-    help="kappa: one fiber point h + s εp per --s  [default: -1, 0, 1]",
-)
+@options.offsets_option("kappa: one fiber point h + s εp per offset s  [default: -1,0,1]")
 @options.m_option("mu: the vector m of μ_[m] (required).")
 @options.alphas_option(
     "mu: one fiber point (1, R) + Σ α_l f_l per --alpha  [default: 0 and each unit vector]"
 )
-@click.option(
-    "--basis",
-    type=click.Choice(["auto", "paper", "rref"]),
-    default="auto",
-    show_default=True,
-    help="mu: kernel basis of M_m; auto is the paper's (eq. 13) unless it degenerates for m.",
-)
+@options.basis_option("mu: the kernel basis of M_m")
 @options.json_option
-def command(pose, kind, s, m, alphas, basis, as_json):
+def command(pose, kind, offsets, m, alphas, basis, as_json):
     """Points of the fiber of the pose in POSE (a file with one pose, or - for stdin).
 
     A fiber is every point of the extended model that maps to the same pose. Under κ it is
-    the line h + s εp (a2b uses the corrected form, see docs/math.md, correction 1); under μ_[m] it is the
-    6-dimensional family (1, R) + Σ α_l f_l of affine matrices (eq. 15). Each point is mapped
+    the line h + s εp (a2b uses the corrected form: docs/math.md, correction 1); under
+    μ_[m] it is the 6-dimensional family (1, R) + Σ α_l f_l of affine matrices (eq. 15). Each point is mapped
     back, and the largest deviation from the pose is shown.
 
     \b
     Example:
-      a2b fiber samples/pose.yaml --s 0 --s 0.5
+      a2b fiber samples/pose.yaml --offsets 0,0.5
       a2b fiber samples/pose.yaml --map mu --m 1,0,0,0.5 --alpha 0,0,0,0,0,1 --json
     """
     import json
@@ -104,17 +92,17 @@ def command(pose, kind, s, m, alphas, basis, as_json):
         raise click.UsageError("--map mu needs --m, e.g. --m 1,0,0,0.5")
     if kind == "kappa" and (m is not None or alphas):
         raise click.UsageError("--m and --alpha belong to --map mu")
-    if kind == "mu" and s:
-        raise click.UsageError("--s belongs to --map kappa")
-    if not s:
-        s = (-1.0, 0.0, 1.0)
+    if kind == "mu" and offsets:
+        raise click.UsageError("--offsets belongs to --map kappa")
+    if not offsets:
+        offsets = (-1.0, 0.0, 1.0)
     if not alphas:
         alphas = [tuple(0.0 for _ in range(6))] + [
             tuple(float(i == j) for i in range(6)) for j in range(6)
         ]
     from ..fibers import fiber
 
-    result = fiber(read_pose(pose), kind, s=s, m=m, alphas=alphas, basis=basis)
+    result = fiber(read_pose(pose), kind, s=offsets, m=m, alphas=alphas, basis=basis)
     options.check_finite(result, "fiber")
     if as_json:
         click.echo(json.dumps(result, indent=2, allow_nan=False))

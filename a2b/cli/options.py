@@ -110,6 +110,25 @@ def m_option(help_: str):
     return click.option("--m", "m", type=M_VECTOR, help=help_)
 
 
+#: The kernel bases of M_m (:func:`a2b.extended.kernel_basis`).
+BASES = ("auto", "paper", "rref")
+
+
+def basis_option(help_: str, default: str | None = "auto"):
+    """``--basis``: the kernel basis of M_m, ``auto`` (the paper's unless it degenerates)."""
+    return click.option(
+        "--basis",
+        type=click.Choice(BASES),
+        default=default,
+        help=f"{help_}; auto is the paper's (eq. 13) unless it degenerates for m  [default: auto]",
+    )
+
+
+def offsets_option(help_: str):
+    """``--offsets``: κ-fiber offsets s (points h + s εp), comma-separated."""
+    return click.option("--offsets", type=NumberList(), help=help_)
+
+
 def alphas_option(help_: str):
     """``--alpha`` given once per point (collected as ``alphas``): fiber coordinates α."""
     return click.option("--alpha", "alphas", type=ALPHA_VECTOR, multiple=True, help=help_)

@@ -53,9 +53,16 @@ class PointList(click.ParamType):
 @click.option(
     "-o",
     "--output",
-    required=True,
-    type=click.Path(dir_okay=False),
-    help="The image to write: .png, .svg or .pdf. Written to a temporary file and renamed into place.",
+    type=click.Path(allow_dash=True, dir_okay=False),
+    default="-",
+    show_default=True,
+    help="The image to write: .png, .svg or .pdf, written to a temporary file and renamed into "
+    "place; '-' writes PNG (or --image-format) to standard output, which must not be a terminal.",
+)
+@click.option(
+    "--image-format",
+    type=click.Choice(["png", "svg", "pdf"]),
+    help="The image format  [default: from the -o suffix, else png]",
 )
 @options.motion_options
 @options.space_option
@@ -94,14 +101,14 @@ class PointList(click.ParamType):
 @click.option(
     "--samples",
     type=click.IntRange(min=2, max=PLOT_MAX_SAMPLES),
-    default=61,
-    show_default=True,
     help="Samples per motion, t evenly spaced in [0, 1] (a figure shows no more than "
-    f"{PLOT_MAX_SAMPLES}).",
+    f"{PLOT_MAX_SAMPLES})  [default: the file's samples, else 101]",
 )
+@options.verbose_option
 def command(
     poses,
     output,
+    image_format,
     mode,
     space,
     compare,
@@ -111,6 +118,7 @@ def command(
     angle_unit,
     length_unit,
     samples,
+    verbose,
     **parameters,
 ):
     """Draw the motion between the start and end pose in POSES (a file, or - for stdin),
@@ -142,10 +150,24 @@ def command(
     from ..io.readers import PoseList, read_motion_file
     from ..plot import figure_format, plot_motions, write_figure
 
-    fmt = figure_format(output)
+    import sys
+
+    choices: list[str] = []
+    if image_format:
+        fmt = image_format
+    elif output == "-":
+        fmt = "png"
+        choices.append("image format png: the default for standard output (--image-format)")
+    else:
+        fmt = figure_format(output)
+    if output == "-" and sys.stdout.isatty():
+        raise click.UsageError(
+            "an image is binary: write it with -o FILE or into a pipe, not to a terminal"
+        )
     if compare and mode:
         raise click.UsageError("give --mode or --compare, not both")
     job = read_motion_file(poses)
+    samples = options.pick("samples", samples, job.samples, 101, choices, "--samples")
     style = {
         "points": points,
         "angle_unit": angle_unit,
@@ -156,7 +178,8 @@ def command(
         options.only_for_two_poses(
             job, mode=mode, compare=compare, family=family, family_of=family_of, **parameters
         )
-        motion = options.curve_motion(job, space, [])
+        motion = options.curve_motion(job, space, choices)
+        options.state_choices(choices + list(motion.choices), verbose)
         prefix = "C" if job.key == "controls" else "P"
         inner = [(f"{prefix}{i}", pose) for i, pose in enumerate(job.poses)][1:-1]
         figure = plot_motions(job.poses[0], job.poses[-1], motion, marks=inner, **style)
@@ -180,7 +203,9 @@ def command(
             (m, {k: v for k, v in parameters.items() if k in PARAMETERS[m]}) for m in compare
         ]
     else:
-        motions = [(mode or job.mode or "darboux", parameters)]
+        picked = options.pick("mode", mode, job.mode, "darboux", choices, "--mode")
+        motions = [(picked, parameters)]
+    options.state_choices(choices, verbose)
     figure = plot_motions(job.start, job.end, motions, family=family_of or family, **style)
     with atomic_output(output) as stream:
         write_figure(figure, stream, fmt)

@@ -547,7 +547,7 @@ def bezier_motion(
     m=None,
     weights=None,
     alphas=None,
-    basis: str = "paper",
+    basis: str = "auto",
     offsets=None,
 ) -> BezierMotion:
     """The Bézier motion of control poses, as an object to sample (see :func:`bezier`)."""
@@ -590,9 +590,9 @@ def bezier_motion(
         }
         first = quats[0]
     else:
-        if m is not None or alphas is not None or basis != "paper":
+        if m is not None or alphas is not None or basis != "auto":
             given = [n for n, v in (("m", m), ("alphas", alphas)) if v is not None]
-            given += ["basis"] if basis != "paper" else []
+            given += ["basis"] if basis != "auto" else []
             raise ParameterError(
                 f"space study does not take {', '.join(given)} (they belong to space matrix)"
             )
@@ -639,8 +639,9 @@ def bezier(control_poses, ts, space: str = "matrix", **parameters) -> np.ndarray
 
         matrix space: ``m`` (4 numbers, default :func:`default_m`: the sum of the control
         quaternions with consistent signs); ``alphas``: ``(k, 6)`` fiber coefficients, one
-        row per control pose, in the kernel basis ``basis`` (``"paper"``, eq. 13, as in the
-        cubic mode; or ``"rref"``, ``"auto"``, see :func:`a2b.extended.kernel_basis`).
+        row per control pose, in the kernel basis ``basis`` (``"auto"``, the default: the paper's
+        eq. 13, as in the cubic mode, unless it degenerates for m; or ``"paper"``, ``"rref"``,
+        see :func:`a2b.extended.kernel_basis`).
 
         study space: ``offsets``: ``(k,)`` κ-fiber offsets ``s_i`` (control ``h_i + s_i ε p_i``).
 
