@@ -17,6 +17,11 @@ repeats interleaved, so that a busy machine slows both sides alike; figures are 
     screw, against pytransform3d's ScLERP path, its slerp + lerp path, scipy's ``Slerp`` + lerp,
     rational-linkages (one sample at a time) and the plain-NumPy coefficient reference (the
     Study-vector line as one ``[1, t, t²] @ C`` product and a division).
+``motions``
+    The vectorised core: J = 10^5 random pose pairs built in one ``a2b.motion`` call per mode
+    (motions/s), against a Python loop of single motions and against pytransform3d's batch
+    ScLERP on the same pairs (both sides: build and one sample at t = 1/2); and J = 10^4
+    motions × 101 samples into ``(J, 101, 4, 4)`` against one motion of 10^6 samples.
 ``csv``
     ``a2b interpolate --samples N -o out.csv`` as a whole process, against a separate process
     running ``numpy.savetxt(fmt="%.17g")`` on the same eight columns; the CSV is read back and
@@ -64,7 +69,7 @@ import numpy as np
 import a2b
 from a2b.poses import matrices_from_quat_trans, study_from_matrices
 
-SECTIONS = ("library", "csv", "mcap", "startup", "batch")
+SECTIONS = ("library", "motions", "csv", "mcap", "startup", "batch")
 A2B_MODES = [
     ("darboux", "darboux", {}),
     ("cubic (canonical)", "cubic", {}),
@@ -540,6 +545,118 @@ def library_section(n: int, repeats: int, rl_samples: int) -> list[Row]:
     return rows
 
 
+def random_pairs(count: int, seed: int = 7) -> tuple[np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(seed)
+    starts = matrices_from_quat_trans(rng.normal(size=(count, 4)), rng.normal(size=(count, 3)))
+    ends = matrices_from_quat_trans(rng.normal(size=(count, 4)), rng.normal(size=(count, 3)))
+    return starts, ends
+
+
+def motions_section(jobs: int, n: int, repeats: int) -> list[Row]:
+    """Many motions at once: building J pairs in one call, and sampling J × 101."""
+    import warnings
+
+    warnings.simplefilter("ignore")  # a random batch has a few sensitive motions; not timed
+    starts, ends = random_pairs(jobs)
+    loop = min(jobs, 2000)
+    half = np.array([0.5])
+    cases = {}
+    for mode in ("darboux", "cubic", "screw"):
+        cases[f"build {mode}"] = lambda m=mode: a2b.motion(starts, ends, m).matrices(half)
+    cases["loop of single darboux motions"] = lambda: [
+        a2b.motion(starts[i], ends[i], "darboux").matrices(half) for i in range(loop)
+    ]
+    try:
+        from pytransform3d.trajectories import (
+            dual_quaternions_from_transforms,
+            dual_quaternions_sclerp,
+            transforms_from_dual_quaternions,
+        )
+    except ImportError:
+        pt3d = None
+    else:
+
+        def pt3d():
+            a = dual_quaternions_from_transforms(starts)
+            b = dual_quaternions_from_transforms(ends)
+            b[np.sum(a[:, :4] * b[:, :4], axis=1) < 0] *= -1
+            return transforms_from_dual_quaternions(
+                dual_quaternions_sclerp(a, b, np.full(jobs, 0.5))
+            )
+
+        cases["pytransform3d batch ScLERP"] = pt3d
+    sample_jobs = jobs // 10
+    batch = a2b.motion(starts[:sample_jobs], ends[:sample_jobs], "darboux")
+    single = a2b.motion(starts[0], ends[0], "darboux")
+    ts101 = np.linspace(0.0, 1.0, 101)
+    ts_n = np.linspace(0.0, 1.0, n)
+    cases["sample J × 101"] = lambda: batch.matrices(ts101)
+    cases["sample one motion × N"] = lambda: single.matrices(ts_n)
+    log(f"motions: J = {jobs} pairs, {repeats} interleaved repeats of {len(cases)} cases")
+    for f in cases.values():
+        f()
+    medians = interleaved(cases, repeats)
+    rows = []
+    for mode in ("darboux", "cubic", "screw"):
+        seconds = medians[f"build {mode}"]
+        rows.append(
+            Row(
+                "motions",
+                f"a2b.motion of {jobs} pairs, {mode}, one call (+ one sample each)",
+                rate(jobs, seconds),
+                "",
+                "≥ 1 M motions/s",
+                jobs / seconds >= 1e6,
+            )
+        )
+    per_single = medians["loop of single darboux motions"] / loop
+    rows.append(
+        Row("motions", "Python loop of single darboux motions", f"{per_single * 1e6:.0f} µs each")
+    )
+    rows.append(
+        Row(
+            "motions",
+            "darboux batch vs the loop of single motions",
+            "",
+            f"{per_single * jobs / medians['build darboux']:.0f}×",
+        )
+    )
+    if pt3d is not None:
+        ratio = medians["pytransform3d batch ScLERP"] / medians["build screw"]
+        rows.append(
+            Row(
+                "motions",
+                f"pytransform3d batch ScLERP of {jobs} pairs at t = 1/2",
+                rate(jobs, medians["pytransform3d batch ScLERP"]),
+            )
+        )
+        rows.append(
+            Row("motions", "a2b screw batch vs pytransform3d batch ScLERP", "", f"{ratio:.1f}×")
+        )
+    else:
+        rows.append(Row("motions", "pytransform3d batch ScLERP", "not installed"))
+    batch_rate = sample_jobs * 101 / medians["sample J × 101"]
+    single_rate = n / medians["sample one motion × N"]
+    rows.append(
+        Row(
+            "motions",
+            f"sample {sample_jobs} darboux motions × 101 to (J, 101, 4, 4)",
+            rate(sample_jobs * 101, medians["sample J × 101"]),
+        )
+    )
+    rows.append(
+        Row(
+            "motions",
+            f"J × 101 samples/s vs one motion × {n}",
+            "",
+            f"{batch_rate / single_rate:.2f}",
+            "≥ 0.8",
+            batch_rate / single_rate >= 0.8,
+        )
+    )
+    return rows
+
+
 def csv_section(n: int, repeats: int, work: Path, exe: list[str]) -> tuple[list[Row], float | None]:
     start, end = test_poses()
     poses = work / "poses.json"
@@ -845,6 +962,9 @@ def main(argv: list[str] | None = None) -> int:
                 with limit:
                     rl_samples = 50 if args.quick else 300
                     rows += library_section(args.samples, args.repeats, rl_samples)
+                continue
+            if section == "motions":
+                rows += motions_section(10 * args.jobs, args.samples, args.repeats)
                 continue
             if exe is None:
                 rows.append(Row(section, "the a2b command is not installed", "not measured"))

@@ -125,9 +125,10 @@ def make_table(rot, rot_den, trans, trans_den) -> np.ndarray:
     rot_den = np.asarray(rot_den, dtype=float)
     trans_den = np.asarray(trans_den, dtype=float)
     shape = np.broadcast_shapes(rot.shape[:-1], trans.shape[:-1], rot_den.shape, trans_den.shape)
-    table = np.zeros(shape + (14,))
-    table[..., ROT_COLS] = rot
-    table[..., TRANS_COLS] = trans
+    table = np.empty(shape + (14,))
+    for row in range(3):  # columns of row r of [R | t]: 4r … 4r + 2, then 4r + 3 (slices: fast)
+        table[..., 4 * row : 4 * row + 3] = rot[..., 3 * row : 3 * row + 3]
+        table[..., 4 * row + 3] = trans[..., row]
     table[..., 12] = rot_den
     table[..., 13] = trans_den
     return table

@@ -223,15 +223,28 @@ class CubicMotion(Motion):
         known to about ``ε / sin(φ/2)``, so the poses move by about
         ``ε / sin(φ/2) · max |f − g|`` of the motion's size. (With the defaults f = g.)
         """
-        w_a, w_b = self.weights[..., 0, None], self.weights[..., 1, None]
-        psi_a, psi_b = np.asarray(self.psi_a)[..., None], np.asarray(self.psi_b)[..., None]
-        ts = np.linspace(0.0, 1.0, 101)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            f = ts * w_b / ((1 - ts) * w_a + ts * w_b)
-            g = ts * psi_b / ((1 - ts) * psi_a + ts * psi_b)
-            diff = np.abs(f - g)
-            spread = np.max(np.where(np.isfinite(diff), diff, 0.0), axis=-1, initial=0.0)
-            estimate = np.where(s == 0.0, 0.0, EPS / np.where(s == 0.0, 1.0, s) * spread)
+        # Only where ε / sin(φ/2) is large, or where a weight changes sign (f unbounded), can
+        # the estimate pass the threshold: the spread of two maps of [0, 1] onto [0, 1] is ≤ 1.
+        w_a, w_b = self.weights[..., 0], self.weights[..., 1]
+        with np.errstate(divide="ignore"):
+            candidates = (EPS / s > SENSITIVITY_WARNING) | (w_a * w_b <= 0)
+        estimate = np.zeros(self.shape)
+        if np.any(candidates):
+            pick = (lambda x: x) if not self.shape else (lambda x: np.asarray(x)[candidates])
+            w_a, w_b, s_c = pick(w_a)[..., None], pick(w_b)[..., None], pick(s)
+            psi_a = pick(self.psi_a)[..., None]
+            psi_b = pick(self.psi_b)[..., None]
+            ts = np.linspace(0.0, 1.0, 101)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                f = ts * w_b / ((1 - ts) * w_a + ts * w_b)
+                g = ts * psi_b / ((1 - ts) * psi_a + ts * psi_b)
+                diff = np.abs(f - g)
+                spread = np.max(np.where(np.isfinite(diff), diff, 0.0), axis=-1, initial=0.0)
+                found = np.where(s_c == 0.0, 0.0, EPS / np.where(s_c == 0.0, 1.0, s_c) * spread)
+            if self.shape:
+                estimate[candidates] = found
+            else:
+                estimate = found
         self._warn(
             estimate > SENSITIVITY_WARNING,
             lambda i: (
