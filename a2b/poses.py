@@ -81,6 +81,21 @@ def determinants(r: np.ndarray) -> np.ndarray:
     return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
 
 
+def valid_matrices(matrices: np.ndarray, tol: float = ORTHO_TOL) -> np.ndarray:
+    """Which robotics matrices ``(..., 4, 4)`` :func:`check_matrices` accepts, as a mask.
+
+    The same tests as :func:`check_matrices`, element by element, for readers that check
+    many poses at once and read only the failing ones again, for their message.
+    """
+    m = np.asarray(matrices, dtype=float)
+    with np.errstate(all="ignore"):
+        ok = np.isfinite(m).all(axis=(-2, -1)) & (m[..., 3, :] == [0.0, 0.0, 0.0, 1.0]).all(axis=-1)
+        rot = m[..., :3, :3]
+        ortho = np.abs(_gram(rot) - np.eye(3)).max(axis=(-2, -1))
+        det = determinants(rot)
+        return ok & (ortho <= tol) & (det >= 0) & (np.abs(det - 1.0) <= tol)
+
+
 def check_matrices(
     matrices: np.ndarray, *, layout: str = "robotics", tol: float = ORTHO_TOL
 ) -> np.ndarray:

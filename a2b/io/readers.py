@@ -1285,8 +1285,7 @@ def _exact_job(where: tuple) -> Job:
 
 def _poses(scanned: Scanned) -> tuple[np.ndarray, np.ndarray]:
     """The matrices of every slot, quaternion slots first, and which of them are valid."""
-    from ..motions.batched import valid_poses
-    from ..poses import rotations_from_quaternions
+    from ..poses import rotations_from_quaternions, valid_matrices
 
     q, m = _numbers_of(scanned.q, 7), _numbers_of(scanned.m, 16)
     q_ok, m_ok = q[1], m[1]
@@ -1300,7 +1299,7 @@ def _poses(scanned: Scanned) -> tuple[np.ndarray, np.ndarray]:
         mats[: len(q), :3, 3] = q[:, 4:]
         mats[: len(q), 3, 3] = 1.0
         mats[len(q) :] = m
-        m_ok &= valid_poses(m)
+        m_ok &= valid_matrices(m)
     return mats, np.concatenate([q_ok, m_ok])
 
 
