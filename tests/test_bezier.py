@@ -460,10 +460,14 @@ def test_parameter_errors(rng):
         bezier(controls * np.array([1.1, 1, 1, 1])[:, None], TS)
     with pytest.raises(ParameterError, match="ts contains NaN"):
         bezier(controls, [0.0, np.nan])
-    # m = (1, 0, 0, 0) degenerates the paper's basis (erratum 5): fiber coefficients need rref
+    # m = (1, 0, 0, 0) degenerates the paper's basis (docs/math.md, correction 5): fiber
+    # coefficients need rref, which the default basis, auto, takes
     with pytest.raises(ParameterError, match="degenerates"):
-        bezier(controls, TS, m=[1.0, 0.0, 0.0, 0.0], alphas=np.zeros((3, 6)))
-    bezier(controls, TS, m=[1.0, 0.0, 0.0, 0.0], alphas=np.zeros((3, 6)), basis="rref")
+        bezier(controls, TS, m=[1.0, 0.0, 0.0, 0.0], alphas=np.zeros((3, 6)), basis="paper")
+    np.testing.assert_array_equal(
+        bezier(controls, TS, m=[1.0, 0.0, 0.0, 0.0], alphas=np.zeros((3, 6))),
+        bezier(controls, TS, m=[1.0, 0.0, 0.0, 0.0], alphas=np.zeros((3, 6)), basis="rref"),
+    )
 
 
 def test_default_m_of_cancelling_rotations_is_an_error():

@@ -435,7 +435,7 @@ def pose_file(tmp_path, rng):
 
 def test_fiber_kappa_json(pose_file):
     path, _ = pose_file
-    result = run("fiber", path, "--s", 0, "--s", 0.5, "--s", -2, "--json")
+    result = run("fiber", path, "--offsets", "0,0.5,-2", "--json")
     assert result.exit_code == 0
     got = json.loads(result.output)
     assert got["map"] == "kappa"
@@ -489,7 +489,7 @@ def test_fiber_usage_errors(pose_file):
     path, _ = pose_file
     assert run("fiber", path, "--map", "mu").exit_code == 2
     assert run("fiber", path, "--alpha", "0,0,0,0,0,0").exit_code == 2
-    assert run("fiber", path, "--map", "mu", "--m", "1,0,0,0", "--s", "1").exit_code == 2
+    assert run("fiber", path, "--map", "mu", "--m", "1,0,0,0", "--offsets", "1").exit_code == 2
 
 
 # -- batch ------------------------------------------------------------------------------------
@@ -548,20 +548,22 @@ def test_batch_more_jobs_than_one_chunk(tmp_path, rng, suffix):
 
 
 def test_batch_streams_in_bounded_chunks(rng):
-    from a2b.cli.batch import batch_chunks
-    from a2b.io.readers import Job
+    from a2b.io.readers import Job, JobBlock
+    from a2b.jobs import sample
 
     consumed = []
 
-    def jobs():
-        for i in range(10):
+    def blocks():
+        for i in range(3):
             consumed.append(i)
-            yield Job(random_pose(rng), random_pose(rng), samples=3)
+            jobs = [Job(random_pose(rng), random_pose(rng), samples=3) for _ in range(4)]
+            yield JobBlock.from_jobs(jobs)
 
-    chunks = batch_chunks(jobs(), "darboux", 101, "quat_trans", chunk_size=4)
-    first = next(chunks)
-    assert len(consumed) == 4 and len(first.t) == 12
-    assert [len(c.t) for c in chunks] == [12, 6]
+    pieces = sample(blocks())
+    first = next(pieces)
+    assert consumed == [0] and len(first.t) == 12
+    assert [len(p.t) for p in pieces] == [12, 12]
+    assert consumed == [0, 1, 2]
 
 
 def test_batch_error_names_the_job_and_leaves_no_file(tmp_path, rng):
@@ -731,7 +733,7 @@ def test_fiber_states_the_kernel_basis_it_chose(pose_file):
     ],
 )
 def test_evenly_spaced_chunks_are_linspace_bit_for_bit(n, size):
-    from a2b.cli.options import evenly_spaced
+    from a2b.motions.base import evenly_spaced
 
     chunks = list(evenly_spaced(n, size))
     assert all(len(c) <= size for c in chunks)
@@ -748,17 +750,16 @@ def test_streamed_output_equals_one_block(poses, tmp_path, monkeypatch):
     assert run("interpolate", path, "--samples", 50, "--format", "matrix").output == whole
 
 
-def test_batch_splits_a_large_job_into_bounded_chunks(rng, monkeypatch):
-    from a2b.cli.batch import batch_chunks
-    from a2b.io import writers
-    from a2b.io.readers import Job
+def test_batch_splits_a_large_job_into_bounded_chunks(rng):
+    from a2b.io.readers import Job, JobBlock
+    from a2b.jobs import sample
 
-    monkeypatch.setattr(writers, "CHUNK_SAMPLES", 10)
     jobs = [Job(random_pose(rng), random_pose(rng), samples=n) for n in (3, 25, 4)]
-    chunks = list(batch_chunks(jobs, "darboux", 101, "quat_trans", chunk_size=256))
-    assert [len(c.t) for c in chunks] == [13, 10, 9]
-    assert [name for c in chunks for name in c.job] == ["0"] * 3 + ["1"] * 25 + ["2"] * 4
-    t = np.concatenate([c.t for c in chunks])
+    pieces = list(sample([JobBlock.from_jobs(jobs)], rows=10))
+    assert [len(p.t) for p in pieces] == [3, 10, 10, 5, 4]
+    names = [name for p in pieces for name, count in zip(p.names, p.counts) for _ in range(count)]
+    assert names == ["0"] * 3 + ["1"] * 25 + ["2"] * 4
+    t = np.concatenate([p.t for p in pieces])
     assert np.array_equal(t[3:28], np.linspace(0, 1, 25))
 
 

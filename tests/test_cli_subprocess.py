@@ -261,28 +261,3 @@ def test_batch_reports_a_bad_job_at_once_while_its_input_stays_open(tmp_path, ba
         if proc.poll() is None:
             proc.kill()
             proc.wait()
-
-
-def test_the_scanning_helper_ends_with_a_killed_main_process(tmp_path):
-    proc = subprocess.Popen(
-        a2b_cmd("batch", "-", "-o", tmp_path / "k.csv"),
-        stdin=subprocess.PIPE,
-        stderr=subprocess.DEVNULL,
-    )
-    try:
-        proc.stdin.write("".join(_job_line(i) for i in range(10)).encode())
-        proc.stdin.flush()
-        deadline = time.monotonic() + 10
-        helpers = []
-        while not helpers and time.monotonic() < deadline:
-            time.sleep(0.05)
-            helpers = _children(proc.pid)
-        assert helpers, "no helper process scanning the jobs"
-        proc.kill()
-        proc.wait()
-        deadline = time.monotonic() + 5
-        while any(_alive(pid) for pid in helpers) and time.monotonic() < deadline:
-            time.sleep(0.05)
-        assert not any(_alive(pid) for pid in helpers)
-    finally:
-        proc.stdin.close()

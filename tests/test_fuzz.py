@@ -700,9 +700,9 @@ def bad_options(draw):
             value = draw(NOT_A_NUMBER)
         return command, [option, str(value)], GOOD_POSES
     if command == "fiber":
-        option = draw(st.sampled_from(["--s", "--map", "--basis", "--m"]))
-        if option == "--s":
-            args = ["--s", draw(NOT_A_NUMBER)]
+        option = draw(st.sampled_from(["--offsets", "--map", "--basis", "--m"]))
+        if option == "--offsets":
+            args = ["--offsets", draw(NOT_A_NUMBER)]
         elif option == "--m":
             args = [
                 "--map",

@@ -1,30 +1,23 @@
-"""JSON Lines jobs scanned without numpy, here or in a helper process that reads ahead.
+"""JSON Lines jobs scanned line by line, the common forms of a job checked fast.
 
-``a2b batch`` spends its first tenth of a second importing numpy and the core while the
-second processor idles, and then reads its jobs between formatting rows. This module, which
-imports nothing heavier than :mod:`json` until it meets a line of an unusual form, parses
-each line of a JSON Lines jobs file and checks the common forms of a job
-(:meth:`Scanned.add_fast`), so :func:`scan_ahead` can do it in a forked helper process that
-starts before those imports and keeps blocks ready ahead of the main process. An unusual line
-is read the exact way where it is scanned, which also words its error; the main process
-checks the numbers of each block in bulk (:func:`a2b.io.readers.finish_block`): the jobs, the
-errors and their order are those of reading the file line by line, whichever process scans
-it.
+Each line of a JSON Lines jobs file is parsed by the C scanner of :mod:`json` and checked for
+the common forms of a job (:meth:`Scanned.add_fast`); a line of any unusual form is read the
+exact way by the caller's reader, which also words its error. The numbers of each block are
+checked in bulk afterwards (:func:`a2b.io.readers.finish_block`): the jobs, the errors and
+their order are those of reading the file line by line with the exact reader.
 """
 
 from __future__ import annotations
 
 import json
 import math
-import os
-import struct
-import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import IO
 
 from ..errors import InputFileError
 from ..names import FRAMES, MAX_SAMPLES, MIN_SAMPLES, MODES
+from ..parameters import TABLE
 
 __all__ = [
     "JOB_KEYS",
@@ -32,12 +25,10 @@ __all__ = [
     "PARAMETER_KINDS",
     "POSES_KEYS",
     "Scanned",
-    "Scanning",
     "Sniffed",
     "decode",
     "kind_from_suffix",
     "lines",
-    "scan_ahead",
     "scan_blocks",
     "sniff",
     "stream_name",
@@ -45,23 +36,9 @@ __all__ = [
 
 POSES_KEYS = ("start", "end", "mode", "samples", "parameters")
 JOB_KEYS = POSES_KEYS + ("name",)
-#: Parameter name -> kind; the names are those of :func:`a2b.motion`.
-PARAMETER_KINDS = {
-    "delta": "number",
-    "kappa": "number",
-    "lam": "number",
-    "branch": "branch",
-    "pitch_start": "number",
-    "pitch_end": "number",
-    "through": "pose",
-    "long_way": "bool",
-    "m": 4,
-    "alpha": 6,
-    "beta": 6,
-    "a": "number",
-    "b": "number",
-    "frame": "frame",
-}
+#: Parameter name -> kind (``number``, ``branch``, ``pose``, ``bool``, ``frame``, or the count
+#: of numbers of a vector), from the table of :mod:`a2b.parameters`.
+PARAMETER_KINDS = {p.name: p.size if p.kind == "vector" else p.kind for p in TABLE}
 
 
 def stream_name(stream: IO, name: str | None) -> str:
@@ -367,10 +344,13 @@ class Scanned:
         self.records.append((None, None, job.mode, job.samples, job.parameters, job.name, where))
 
 
-def scan_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[Scanned]:
+def scan_blocks(
+    lines: Iterator[str], name: str, size: int, exact: Callable[[str, str, int, int], object]
+) -> Iterator[Scanned]:
     """The jobs of JSON Lines scanned in blocks of ``size``: each line parsed by the plain C
     scanner and checked by :meth:`Scanned.add_fast`, or, if anything about it is unusual, read
-    the exact way (:func:`a2b.io.readers.json_line_job`, which makes every error message). An
+    the exact way by ``exact(line, name, number, index)`` (the readers'
+    :func:`a2b.io.readers.json_line_job`, which makes every error message). An
     error of a line (no UTF-8, or found by the exact reading) or of the stream is raised after
     the block of the jobs before it; what needs numpy to check (a matrix that is no rotation)
     is checked later, in bulk (:func:`a2b.io.readers.finish_block`).
@@ -403,7 +383,7 @@ def scan_blocks(lines: Iterator[str], name: str, size: int) -> Iterator[Scanned]
             )
         if not fast:
             try:
-                job = _exact_job(line, name, number, index)
+                job = exact(line, name, number, index)
             except InputFileError:
                 if records:
                     yield scanned
@@ -432,14 +412,6 @@ def _writable(name: str) -> bool:
     return True
 
 
-def _exact_job(line: str, name: str, number: int, index: int):
-    """A line read the exact way, which also words its error: this imports numpy and the core,
-    so a helper process does so only when it meets a line of an unusual form."""
-    from .readers import json_line_job
-
-    return json_line_job(line, name, number, index)
-
-
 def _guarded(lines: Iterator[str]) -> Iterator:
     """The lines, and in place of the rest the error that reading raised (an
     :class:`InputFileError` for bytes that are no UTF-8, an :class:`OSError` of the stream)."""
@@ -447,197 +419,3 @@ def _guarded(lines: Iterator[str]) -> Iterator:
         yield from lines
     except Exception as e:  # noqa: BLE001 - raised in turn, after the jobs before it
         yield e
-
-
-# --------------------------------------------------------------------------------------------
-# Scanning ahead in a helper process
-
-#: Scanned blocks the helper may hold ready, and the bytes each slot of shared memory holds.
-SLOTS, SLOT_BYTES = 16, 1 << 20
-_HEADER = struct.Struct("<qq")  # (slot, or one of the kinds below; length)
-_INLINE, _ERROR, _END = -1, -2, -3
-
-
-def scan_ahead(stream: IO, sniffed: Sniffed, size: int) -> Scanning | None:
-    """:func:`scan_blocks` of the rest of ``stream`` in a forked helper process, or ``None``
-    where that cannot be (not Linux, threads running, as in :mod:`a2b.io.parallel`, or no
-    process or memory to be had): then scan here.
-
-    The helper starts at once and scans up to :data:`SLOTS` blocks ahead of the caller, who
-    takes them from the returned :class:`Scanning`. Blocks come back through shared memory,
-    one slot each (pickled; one too large for a slot comes through the pipe), and a slot is
-    handed back to the helper once its block is unpickled. The caller must not read
-    ``stream`` again. :meth:`Scanning.close` ends the helper (so does dropping the object,
-    and the kernel does when the calling process ends).
-    """
-    import threading
-
-    if not sys.platform.startswith("linux") or threading.active_count() != 1:
-        return None
-    import mmap
-
-    opened: list[int] = []
-    shared = None
-    try:
-        shared = mmap.mmap(-1, SLOTS * SLOT_BYTES)  # anonymous, shared with the child
-        blocks_read, blocks_write = os.pipe()  # helper -> caller: headers (and large blocks)
-        opened += [blocks_read, blocks_write]
-        free_read, free_write = os.pipe()  # caller -> helper: slots to fill
-        opened += [free_read, free_write]
-        os.write(free_write, bytes(range(SLOTS)))  # SLOTS <= 256: a slot is one byte
-        parent = os.getpid()
-        pid = os.fork()
-    except OSError:  # no memory, no pipes or no process to be had: scan here instead
-        for fd in opened:
-            os.close(fd)
-        if shared is not None:
-            shared.close()
-        return None
-    if pid == 0:  # pragma: no cover - the child; what it sends is tested
-        _child(
-            stream, sniffed, size, shared, blocks_write, free_read, parent, blocks_read, free_write
-        )
-    os.close(blocks_write)
-    os.close(free_read)
-    return Scanning(shared, blocks_read, free_write, pid)
-
-
-def _child(stream, sniffed, size, shared, out, free, parent, *theirs) -> None:  # pragma: no cover
-    """The helper's life, fenced: whatever happens, it ends here and never returns into the
-    caller's code (which would then run twice)."""
-    import signal
-
-    try:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the main process's
-        for fd in theirs:
-            os.close(fd)
-        _end_with(parent)
-        _serve(stream, sniffed, size, shared, out, free)
-    finally:
-        os._exit(0)
-
-
-def _end_with(parent: int) -> None:  # pragma: no cover - runs in the child
-    """Have the kernel kill this helper when the main process ends, however it ends, so that
-    it never goes on reading a terminal or a pipe for nobody (``PR_SET_PDEATHSIG``)."""
-    try:
-        import ctypes
-
-        ctypes.CDLL(None, use_errno=True).prctl(1, 9, 0, 0, 0)  # PR_SET_PDEATHSIG, SIGKILL
-    except Exception:  # noqa: BLE001 - no ctypes or no prctl: the caller's closing ends it
-        return
-    if os.getppid() != parent:  # the main process ended before the request was made
-        os._exit(0)
-
-
-def _serve(stream, sniffed: Sniffed, size: int, shared, out: int, free: int) -> None:
-    """Scan, and hand each block over, until the end of the input, an error (handed over
-    too) or the caller's going away. Stdout is not the helper's to hold."""
-    import pickle
-
-    try:
-        null = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(null, 1)  # a reader of a2b's output sees its end when the main process ends
-        os.close(null)
-        try:
-            for block in scan_blocks(
-                lines(stream, sniffed.name, sniffed.first), sniffed.name, size
-            ):
-                data = pickle.dumps(block, protocol=pickle.HIGHEST_PROTOCOL)
-                if len(data) > SLOT_BYTES:
-                    _send(out, _HEADER.pack(_INLINE, len(data)) + data)
-                    continue
-                slot = os.read(free, 1)
-                if not slot:
-                    return  # the caller is gone
-                start = slot[0] * SLOT_BYTES
-                shared[start : start + len(data)] = data
-                _send(out, _HEADER.pack(slot[0], len(data)))
-        except Exception as e:  # noqa: BLE001 - the caller raises it, after the blocks before
-            try:
-                data = pickle.dumps(e, protocol=pickle.HIGHEST_PROTOCOL)
-                pickle.loads(data)  # and it must come back out
-            except Exception:  # noqa: BLE001 - an exception that does not pickle
-                data = pickle.dumps(RuntimeError(f"{type(e).__name__}: {e}"))
-            _send(out, _HEADER.pack(_ERROR, len(data)) + data)
-        else:
-            _send(out, _HEADER.pack(_END, 0))
-    except OSError:  # the caller went away: nothing to tell
-        pass
-
-
-def _send(fd: int, data: bytes) -> None:
-    view = memoryview(data)
-    while view:
-        view = view[os.write(fd, view) :]
-
-
-def _read_exactly(fd: int, n: int) -> bytes:
-    parts, left = [], n
-    while left:
-        part = os.read(fd, left)
-        if not part:
-            raise RuntimeError("the process scanning the jobs ended unexpectedly")
-        parts.append(part)
-        left -= len(part)
-    return b"".join(parts)
-
-
-class Scanning:
-    """The blocks a helper process scans (:func:`scan_ahead`), in order; an error of the
-    input is raised after the blocks before it. :meth:`close` (or dropping the object) ends
-    the helper and frees its pipes and memory, whether or not any block was taken."""
-
-    def __init__(self, shared, blocks: int, free: int, pid: int):
-        self._shared = shared
-        self._blocks = blocks
-        self._free = free
-        self._pid = pid
-        self._open = True
-
-    def __iter__(self) -> Scanning:
-        return self
-
-    def __next__(self) -> Scanned:
-        import pickle
-
-        if not self._open:
-            raise StopIteration
-        try:
-            kind, length = _HEADER.unpack(_read_exactly(self._blocks, _HEADER.size))
-            if kind == _END:
-                raise StopIteration
-            if kind == _ERROR:
-                raise pickle.loads(_read_exactly(self._blocks, length))
-            if kind == _INLINE:
-                return pickle.loads(_read_exactly(self._blocks, length))
-            start = kind * SLOT_BYTES
-            block = pickle.loads(self._shared[start : start + length])
-        except BaseException:
-            self.close()
-            raise
-        try:
-            os.write(self._free, bytes((kind,)))
-        except BrokenPipeError:  # the helper has scanned everything and ended
-            pass
-        return block
-
-    def close(self) -> None:
-        """End the helper (it may be waiting for input nobody wants now) and reap it."""
-        if not self._open:
-            return
-        self._open = False
-        os.close(self._blocks)
-        os.close(self._free)
-        try:
-            os.kill(self._pid, 9)
-        except ProcessLookupError:  # pragma: no cover - already gone
-            pass
-        os.waitpid(self._pid, 0)
-        self._shared.close()
-
-    def __del__(self):
-        try:
-            self.close()
-        except Exception:  # noqa: BLE001, S110 - at interpreter exit; the kernel ends it anyway
-            pass

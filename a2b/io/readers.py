@@ -50,7 +50,7 @@ import numpy as np
 
 from ..errors import A2bError, InputFileError
 from ..names import FRAMES, MAX_SAMPLES, MIN_SAMPLES, MODES
-from .jobscan import JOB_KEYS, PARAMETER_KINDS, POSES_KEYS, Scanned, Sniffed, scan_blocks, sniff
+from .jobscan import JOB_KEYS, PARAMETER_KINDS, POSES_KEYS, Scanned, scan_blocks, sniff
 from .jobscan import NUMBER_TYPES as _NUMBER_TYPES
 from .jobscan import decode as _decode
 from .jobscan import kind_from_suffix as _kind_from_suffix
@@ -1089,9 +1089,6 @@ class Jobs:
     count: int | None
     _iter: Iterator[Job]
     _blocks: Callable[[int], Iterator[JobBlock]] | None = None
-    #: Whether a helper process scans the jobs ahead (:func:`a2b.io.jobscan.scan_ahead`), so
-    #: that a caller need not read ahead itself (which would wait for input that is not there)
-    scanned_ahead: bool = False
 
     def __iter__(self) -> Iterator[Job]:
         return self._iter
@@ -1133,31 +1130,19 @@ def job_blocks(jobs: Iterable[Job], size: int) -> Iterator[JobBlock]:
         yield JobBlock.from_jobs(block)
 
 
-def read_jobs(
-    stream: IO,
-    name: str | None = None,
-    *,
-    sniffed: Sniffed | None = None,
-    scanned: Iterator[Scanned] | None = None,
-) -> Jobs:
+def read_jobs(stream: IO, name: str | None = None) -> Jobs:
     """Read a jobs file: a YAML or JSON list of job mappings, or JSON Lines (one per line).
 
     A job has ``start``, ``end`` and optionally ``name``, ``mode``, ``samples`` and
     ``parameters``. JSON Lines are read line by line as the jobs are consumed, so a large file
-    never sits in memory. A list is parsed and validated at once (the parsed tree is then
+    never sits in memory, and the error of a line comes as soon as the line arrives, after
+    the jobs before it. A list is parsed and validated at once (the parsed tree is then
     dropped, before Python's cyclic collector would walk it); the error of an invalid job is
     raised when the jobs before it have been taken.
-
-    ``sniffed`` is :func:`a2b.io.jobscan.sniff` of ``stream`` if the caller has made it, and
-    ``scanned`` the blocks of JSON Lines that :func:`a2b.io.jobscan.scan_ahead` scans in a
-    helper process; the jobs and errors are the same as without them.
     """
-    if sniffed is None:
-        sniffed = sniff(stream, name)
+    sniffed = sniff(stream, name)
     name, kind = sniffed.name, sniffed.kind
     if sniffed.json_lines:
-        if scanned is not None:
-            return _scanned_jobs(scanned)
         return _json_lines_jobs(_lines(stream, name, sniffed.first), name)
     raw_start = sniffed.first
     with _gc_paused():
@@ -1216,44 +1201,10 @@ def _finished(builder: Scanned, error):
 
 def _json_lines_jobs(lines: Iterator[str], name: str) -> Jobs:
     def blocks(size: int) -> Iterator[JobBlock]:
-        for scanned in scan_blocks(lines, name, size):
+        for scanned in scan_blocks(lines, name, size, json_line_job):
             yield from finish_block(scanned)
 
     return Jobs(None, _json_lines(lines, name), blocks)
-
-
-def _scanned_jobs(scanned: Iterator[Scanned]) -> Jobs:
-    """JSON Lines jobs from blocks scanned elsewhere, regrouped to the size asked for."""
-
-    def blocks(size: int) -> Iterator[JobBlock]:
-        return _regrouped((b for s in scanned for b in finish_block(s)), size)
-
-    def jobs() -> Iterator[Job]:
-        for block in blocks(256):
-            yield from block.jobs()
-
-    return Jobs(None, jobs(), blocks, scanned_ahead=True)
-
-
-def _regrouped(blocks: Iterator[JobBlock], size: int) -> Iterator[JobBlock]:
-    """The jobs of ``blocks`` in blocks of ``size``; an error comes after the jobs before it."""
-    pending: list = []
-    count = 0
-    try:
-        for block in blocks:
-            while len(block):
-                piece, block = block.split(size - count)
-                pending.append(piece)
-                count += len(piece)
-                if count == size:
-                    yield JobBlock.concatenate(pending)
-                    pending, count = [], 0
-    except Exception:
-        if pending:
-            yield JobBlock.concatenate(pending)
-        raise
-    if pending:
-        yield JobBlock.concatenate(pending)
 
 
 def _json_lines(lines: Iterator[str], name: str) -> Iterator[Job]:
