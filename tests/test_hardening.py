@@ -12,6 +12,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import resource
 import signal
@@ -250,3 +251,41 @@ def test_a_billion_sample_job_streams_in_bounded_memory(tmp_path):
     assert first.startswith(b"job,t,r11")
     assert to_first < 10 and 0 < peak < RSS_LIMIT_MB, (to_first, peak)
     assert code == 0 and err == b""
+
+
+def _peak_of_run(args) -> tuple[float, subprocess.CompletedProcess]:
+    """Peak resident memory (MB) of a whole ``a2b`` run, from the kernel's count for children."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    done = subprocess.run(a2b_cmd(*args), capture_output=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    if after <= before:  # an earlier child peaked higher: this run's peak is not known
+        pytest.skip("an earlier child process of this test run used more memory")
+    return after / 1024, done
+
+
+@linux_only
+def test_a_100_kb_job_name_keeps_batch_memory_bounded(tmp_path):
+    """One job named with 100 kB among 300: memory stays bounded by the chunk size."""
+    long_name = "n" * 100_000
+    jobs = tmp_path / "jobs.jsonl"
+    with open(jobs, "w") as f:
+        for i in range(300):
+            name = long_name if i == 150 else f"job{i}"
+            f.write(
+                json.dumps(
+                    {
+                        "name": name,
+                        "start": {"quaternion": [1, 0, 0, 0]},
+                        "end": {"quaternion": [0, 0, 0, 1], "translation": [1, 2, i]},
+                    }
+                )
+                + "\n"
+            )
+    out = tmp_path / "out.csv"
+    peak, done = _peak_of_run(["batch", jobs, "-o", out])
+    assert done.returncode == 0, done.stderr.decode()
+    assert peak < 150, peak
+    with open(out, "rb") as f:
+        rows = [line.split(b",", 1)[0] for line in f]
+    assert len(rows) == 1 + 300 * 101
+    assert rows.count(long_name.encode()) == 101

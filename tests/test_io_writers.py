@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import io
-import os
 
 import numpy as np
 import pytest
@@ -208,7 +207,7 @@ def test_mcap_writer_needs_no_seek(rng):
 
 @pytest.mark.parametrize("workers", [1, 3])
 def test_many_blocks_in_order_with_helpers(rng, monkeypatch, workers):
-    """Blocks formatted by helper processes come out in order, for plain and batch CSV."""
+    """Blocks formatted on threads come out in order, for plain and batch CSV."""
     monkeypatch.setattr(parallel, "WORKERS", workers)
     chunks, (t, quat, trans, _, _) = _chunks(rng, 20000, 6000)
     stream = io.BytesIO()
@@ -246,12 +245,11 @@ def test_batch_job_name_with_nul_is_an_error():
         writers.write_batch_csv(io.BytesIO(), [chunk])
 
 
-def _pid_and_square(x):
-    import os
+def _square_out_of_order(x):
     import time
 
     time.sleep(0.002 * (x % 3))  # finish out of order
-    return os.getpid(), x * x
+    return x * x
 
 
 def _fail_at_five(x):
@@ -260,59 +258,38 @@ def _fail_at_five(x):
     return x
 
 
-@pytest.mark.parametrize("workers", [2, 4])
-def test_in_order_with_helper_processes(monkeypatch, workers):
-    import os
-
+@pytest.mark.parametrize("workers", [1, 2, 3])
+def test_in_order_keeps_the_order(monkeypatch, workers):
     monkeypatch.setattr(parallel, "WORKERS", workers)
-    results = list(parallel.in_order(_pid_and_square, range(40)))
-    assert [square for _, square in results] == [x * x for x in range(40)]
-    pids = {pid for pid, _ in results}
-    assert os.getpid() in pids and len(pids) > 1  # the main process and its helpers
-    assert list(parallel.in_order(_pid_and_square, [3])) == [(os.getpid(), 9)]  # no fork
-    assert list(parallel.in_order(_pid_and_square, [])) == []
-    with pytest.raises(ChildProcessError):
-        os.waitpid(-1, os.WNOHANG)  # every helper was reaped
+    assert list(parallel.in_order(_square_out_of_order, range(40))) == [x * x for x in range(40)]
+    assert list(parallel.in_order(_square_out_of_order, [])) == []
 
 
-def test_in_order_raises_at_the_failing_item_and_reaps_helpers(monkeypatch):
-    import os
-
+def test_in_order_raises_at_the_failing_item(monkeypatch):
     monkeypatch.setattr(parallel, "WORKERS", 2)
     got = []
     with pytest.raises(ParameterError, match="five"):
         got.extend(parallel.in_order(_fail_at_five, range(20)))
-    assert got == [0, 1, 2, 3, 4]
-    stopped_early = parallel.in_order(_fail_at_five, range(4))
-    assert next(stopped_early) == 0
-    stopped_early.close()
-    with pytest.raises(ChildProcessError):
-        os.waitpid(-1, os.WNOHANG)
+    assert got == [0, 1, 2, 3, 4]  # the items before it, in order
+    it = parallel.in_order(_fail_at_five, range(20))
+    assert [next(it) for _ in range(5)] == [0, 1, 2, 3, 4]
+    with pytest.raises(ParameterError, match="five"):
+        next(it)
 
 
-def test_in_order_uses_threads_when_other_threads_run(monkeypatch):
-    import os
-    import threading
-
+def test_in_order_holds_a_bounded_window(monkeypatch):
+    """At most two items per thread are taken ahead of the one yielded."""
     monkeypatch.setattr(parallel, "WORKERS", 2)
-    stop = threading.Event()
-    other = threading.Thread(target=stop.wait)
-    other.start()
-    try:
-        results = list(parallel.in_order(_pid_and_square, range(10)))
-    finally:
-        stop.set()
-        other.join()
-    assert results == [(os.getpid(), x * x) for x in range(10)]
+    taken = []
 
+    def items():
+        for i in range(100):
+            taken.append(i)
+            yield i
 
-def test_idle_processors_and_the_default_workers(monkeypatch):
-    """Without WORKERS set, helpers go only to processors other programs leave idle."""
-    monkeypatch.setattr(parallel, "WORKERS", None)
-    assert 0 <= parallel._idle_processors() <= parallel.workers() - 1
-    assert [square for _, square in parallel.in_order(_pid_and_square, range(12))] == [
-        x * x for x in range(12)
-    ]
+    it = parallel.in_order(_square_out_of_order, items())
+    next(it)
+    assert len(taken) <= 2 * 2 + 1
 
 
 def test_format_rows_takes_prefix_words():
@@ -340,44 +317,6 @@ def test_job_runs_stand_for_the_list_of_names():
         writers.JobRuns(["a", "b"], [1])
 
 
-def _lead_rows(chunk):
-    """Each row's job and t fields, spelled out one by one: what the lead must give."""
-    return [
-        writers._csv_field(name).encode() + b"," + repr(float(t)).encode() + b","
-        for name, t in zip(chunk.job, chunk.t)
-    ]
-
-
-@pytest.mark.parametrize("pattern", ["shared", "differing", "signed zero", "one run", "uneven"])
-def test_batch_lead_spells_out_every_row(rng, pattern):
-    """The job and t fields, formatted once per run and pattern, come out row by row as if
-    formatted one by one, for any slice a worker takes."""
-    counts = {"one run": [40], "uneven": [7, 7, 9, 7]}.get(pattern, [7] * 6)
-    names = [f"job {i}" if i % 2 else f'"{i}", quoted' for i in range(len(counts))]
-    count = counts[0]
-    pattern_t = np.linspace(0.0, 1.0, count)
-    t = np.concatenate([pattern_t[:c] if c <= count else np.linspace(0, 1, c) for c in counts])
-    if pattern == "differing":
-        t[-1] = 0.5
-    if pattern == "signed zero":
-        t[count] = -0.0  # equal to 0.0, but another text
-    n = len(t)
-    chunk = writers.Chunk(
-        t, quat_wxyz=np.tile([1.0, 0, 0, 0], (n, 1)), trans=rng.normal(size=(n, 3)),
-        job=writers.JobRuns(names, counts),
-    )  # fmt: skip
-    lead = writers._lead(chunk)
-    assert (lead.times is not None) == (pattern == "shared")
-    expected = _lead_rows(chunk)
-    slices = [(0, n), (0, 1), (n - 1, n), (3, 17), (count, 2 * count), (1, n - 2)]
-    for lo, hi in [(lo, min(hi, n)) for lo, hi in slices if lo < min(hi, n)]:
-        words = lead.part(lo, hi).words()
-        got = [row.tobytes().replace(b"\0", b"") for row in words]
-        if lead.times is None:  # t is then formatted as a column with the numbers
-            got = [g + repr(float(x)).encode() + b"," for g, x in zip(got, t[lo:hi])]
-        assert got == expected[lo:hi]
-
-
 @pytest.mark.parametrize("fmt", ["csv", "matrix", "study"])
 def test_batch_csv_is_the_rows_formatted_one_by_one(rng, fmt):
     """With the lead or without it, every line is the job, then repr of every number."""
@@ -396,8 +335,14 @@ def test_batch_csv_is_the_rows_formatted_one_by_one(rng, fmt):
     job = writers.JobRuns(names, counts)
     # one chunk with one pattern of t and one without; and a list of names for a job column
     chunks = [
-        writers.Chunk(t[:15], quat[:15], trans[:15], mats[:15], study[:15], job=writers.JobRuns(names[:3], counts[:3])),
-        writers.Chunk(t[15:], quat[15:], trans[15:], mats[15:], study[15:], job=list(writers.JobRuns(names[3:], counts[3:]))),
+        writers.Chunk(
+            t[:15], quat[:15], trans[:15], mats[:15], study[:15],
+            job=writers.JobRuns(names[:3], counts[:3]),
+        ),
+        writers.Chunk(
+            t[15:], quat[15:], trans[15:], mats[15:], study[15:],
+            job=list(writers.JobRuns(names[3:], counts[3:])),
+        ),
     ]  # fmt: skip
     stream = io.BytesIO()
     writers.write_batch_csv(stream, chunks, fmt)
@@ -413,45 +358,6 @@ def test_batch_csv_is_the_rows_formatted_one_by_one(rng, fmt):
     ]
 
 
-def _sized(n):
-    return b"x" * n
-
-
-def _an_array_back(a):
-    return a * 2.0
-
-
-@pytest.mark.parametrize("size", [10, parallel.BOX, parallel.BOX + 1])
-def test_helpers_pass_items_and_results_of_any_size(monkeypatch, size):
-    """Bytes that fit come back through shared memory, larger ones and other objects through
-    the pipe; arrays go out through shared memory if they fit."""
-    monkeypatch.setattr(parallel, "WORKERS", 2)
-    sizes = [size, 3, size - 1, 5]
-    assert [len(b) for b in parallel.in_order(_sized, sizes)] == sizes
-    arrays = [np.full(n, float(n)) for n in (1, size // 8 + 1, 7, 2)]
-    for got, a in zip(parallel.in_order(_an_array_back, arrays), arrays):
-        assert np.array_equal(got, 2.0 * a)
-
-
-class _Unpicklable(Exception):
-    def __reduce__(self):
-        raise TypeError("no pickling")
-
-
-def _raise_unpicklable(x):
-    if x == 1:
-        raise _Unpicklable("odd")
-    return x
-
-
-def test_helper_errors_that_do_not_pickle_still_arrive(monkeypatch):
-    monkeypatch.setattr(parallel, "WORKERS", 2)
-    got = []
-    with pytest.raises(Exception, match="odd"):
-        got.extend(parallel.in_order(_raise_unpicklable, range(6)))
-    assert got == [0]
-
-
 def test_a_batch_chunk_without_rows_writes_nothing():
     empty = writers.Chunk(np.empty(0), np.empty((0, 4)), np.empty((0, 3)), job=[])
     stream = io.BytesIO()
@@ -459,46 +365,20 @@ def test_a_batch_chunk_without_rows_writes_nothing():
     assert stream.getvalue() == b"job,t,tx,ty,tz,qw,qx,qy,qz\n"
 
 
-def test_a_task_carries_only_its_own_names():
-    """A long name widens the rows of its own task only."""
-    t = np.tile(np.linspace(0, 1, 4), 3)
-    chunk = writers.Chunk(
-        t, np.tile([1.0, 0, 0, 0], (12, 1)), np.zeros((12, 3)),
-        job=writers.JobRuns(["a", "x" * 100, "b"], [4, 4, 4]),
-    )  # fmt: skip
-    lead = writers._lead(chunk)
-    assert lead.names.shape == (3, 13)  # 101 bytes: 13 words
-    first = lead.part(0, 4)
-    assert first.names.shape == (1, 1) and first.words().shape == (4, 1 + 4)
-    middle = lead.part(6, 9)
-    assert middle.names.shape == (2, 13) and list(middle.ends) == [2, 3]
-    assert [row.tobytes().replace(b"\0", b"") for row in middle.words()] == [
-        b"x" * 100 + b",0.6666666666666666,",
-        b"x" * 100 + b",1.0,",
-        b"b,0.0,",
-    ]
-
-
-class _TwoArguments(Exception):
-    def __init__(self, a, b):
-        super().__init__(f"{a} and {b}")
-
-
-_TEST_PROCESS = os.getpid()
-
-
-def _raise_two_arguments_in_a_helper(x):
-    import time
-
-    if os.getpid() != _TEST_PROCESS:
-        raise _TwoArguments("one", "two")
-    time.sleep(0.01)  # leave items to the helper
-    return x
-
-
-def test_an_error_that_does_not_come_back_out_of_a_pickle_still_arrives(monkeypatch):
-    """An exception that pickles but cannot be unpickled (its __init__ takes two arguments)
-    stops the run with an error at its item, instead of leaving the main process waiting."""
-    monkeypatch.setattr(parallel, "WORKERS", 2)
-    with pytest.raises(RuntimeError, match="a writer's helper sent what cannot be read"):
-        list(parallel.in_order(_raise_two_arguments_in_a_helper, range(20)))
+def test_long_names_go_out_in_bounded_pieces(monkeypatch):
+    """A long name makes pieces of fewer rows: names in one piece stay within NAME_BYTES."""
+    monkeypatch.setattr(writers, "NAME_BYTES", 1000)
+    t = np.tile(np.linspace(0, 1, 50), 3)
+    runs = writers.JobRuns(["a", "x" * 300, "b"], [50, 50, 50])
+    rows = np.column_stack([t, np.zeros((150, 3)), np.tile([1.0, 0, 0, 0], (150, 1))])
+    pieces = list(writers._batch_pieces(rows, runs))
+    for _, leads, counts in pieces:
+        assert sum(len(lead) * c for lead, c in zip(leads, counts)) <= 1000 or sum(counts) == 1
+    assert sum(sum(counts) for _, _, counts in pieces) == 150
+    chunk = writers.Chunk(t, rows[:, 4:], rows[:, 1:4], job=runs)
+    stream = io.BytesIO()
+    writers.write_batch_csv(stream, [chunk])
+    stream.seek(0)
+    names, values = readers.read_batch_csv(stream)
+    assert names == list(runs)
+    assert np.array_equal(values[:, 0], t)

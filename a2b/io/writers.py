@@ -3,7 +3,7 @@
 Every writer takes a binary stream and an iterable of :class:`Chunk` (so a million samples
 never sit in memory at once), writes, and never closes the stream. Numbers are written as
 Python's ``repr`` (the shortest text that reads back bit for bit), formatted in bulk by
-:mod:`a2b.io.floatrepr`, on every idle core (:mod:`a2b.io.parallel`); MCAP is built a chunk
+:mod:`a2b.io.floatrepr`, on a second thread (:mod:`a2b.io.parallel`); MCAP is built a chunk
 at a time by :mod:`a2b.io.mcapwriter`. Each ``write_x`` has a ``read_x`` in
 :mod:`a2b.io.readers`.
 
@@ -25,13 +25,14 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
+from functools import partial
 from itertools import groupby, repeat
 from typing import IO
 
 import numpy as np
 
 from ..errors import ParameterError
-from .floatrepr import BLOCK, format_rows, number_words, text_words
+from .floatrepr import BLOCK, format_rows
 from .parallel import in_order
 from .readers import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER
 
@@ -169,29 +170,17 @@ def _rows(fmt: str, chunk: Chunk, time: bool = True) -> np.ndarray:
 TASK = 8 * BLOCK
 
 
-def _blocks(rows: np.ndarray, lead: _Lead | None = None) -> Iterator[tuple]:
-    """Slices of about :data:`TASK` numbers, the unit of work of one worker, with the part of
-    the ``lead`` of their rows."""
-    size = max(1, TASK // max(rows.shape[1], 1))
-    for lo in range(0, len(rows), size):
-        hi = min(lo + size, len(rows))
-        yield rows[lo:hi], None if lead is None else lead.part(lo, hi)
-
-
-def _write_rows(stream: IO, tables: Iterable[tuple], sep: str = ",") -> None:
-    """Write ``(rows, lead)`` tables as text, formatted task by task on every idle core
-    (:func:`a2b.io.parallel.in_order`); ``lead`` (a :class:`_Lead` or ``None``) gives the
-    first fields of each row."""
+def _write_rows(stream: IO, tables: Iterable[np.ndarray], sep: str = ",") -> None:
+    """Write tables of numbers as text, :data:`TASK` numbers at a time, formatted on a second
+    thread (:func:`a2b.io.parallel.in_order`)."""
 
     def blocks():
-        for rows, lead in tables:
-            yield from _blocks(rows, lead)
+        for rows in tables:
+            size = max(1, TASK // max(rows.shape[1], 1))
+            for lo in range(0, len(rows), size):
+                yield rows[lo : lo + size]
 
-    def text(block):
-        rows, lead = block
-        return format_rows(rows, sep=sep, prefix=None if lead is None else lead.words())
-
-    for piece in in_order(text, blocks()):  # noqa: FURB122 - write each block as it is done
+    for piece in in_order(partial(format_rows, sep=sep), blocks()):  # noqa: FURB122
         stream.write(piece)
 
 
@@ -200,7 +189,7 @@ def _write_table(
 ) -> None:
     if header is not None:
         stream.write(header.encode() + b"\n")
-    _write_rows(stream, ((_rows(fmt, chunk), None) for chunk in chunks), sep)
+    _write_rows(stream, (_rows(fmt, chunk) for chunk in chunks), sep)
 
 
 def write_csv(stream: IO, chunks: Iterable[Chunk]) -> None:
@@ -236,12 +225,7 @@ def write_tum(
     """
     stream.write(b"# time tx ty tz qx qy qz qw\n")
     tables = (
-        (
-            np.column_stack(
-                [_times(c.t, duration, start_time), c.trans, c.quat_wxyz[:, [1, 2, 3, 0]]]
-            ),
-            None,
-        )
+        np.column_stack([_times(c.t, duration, start_time), c.trans, c.quat_wxyz[:, [1, 2, 3, 0]]])
         for c in chunks
     )
     _write_rows(stream, tables, sep=" ")
@@ -256,62 +240,9 @@ def _csv_field(name: str) -> str:
     return name
 
 
-@dataclass
-class _Lead:
-    """The first fields of a batch chunk's rows, as text words (:mod:`a2b.io.floatrepr`):
-    the job, and ``t`` too when every job repeats the same times.
-
-    Runs of rows share a job, and the jobs of a chunk mostly share their times, so each name
-    and each ``t`` is formatted once, not once per row. A task gets the :meth:`part` of its
-    rows (its own names only, as wide as the widest of them), and its worker spells the rows
-    out (:meth:`words`). ``t`` is taken out of the columns only if the chunk has two runs or
-    more, all of the same times, bit for bit.
-    """
-
-    names: np.ndarray  # (runs, w): "name," of each run
-    ends: np.ndarray  # (runs,): the row after each run
-    times: np.ndarray | None  # (c, 4): "t," of each row of a run; None: t is a column
-
-    def part(self, lo: int, hi: int) -> _Lead:
-        """The lead of rows ``lo`` to ``hi``, numbered from 0."""
-        first, last = np.searchsorted(self.ends, [lo, hi - 1], side="right").tolist()
-        names = self.names[first : last + 1]
-        used = np.flatnonzero(names.any(axis=0))  # text is followed by zero words only
-        names = np.ascontiguousarray(names[:, : used[-1] + 1 if len(used) else 1])
-        ends = np.minimum(self.ends[first : last + 1], hi) - lo
-        times = self.times
-        if times is not None:  # row lo is at lo mod c in its run: every run has c rows
-            times = np.roll(times, -(lo % len(times)), axis=0)
-        return _Lead(names, ends, times)
-
-    def words(self) -> np.ndarray:
-        """The words of every row, ``(rows, w [+ 4])``."""
-        names = np.repeat(self.names, np.diff(self.ends, prepend=0), axis=0)
-        if self.times is None:
-            return names
-        times = self.times.take(np.arange(len(names)) % len(self.times), axis=0)
-        return np.concatenate([names, times], axis=1)
-
-
-def _lead(chunk: Chunk) -> _Lead:
-    """The :class:`_Lead` of a batch chunk: names quoted as CSV needs, with their commas."""
-    runs = JobRuns.of(chunk.job)
-    if any("\0" in name for name in runs.names):
-        name = next(name for name in runs.names if "\0" in name)
-        raise ParameterError(f"job name {name!r} contains a NUL character")
-    names = text_words(np.array([_csv_field(name).encode() + b"," for name in runs.names]))
-    ends = np.cumsum(runs.counts)
-    if len(ends) == 0 or ends[-1] != len(chunk.t):
-        raise ValueError(f"a job column of {len(runs)} rows for {len(chunk.t)} samples")
-    times = None
-    count = runs.counts[0]
-    if len(runs.counts) > 1 and all(c == count for c in runs.counts):
-        t = np.ascontiguousarray(chunk.t, dtype=np.float64)
-        bits = t.view(np.uint64).reshape(-1, count)  # bit for bit: -0.0 is not 0.0
-        if (bits == bits[0]).all():
-            times = number_words(t[:count])
-            times[:, 3] |= np.uint64(ord(",")) << np.uint64(56)
-    return _Lead(names, ends, times)
+#: Bytes of job names in one piece of a batch CSV: rows of a long name go out fewer at a time,
+#: so memory stays bounded by the chunk size for any length of name.
+NAME_BYTES = 1 << 22
 
 
 def write_batch_csv(stream: IO, chunks: Iterable[Chunk], fmt: str = "csv") -> None:
@@ -319,19 +250,60 @@ def write_batch_csv(stream: IO, chunks: Iterable[Chunk], fmt: str = "csv") -> No
 
     ``fmt`` is one of the CSV layouts ``csv``, ``matrix``, ``study``; every chunk needs
     ``job`` (a list of names, one per row, or :class:`JobRuns`) and the representation of
-    that layout.
+    that layout. The numbers of a piece of rows are formatted together and each name is put
+    in front of its rows (quoted as CSV needs); a piece holds at most :data:`TASK` numbers and
+    :data:`NAME_BYTES` of names.
     """
     header = {"csv": CSV_HEADER, "matrix": MATRIX_HEADER, "study": STUDY_HEADER}[fmt]
     stream.write(b"job," + header.encode() + b"\n")
 
-    def tables():
+    def pieces():
         for chunk in chunks:
-            if not len(chunk.t):
-                continue
-            lead = _lead(chunk)
-            yield _rows(fmt, chunk, time=lead.times is None), lead
+            if len(chunk.t):
+                yield from _batch_pieces(_rows(fmt, chunk), JobRuns.of(chunk.job))
 
-    _write_rows(stream, tables())
+    for text in in_order(_batch_text, pieces()):  # noqa: FURB122 - each piece as it is done
+        stream.write(text)
+
+
+def _batch_pieces(rows: np.ndarray, runs: JobRuns) -> Iterator[tuple]:
+    """``(rows, leads, counts)`` pieces of a batch chunk, bounded in numbers and name bytes."""
+    if sum(runs.counts) != len(rows):
+        raise ValueError(f"a job column of {len(runs)} rows for {len(rows)} samples")
+    most_rows = max(1, TASK // max(rows.shape[1], 1))
+    leads: list = []
+    counts: list = []
+    lo = taken = weight = 0
+    for name, count in zip(runs.names, runs.counts):
+        if "\0" in name:
+            raise ParameterError(f"job name {name!r} contains a NUL character")
+        lead = _csv_field(name).encode() + b","
+        while count:
+            room = min(most_rows - taken, (NAME_BYTES - weight) // len(lead))
+            if room <= 0 and taken:
+                yield rows[lo : lo + taken], leads, counts
+                lo, taken, weight, leads, counts = lo + taken, 0, 0, [], []
+                continue
+            take = min(count, max(room, 1))
+            leads.append(lead)
+            counts.append(take)
+            taken += take
+            weight += take * len(lead)
+            count -= take
+    if taken:
+        yield rows[lo : lo + taken], leads, counts
+
+
+def _batch_text(piece: tuple) -> bytes:
+    """The text of a piece: each line of the formatted numbers after its job's name."""
+    rows, leads, counts = piece
+    lines = format_rows(rows).split(b"\n")
+    out = []
+    lo = 0
+    for lead, count in zip(leads, counts):
+        out.append(lead + (b"\n" + lead).join(lines[lo : lo + count]) + b"\n")
+        lo += count
+    return b"".join(out)
 
 
 def _schema(name: str) -> bytes:
