@@ -13,7 +13,7 @@ samples them with :func:`a2b.motion`, and measures
   exactly, in 50-digit arithmetic, on a2b's float64 output);
 * the distance of every sample from the same construction carried out in 50-digit arithmetic
   (κ of a line of Study vectors, μ_m of a line of R^13, the helix), from the same float64 inputs;
-* the agreement of the samples with the closed forms of ``MATH.md``, evaluated in 50 digits;
+* the agreement of the samples with the closed forms of ``docs/math.md``, evaluated in 50 digits;
 * how far the exact motion itself moves when the inputs change at the level of rounding.
 
 The functions :func:`measure_cell`, :data:`CASES`, :data:`PHIS`, :data:`SCALES` and
@@ -541,7 +541,7 @@ def reference_poses(case: Case, params: dict, fr: Frame, ts) -> list:
 
 
 def closed_forms(case: Case, params: dict, fr: Frame, ts) -> list:
-    """MATH.md's closed forms in 50 digits: per t, ``(ω, z)`` or, for cubic given, ``(ω, t⃗)``.
+    """docs/math.md's closed forms in 50 digits: per t, ``(ω, z)`` or, for cubic given, ``(ω, t⃗)``.
 
     ω is the rotation angle about the axis u relative to A, z the slide along u relative to A.
     """
@@ -563,7 +563,7 @@ def closed_forms(case: Case, params: dict, fr: Frame, ts) -> list:
                 d / 2
                 + ((d / 2) * MP.sin(omega - phi / 2) - delta * (MP.cos(omega - phi / 2) - ch)) / sh
             )
-            # the two closed forms of MATH.md agree (a check of the formulas, not of a2b)
+            # the two closed forms of docs/math.md agree (a check of the formulas, not of a2b)
             assert abs(z_sine - z_of_omega) <= MP.mpf("1e-30") * (
                 abs(d) + abs(delta) + MP.mpf("1e-300")
             )
@@ -585,7 +585,7 @@ def closed_forms(case: Case, params: dict, fr: Frame, ts) -> list:
             num = -(m3 * (MP.cos(phi) - 1) - m0 * MP.sin(phi)) * t
             den = (m0 * (MP.cos(phi) - 1) + m3 * MP.sin(phi)) * t + 2 * m0
             omega = 2 * MP.atan2(num, den)
-            if given:  # the weighted linear interpolation of the translations (MATH.md)
+            if given:  # the weighted linear interpolation of the translations (docs/math.md)
                 psi_a, psi_b = 1 + a, 1 + b
                 x0 = (1 - t) * psi_a + t * psi_b
                 out.append(
@@ -798,7 +798,7 @@ def measure_cell(
     sensitivity : bool
         Also measure the input sensitivity (one more reference motion per random pair).
     closed : bool
-        Also compare with the closed forms of ``MATH.md``.
+        Also compare with the closed forms of ``docs/math.md``.
     """
     case = CASE_BY_KEY[case] if isinstance(case, str) else case
     label = phi if isinstance(phi, str) else mpmath.nstr(phi, 3)
@@ -1303,7 +1303,7 @@ measurement functions (it imports this script).
 - **end**: both end poses reproduced within {sci(TARGETS["end"])}: rotation entries absolutely,
   translations relative to the motion's scale `L = max(|tA|, |tB|)`;
 - **rigidity**: `max |R Rᵀ − I|` and `max |det R − 1|` over all samples at most {sci(TARGETS["rigid"])};
-- **closed forms**: every closed form of `MATH.md` within {sci(TARGETS["closed"])}, relative;
+- **closed forms**: every closed form of `docs/math.md` within {sci(TARGETS["closed"])}, relative;
 - **reference**: every sample within {sci(TARGETS["pose"])} (rotation entries absolutely, translation
   relative to L) of the same construction carried out in 50-digit arithmetic from the same
   float64 inputs; this is the closed-form target applied to the whole pose."""
@@ -1339,7 +1339,7 @@ inputs exactly as a2b received them: the quaternions by eq. 7–9, the screw axi
 - screw: the helix, the rotation by `tφ` about the axis and the slide `t d` along it.
 
 The closed forms are evaluated in 50 digits too: darboux `tan(ω/2) = t sin(φ/2) / (1 − t +
-t cos(φ/2))` and `z = z0 + λ sin(ω + κ)` (the script asserts that `z(ω)` of `MATH.md` agrees with
+t cos(φ/2))` and `z = z0 + λ sin(ω + κ)` (the script asserts that `z(ω)` of `docs/math.md` agrees with
 the sine form to 30 digits at every sample); cubic eq. 17 and eq. 18; cubic given eq. 17 with the
 canonical `m0 = wA/4`, `m3 = (wB/4 − m0 cos(φ/2)) / sin(φ/2)` of its weights `w = 4 m·p`, and the
 weighted linear interpolation of the translations, since eq. 18 does not hold in the given frame;
@@ -1412,7 +1412,7 @@ computed from a2b's `weights`, `psi_a` and `psi_b` (function `cubic_canonical_co
 
 
 _LONG_WAY_PROBE = """`p(t) = (1−t) pA − t pB` passes close to 0 at t = ½ when the motion goes the long way round a
-small rotation; for a pure translation it passes through 0 (`MATH.md`). a2b refuses when
+small rotation; for a pure translation it passes through 0 (`docs/math.md`). a2b refuses when
 `|p(t)|² ≤ 1e-12 · max(|pA|², |pB|²)` on the sampled range. s = 1, δ = 0, the canonical pair and
 the random pairs; the closed forms are not evaluated (they hold with φ − 2π)."""
 

@@ -2,7 +2,7 @@
 
 The measurements are those of ``benchmarks/accuracy.py`` (imported by path, no copy): a2b's
 samples against a 50-digit reference of the same construction and against the closed forms of
-MATH.md, from seeded pose pairs. See docs/accuracy.md for the method and the full grid.
+docs/math.md, from seeded pose pairs. See docs/accuracy.md for the method and the full grid.
 """
 
 import importlib.util
@@ -48,7 +48,7 @@ def test_targets_on_a_subset_of_the_grid(case, phi):
 
 
 def test_the_reference_agrees_with_the_closed_forms_to_many_digits():
-    """The 50-digit construction of every case satisfies MATH.md's closed forms (a check of
+    """The 50-digit construction of every case satisfies docs/math.md's closed forms (a check of
     the checker: the grid's two comparisons must not disagree with each other)."""
     for case in accuracy.CASES:
         params = case.params(1.0)

@@ -18,7 +18,7 @@ from a2b.poses import (
     rotations_from_quaternions,
     study_from_matrices,
 )
-from a2b.study import dq_mul, kappa, kappa_fiber_points, quat_mul
+from a2b.study import dq_mul, kappa, kappa_fiber_points, quat_conj, quat_mul
 
 from .conftest import random_pose, rigidity
 
@@ -225,3 +225,20 @@ def test_huge_and_tiny_translations_round_trip(rng, scale):
     back = matrices_from_study(study_from_matrices(mat))
     np.testing.assert_allclose(back[:3, :3], mat[:3, :3], atol=1e-15)
     np.testing.assert_allclose(back[:3, 3], mat[:3, 3], rtol=1e-14, atol=1e-15 * scale)
+
+
+def test_the_entry_a32_is_2_p0p1_plus_p2p3(rng):
+    """docs/math.md, correction 2: the paper prints 2(p0 p1 + p2 p3) as a23; it is a32."""
+    from a2b.poses import rotations_from_quaternions
+
+    for _ in range(10):
+        p = rng.normal(size=4)
+        p /= np.linalg.norm(p)
+        r = rotations_from_quaternions(p)
+        p0, p1, p2, p3 = p
+        assert r[2, 1] == pytest.approx(2 * (p0 * p1 + p2 * p3), abs=1e-15)
+        assert r[1, 2] == pytest.approx(2 * (p2 * p3 - p0 * p1), abs=1e-15)
+        # and it is the rotation p x p̄ of a pure quaternion x
+        x = rng.normal(size=3)
+        rotated = quat_mul(quat_mul(p, np.concatenate([[0.0], x])), quat_conj(p))[1:]
+        np.testing.assert_allclose(r @ x, rotated, atol=1e-14)
