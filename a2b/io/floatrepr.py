@@ -52,6 +52,13 @@ __all__ = ["BLOCK", "format_rows", "integer_words", "number_words", "text_words"
 BLOCK = 16384
 
 _U64 = np.uint64
+
+
+def _ix(index: np.ndarray) -> np.ndarray:
+    """Indexes for ``take``: unsigned words viewed as int64 (numpy before 2.0 will not cast)."""
+    return index.view(np.int64) if index.dtype == _U64 else index
+
+
 _E_MIN, _E_MAX = -260, 260  # decimal exponents the tables cover
 _NE = _E_MAX - _E_MIN + 1
 _BEXP_LO, _BEXP_HI = 1023 - 830, 1023 + 830  # biased binary exponents of the fast range
@@ -190,21 +197,21 @@ def number_words(x: np.ndarray, lengths: bool = False):
         bexp[slow] = 1023
     # decimal exponent e, as the index i = e − E_MIN into the tables: from the binary
     # exponent, then one comparison with the next power of ten
-    i = _FROM_BINARY.take(bexp)
-    i += ax >= _NEXT_P10.take(i)
+    i = _FROM_BINARY.take(_ix(bexp))
+    i += ax >= _NEXT_P10.take(_ix(i))
     # X = s + r = |x| · 10^(16 − e): Dekker's product of |x| = ah + al and hi = hh + hl
-    hi = _HI.take(i)
+    hi = _HI.take(_ix(i))
     p = ax * hi
     ah = (abits & _HIGH_26).view(np.float64)
     al = ax - ah
-    hh = _HH.take(i)
-    hl = _HL.take(i)
+    hh = _HH.take(_ix(i))
+    hl = _HL.take(_ix(i))
     err = ah * hh
     err -= p
     err += ah * hl
     err += al * hh
     err += al * hl
-    err += ax * _LO.take(i)
+    err += ax * _LO.take(_ix(i))
     s = p + err
     p -= s
     p += err
@@ -265,42 +272,42 @@ def number_words(x: np.ndarray, lengths: bool = False):
     g4 -= g3 * 10_000
     # significant digits (0: c0 alone), and the digits shown: c0, and if positional at least
     # the digits before the point and one after it, 1 + e + 1
-    count = np.maximum(_COUNT1.take(g1), _COUNT2.take(g2))
-    np.maximum(count, _COUNT3.take(g3), out=count)
-    np.maximum(count, _COUNT4.take(g4), out=count)
-    shown = np.maximum(count, _KEEP.take(i)).astype(np.intp)
+    count = np.maximum(_COUNT1.take(_ix(g1)), _COUNT2.take(_ix(g2)))
+    np.maximum(count, _COUNT3.take(_ix(g3)), out=count)
+    np.maximum(count, _COUNT4.take(_ix(g4)), out=count)
+    shown = np.maximum(count, _KEEP.take(_ix(i))).astype(np.intp)
     out = np.empty((n, 4), _U64)
-    w1 = _DIGITS_LO.take(g1)
-    w1 |= _DIGITS_HI.take(g2)
-    w1 &= _KEEP1.take(shown)
-    w2 = _DIGITS_LO.take(g3)
-    w2 |= _DIGITS_HI.take(g4)
-    w2 &= _KEEP2.take(shown)
+    w1 = _DIGITS_LO.take(_ix(g1))
+    w1 |= _DIGITS_HI.take(_ix(g2))
+    w1 &= _KEEP1.take(_ix(shown))
+    w2 = _DIGITS_LO.take(_ix(g3))
+    w2 |= _DIGITS_HI.take(_ix(g4))
+    w2 &= _KEEP2.take(_ix(shown))
     head = ((bits >> _U64(53)) & _U64(1024)).view(np.int64)  # the sign, as 1024
     head |= i
-    head |= _ALONE.take(count)
-    w0 = _HEAD.take(head)
-    w0 |= _FIRST_DIGIT.take(c0)
-    w3 = _SUFFIX.take(i)
+    head |= _ALONE.take(_ix(count))
+    w0 = _HEAD.take(_ix(head))
+    w0 |= _FIRST_DIGIT.take(_ix(c0))
+    w3 = _SUFFIX.take(_ix(i))
     positional = (i - (1 - _E_MIN)).view(_U64) < _U64(15)  # 1 <= e <= 15: "123.456"
     if positional.any():
         at = np.flatnonzero(positional)
-        e = i.take(at) + _E_MIN
-        a = w1.take(at)
-        b = w2.take(at)
-        la = a & _LOW1.take(e)
+        e = i.take(_ix(at)) + _E_MIN
+        a = w1.take(_ix(at))
+        b = w2.take(_ix(at))
+        la = a & _LOW1.take(_ix(e))
         a ^= la
-        lb = b & _LOW2.take(e)
+        lb = b & _LOW2.take(_ix(e))
         b ^= lb
-        w1[at] = la | (a << _U64(8)) | _POINT1.take(e)
-        w2[at] = lb | (b << _U64(8)) | (a >> _U64(56)) | _POINT2.take(e)
+        w1[at] = la | (a << _U64(8)) | _POINT1.take(_ix(e))
+        w2[at] = lb | (b << _U64(8)) | (a >> _U64(56)) | _POINT2.take(_ix(e))
         w3[at] = b >> _U64(56)
     out[:, 0] = w0
     out[:, 1] = w1
     out[:, 2] = w2
     out[:, 3] = w3
     if lengths:
-        length = _HEAD_LEN.take(head)
+        length = _HEAD_LEN.take(_ix(head))
         length += shown
         length -= 1
     if any_bad:
@@ -331,13 +338,13 @@ def integer_words(v: np.ndarray, lengths: bool = False):
     groups[:, 2] = low // 10000
     groups[:, 3] = low - groups[:, 2] * 10000
     digits = np.empty((v.size, 2), _U64)
-    digits[:, 0] = _DIGITS_LO.take(groups[:, 0]) | _DIGITS_HI.take(groups[:, 1])
-    digits[:, 1] = _DIGITS_LO.take(groups[:, 2]) | _DIGITS_HI.take(groups[:, 3])
+    digits[:, 0] = _DIGITS_LO.take(_ix(groups[:, 0])) | _DIGITS_HI.take(_ix(groups[:, 1]))
+    digits[:, 1] = _DIGITS_LO.take(_ix(groups[:, 2])) | _DIGITS_HI.take(_ix(groups[:, 3]))
     # blank the leading zeros: keep the last ``width`` of 16 bytes
     width = np.ones(v.size, np.intp)
     for k in range(1, 16):
         width += v >= 10**k
-    digits &= _LEADING.take(width, axis=0)
+    digits &= _LEADING.take(_ix(width), axis=0)
     return (digits, width) if lengths else digits
 
 
