@@ -161,8 +161,10 @@ def kernel_basis(m, basis: str = "auto") -> tuple[np.ndarray, str]:
     degenerate = paper_basis_degenerate(m)
     if basis == "paper" and degenerate:
         raise ParameterError(
-            f"the paper's kernel basis (eq. 13) degenerates for m = {np.asarray(m, float).tolist()}: "
-            f"n0 = 4 m0 m1 m2 m3 = {_n_values(check_m(m))[0]:.3g}; use the rref basis, or give a and b directly"
+            f"the paper's kernel basis (eq. 13) degenerates for m = "
+            f"{np.asarray(m, float).tolist()}: "
+            f"n0 = 4 m0 m1 m2 m3 = {_n_values(check_m(m))[0]:.3g}; use the rref basis, or give a "
+            f"and b directly"
         )
     if basis == "rref" or (basis == "auto" and degenerate):
         return rref_kernel_basis(m), "rref"

@@ -61,7 +61,8 @@ def fiber(
         base, name = kernel_basis(m, basis)
         if basis == "auto" and name == "rref":
             out["choices"].append(
-                "the paper's kernel basis (eq. 13) degenerates for this m (n0 = 0); used the RREF basis"
+                "the paper's kernel basis (eq. 13) degenerates for this m (n0 = 0); used the RREF "
+                "basis"
             )
         points = mu_fiber_points(
             pose, m, np.asarray(alphas, dtype=float).reshape(-1, 6), basis=name

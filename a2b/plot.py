@@ -205,7 +205,8 @@ def _as_tracks(start, end, motions, samples: int, instants: int) -> list[_Track]
             mats = check_matrices(obj)
             if mats.ndim != 3 or mats.shape[0] < 2:
                 raise ParameterError(
-                    f"the samples of {label!r} must have shape (N, 4, 4) with N ≥ 2, got {mats.shape}"
+                    f"the samples of {label!r} must have shape (N, 4, 4) with N ≥ 2, got "
+                    f"{mats.shape}"
                 )
             picks = np.round(
                 np.linspace(0, mats.shape[0] - 1, min(instants, mats.shape[0]))
@@ -356,7 +357,8 @@ def family_members(
         return "δ", members, chosen
     if motion.frame_name != "canonical":
         raise ParameterError(
-            "a cubic motion in the given frame is not in a cylinder group and has no transmission curve"
+            "a cubic motion in the given frame is not in a cylinder group and has no transmission "
+            "curve"
         )
     a = motion.psi_a - 1.0
     if kind == "ab":

@@ -53,7 +53,8 @@ def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndar
     det = determinants(r)
     if np.any(det < 0):
         raise PoseError(
-            f"the rotation block has determinant {float(np.min(det)):.6g}: a reflection, not a rotation"
+            f"the rotation block has determinant {float(np.min(det)):.6g}: a reflection, not a "
+            f"rotation"
         )
     det_residual = float(np.max(np.abs(det - 1.0), initial=0.0))
     if det_residual > tol:
@@ -190,7 +191,8 @@ def check_quaternions(quat_wxyz: np.ndarray) -> np.ndarray:
     norm = np.linalg.norm(q, axis=-1)
     if np.any(norm == 0.0) or np.any(~np.isfinite(norm)):
         raise PoseError(
-            f"the quaternion has norm {float(np.min(norm)):.3g}; a rotation needs a non-zero, finite quaternion"
+            f"the quaternion has norm {float(np.min(norm)):.3g}; a rotation needs a non-zero, "
+            f"finite quaternion"
         )
     return q / norm[..., None]
 

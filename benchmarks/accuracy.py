@@ -1067,14 +1067,17 @@ def _row(first: str, second: str, c: Cell) -> str:
         return f"| {first} | {second} | refused: {'; '.join(c.refused)} | | | | | | | |"
     if c.closed_measured:
         closed = (
-            f"{mark(c.omega_canonical, TARGETS['closed'])} | {mark(c.omega_general, TARGETS['closed'])} | "
+            f"{mark(c.omega_canonical, TARGETS['closed'])} | "
+            f"{mark(c.omega_general, TARGETS['closed'])} | "
             f"{mark(c.z, TARGETS['closed'])}"
         )
     else:
         closed = "— | — | —"
     return (
-        f"| {first} | {second} | {mark(c.end, TARGETS['end'])} | {mark(c.ortho, TARGETS['rigid'])} | "
-        f"{mark(c.det, TARGETS['rigid'])} | {mark(c.pose, TARGETS['pose'])} | {closed} | {fmt(c.sensitivity)} |"
+        f"| {first} | {second} | {mark(c.end, TARGETS['end'])} | "
+        f"{mark(c.ortho, TARGETS['rigid'])} | "
+        f"{mark(c.det, TARGETS['rigid'])} | {mark(c.pose, TARGETS['pose'])} | {closed} | "
+        f"{fmt(c.sensitivity)} |"
     )
 
 
@@ -1087,7 +1090,8 @@ def _near_singularities() -> tuple[str, list[str]]:
     rows = probe_cubic_condition()
     for label, cell, estimate, default in rows:
         out.append(
-            f"| {label} | {mark(cell.pose, TARGETS['pose'])} | {fmt(cell.sensitivity)} | {fmt(estimate)} | "
+            f"| {label} | {mark(cell.pose, TARGETS['pose'])} | {fmt(cell.sensitivity)} | "
+            f"{fmt(estimate)} | "
             f"{'yes' if cell.warnings else 'no'} | {mark(default.pose, TARGETS['pose'])} | "
             f"{fmt(default.sensitivity)} |"
         )
@@ -1095,16 +1099,21 @@ def _near_singularities() -> tuple[str, list[str]]:
     out.append("")
     if silent:
         findings.append(
-            f"cubic, canonical frame, with `wB/wA ≠ ψB/ψA` (e.g. a ≠ b) and small φ: the reference target is "
-            f"missed by the conditioning of the problem (φ = {', '.join(silent)}), **and a2b does not warn**."
+            f"cubic, canonical frame, with `wB/wA ≠ ψB/ψA` (e.g. a ≠ b) and small φ: the "
+            f"reference target is "
+            f"missed by the conditioning of the problem (φ = {', '.join(silent)}), **and a2b does "
+            f"not warn**."
         )
         out.append(
-            f"Reading: the error follows `1/φ` and the estimate; with the defaults, where f = g, nothing "
-            f"is lost. **a2b gives no warning** where the target is missed (φ = {', '.join(silent)})."
+            f"Reading: the error follows `1/φ` and the estimate; with the defaults, where f = g, "
+            f"nothing "
+            f"is lost. **a2b gives no warning** where the target is missed (φ = "
+            f"{', '.join(silent)})."
         )
     else:
         out.append(
-            "Reading: the error follows `1/φ` and the estimate; with the defaults, where f = g, nothing "
+            "Reading: the error follows `1/φ` and the estimate; with the defaults, where f = g, "
+            "nothing "
             "is lost. a2b warns wherever the target is missed."
         )
     warned = sorted({w for _, cell, _, _ in rows for w in cell.warnings})
@@ -1145,13 +1154,15 @@ def _near_singularities() -> tuple[str, list[str]]:
         silent = [c.phi for c in sampled if set(c.misses()) - {"rigidity"} and not c.warnings]
         if silent:
             findings.append(
-                f"{title[0].lower() + title[1:]}: the reference target is missed by the conditioning of "
+                f"{title[0].lower() + title[1:]}: the reference target is missed by the "
+                f"conditioning of "
                 f"the problem (φ = {', '.join(silent)}) without a warning; a2b refuses only at "
                 "`|p(t)|²/max|p|² ≤ 1e-12`."
             )
     out += ["", "### Half-turns within rounding", "", _HALF_TURN_PROBE, ""]
     out.append(
-        "| pair | `|pA·pB|`, 50 digits | a2b's `r[0]` | a2b's d | same sense as `pA·pB ≥ 0` in 50 digits | "
+        "| pair | `|pA·pB|`, 50 digits | a2b's `r[0]` | a2b's d | same sense as `pA·pB ≥ 0` in 50 "
+        "digits | "
         "a2b's choices |"
     )
     out.append("|---|---|---|---|---|---|")
@@ -1166,19 +1177,26 @@ def _near_singularities() -> tuple[str, list[str]]:
     out.append("")
     if ruled:
         findings.append(
-            "φ = π within rounding (random pairs): a2b's sense of rotation follows the rounding noise of "
+            "φ = π within rounding (random pairs): a2b's sense of rotation follows the rounding "
+            "noise of "
             "`pA·pB` and its half-turn rule (d > 0) is not applied; accuracy is unaffected, "
             "reproducibility is not."
         )
         out.append(
-            f"Reading: on pairs {', '.join(ruled)} a2b treats the half-turn as an ordinary rotation. It takes "
-            "the sense from the sign of `pA·pB`, which it computes correctly (the “same sense” column) but "
-            "which for these inputs is rounding noise of the input; the half-turn rule is not applied"
+            f"Reading: on pairs {', '.join(ruled)} a2b treats the half-turn as an ordinary "
+            f"rotation. It takes "
+            "the sense from the sign of `pA·pB`, which it computes correctly (the “same sense” "
+            "column) but "
+            "which for these inputs is rounding noise of the input; the half-turn rule is not "
+            "applied"
             + (f" (d < 0 on pairs {', '.join(negative)})" if negative else "")
             + ", and the choice reported is either none or “flipped the sign of B's quaternion so that "
-            "pA·pB ≥ 0 (the short way round)”, although both ways are equally short. Both motions are "
-            "valid interpolants and the grid measures a2b against the sense it chose, so accuracy is not "
-            "affected; reproducibility is: a rounding-level change of the input can turn the motion into "
+            "pA·pB ≥ 0 (the short way round)”, although both ways are equally short. Both motions "
+            "are "
+            "valid interpolants and the grid measures a2b against the sense it chose, so accuracy "
+            "is not "
+            "affected; reproducibility is: a rounding-level change of the input can turn the "
+            "motion into "
             "its mirror image."
         )
     else:
@@ -1197,10 +1215,14 @@ def _reading_near_zero(rows) -> str:
         worst = max(max(c.ortho, c.det) for c in sampled)
         text.append(
             f"Reading: **a2b returns matrices that are not rigid** (φ = {', '.join(rigid)}; worst "
-            f"{fmt(worst)}). Rigidity does not depend on the conditioning of the problem: this is a "
-            "defect of a2b. `Motion.matrices` evaluates the rotation as the ratio of Bernstein sums of "
-            "the numerators of eq. 4 and of `|p(t)|²`; their rounding is about ε times the size of the "
-            "terms, so relative to `|p(t)|²` it grows like `ε / (|p(t)|²/max|p|²)`, up to about 2e-4 "
+            f"{fmt(worst)}). Rigidity does not depend on the conditioning of the problem: this is "
+            f"a "
+            "defect of a2b. `Motion.matrices` evaluates the rotation as the ratio of Bernstein "
+            "sums of "
+            "the numerators of eq. 4 and of `|p(t)|²`; their rounding is about ε times the size "
+            "of the "
+            "terms, so relative to `|p(t)|²` it grows like `ε / (|p(t)|²/max|p|²)`, up to about "
+            "2e-4 "
             "at a2b's refusal threshold 1e-12. The rotation of `p(t)` itself is rigid to rounding."
         )
     else:
@@ -1210,15 +1232,19 @@ def _reading_near_zero(rows) -> str:
     else:
         text.append(
             "The other misses are within 10× the input sensitivity, which grows like "
-            "`ε / (|p(½)|²/max|p|²)`: near `p(t) = 0` the direction of `p(t)` is known only to about "
-            "`ε max|p| / |p(t)|`, and where the translation depends on it (Darboux), it runs out to about "
+            "`ε / (|p(½)|²/max|p|²)`: near `p(t) = 0` the direction of `p(t)` is known only to "
+            "about "
+            "`ε max|p| / |p(t)|`, and where the translation depends on it (Darboux), it runs out "
+            "to about "
             "`L / |p(½)|`. a2b refuses once `|p(t)|²/max|p|² ≤ 1e-12`."
         )
     silent = [c.phi for c in sampled if set(c.misses()) - {"rigidity"} and not c.warnings]
     if silent:
         text.append(
-            f"a2b samples φ = {', '.join(silent)} without a warning although the reference target is missed; the "
-            "input sensitivity reaches the 1e-9 target at about `|p(t)|²/max|p|² ≈ 1e-7`, far above the "
+            f"a2b samples φ = {', '.join(silent)} without a warning although the reference target "
+            f"is missed; the "
+            "input sensitivity reaches the 1e-9 target at about `|p(t)|²/max|p|² ≈ 1e-7`, far "
+            "above the "
             "refusal threshold."
         )
     return " ".join(text)
@@ -1241,7 +1267,8 @@ def _notes(cells: dict) -> str:
         )
         worst = max(group, key=lambda x: max(x.pose, x.closed()))
         numbers = (
-            f"worst: end {fmt(worst.end)}, ref {fmt(worst.pose)}, ω {fmt(max(worst.omega_canonical, worst.omega_general))}, "
+            f"worst: end {fmt(worst.end)}, ref {fmt(worst.pose)}, ω "
+            f"{fmt(max(worst.omega_canonical, worst.omega_general))}, "
             f"z {fmt(worst.z)}; input sensitivity {fmt(worst.sensitivity)}"
         )
         if "refused" in misses:
@@ -1250,7 +1277,8 @@ def _notes(cells: dict) -> str:
             )
         elif unexplained:
             lines.append(
-                f"- **{title}**, {where}: misses {', '.join(misses)} ({numbers}). **Not explained by "
+                f"- **{title}**, {where}: misses {', '.join(misses)} ({numbers}). **Not explained "
+                f"by "
                 "the conditioning of the problem: an accuracy defect of a2b.**"
             )
         elif case_key == "cubic-canonical":
@@ -1266,7 +1294,8 @@ def _notes(cells: dict) -> str:
             )
         else:
             lines.append(
-                f"- **{title}**, {where}: misses {', '.join(misses)} ({numbers}). The error is within "
+                f"- **{title}**, {where}: misses {', '.join(misses)} ({numbers}). The error is "
+                f"within "
                 f"{EXPLAINED_FACTOR:g}× the input sensitivity: the conditioning of the problem."
             )
     notes = sorted({n for c in cells.values() for n in c.notes})
@@ -1280,8 +1309,10 @@ def _notes(cells: dict) -> str:
         if any("treated as a pure translation" in n for n in notes):
             lines.append("")
             lines.append(
-                "The random pairs with φ = 0 give B exactly A's rotation matrix; a2b's `pB p̄A` of two equal "
-                "quaternions keeps a vector part of about 1e-17 from rounding, which its noise threshold "
+                "The random pairs with φ = 0 give B exactly A's rotation matrix; a2b's `pB p̄A` "
+                "of two equal "
+                "quaternions keeps a vector part of about 1e-17 from rounding, which its noise "
+                "threshold "
                 "turns into a pure translation, as it should."
             )
     return "\n".join(lines)

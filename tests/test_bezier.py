@@ -188,7 +188,8 @@ def test_weights_of_two_controls_reparametrise_the_line(rng, space):
     )
 
 
-# -- planar control poses give planar motions -------------------------------------------------------
+# -- planar control poses give planar motions
+# -------------------------------------------------------
 
 
 @pytest.mark.parametrize("space", SPACES)

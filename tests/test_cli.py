@@ -356,7 +356,8 @@ def test_stdin(poses):
 def test_a2b_error_is_one_line_exit_1(tmp_path):
     path = tmp_path / "p.yaml"
     path.write_text(
-        "start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [1, 0, 0, 0], translation: [0, 0, 1]}\n"
+        "start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [1, 0, 0, 0], translation: [0, 0, "
+        "1]}\n"
     )
     out = tmp_path / "o.csv"
     result = CliRunner().invoke(cli, ["interpolate", str(path), "--lam", "0.1", "-o", str(out)])
@@ -413,7 +414,8 @@ def test_describe_human(tmp_path):
     path = tmp_path / "p.yaml"
     path.write_text(
         "start: {quaternion: [1, 0, 0, 0]}\n"
-        "end: {quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [0, 0, 1]}\n"
+        "end: {quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [0, 0, "
+        "1]}\n"
     )
     result = run("describe", path, "--lam", 1.5, "--branch", -1)
     assert result.exit_code == 0
@@ -653,13 +655,14 @@ def test_verbose_states_every_choice_on_stderr(tmp_path):
 def test_verbose_names_the_axis_of_a_pure_translation_and_the_default_m(tmp_path):
     path = tmp_path / "p.yaml"
     path.write_text(
-        "start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [1, 0, 0, 0], translation: [1, 2, 3]}\n"
+        "start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [1, 0, 0, 0], translation: [1, 2, "
+        "3]}\n"
     )
     err = run_split("interpolate", path, "--mode", "cubic", "-o", tmp_path / "o.mcap", "-v").stderr
     assert "  • format mcap: from the -o suffix .mcap (--format to change)" in err
     assert (
-        "  • pure translation (φ = 0): the axis is the line through A's origin along the translation"
-        in err
+        "  • pure translation (φ = 0): the axis is the line through A's origin along the "
+        "translation" in err
     )
     assert "  • m defaults to pA + pB in canonical coordinates, so both weights are equal" in err
     assert "mode" not in err  # given on the command line
@@ -695,8 +698,10 @@ def test_verbose_batch_names_the_job_of_each_choice():
     assert result.stderr.splitlines() == [
         "Choices a2b made:",
         "  • format csv: the default (--format to change)",
-        "  • job lift-cubic: m defaults to pA + pB in canonical coordinates, so both weights are equal",
-        "  • job slide: pure translation (φ = 0): the axis is the line through A's origin along the translation",
+        "  • job lift-cubic: m defaults to pA + pB in canonical coordinates, so both weights are "
+        "equal",
+        "  • job slide: pure translation (φ = 0): the axis is the line through A's origin along "
+        "the translation",
     ]
 
 
@@ -836,8 +841,10 @@ def test_results_that_overflow_are_refused(tmp_path, command, end, message):
 def test_batch_names_the_job_whose_samples_overflow(tmp_path):
     path = tmp_path / "jobs.yaml"
     path.write_text(
-        "- {name: fine, start: {quaternion: [1, 0, 0, 0]}, end: {quaternion: [1, 0, 0, 0]}, samples: 2}\n"
-        "- {name: huge, start: {quaternion: [1, 0, 0, 0]}, end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}, "
+        "- {name: fine, start: {quaternion: [1, 0, 0, 0]}, end: {quaternion: [1, 0, 0, 0]}, "
+        "samples: 2}\n"
+        "- {name: huge, start: {quaternion: [1, 0, 0, 0]}, end: {quaternion: [0, 0, 0, 1], "
+        "translation: [0, 0, 1]}, "
         "parameters: {lam: 1e200}}\n"
     )
     result = run_split("batch", path, "-o", tmp_path / "o.csv")
@@ -946,7 +953,8 @@ def test_a_sensitive_result_is_one_warning_line_and_the_run_goes_on(tmp_path):
     path = tmp_path / "p.yaml"
     path.write_text(
         "start: {quaternion: [1, 0, 0, 0]}\n"
-        f"end: {{quaternion: [{math.cos(half)!r}, 0, 0, {math.sin(half)!r}], translation: [1, 0, 0]}}\n"
+        f"end: {{quaternion: [{math.cos(half)!r}, 0, 0, {math.sin(half)!r}], translation: [1, 0, "
+        f"0]}}\n"
         "parameters: {long_way: true}\n"
     )
     result = run_split("interpolate", path, "--samples", 3, "-o", tmp_path / "o.csv")
@@ -962,7 +970,8 @@ def test_batch_warnings_name_their_job(tmp_path):
     half = 0.5e-4
     job = (
         "  start: {quaternion: [1, 0, 0, 0]}\n"
-        f"  end: {{quaternion: [{math.cos(half)!r}, 0, 0, {math.sin(half)!r}], translation: [1, 0, 0]}}\n"
+        f"  end: {{quaternion: [{math.cos(half)!r}, 0, 0, {math.sin(half)!r}], translation: [1, "
+        f"0, 0]}}\n"
         "  parameters: {long_way: true}\n"
     )
     path = tmp_path / "jobs.yaml"

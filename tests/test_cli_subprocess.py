@@ -145,7 +145,8 @@ def test_help_and_version_import_nothing_heavy(args):
         f"    cli({args!r}, prog_name='a2b')\n"
         "except SystemExit:\n"
         "    pass\n"
-        "heavy = [m for m in ('numpy', 'rich', 'yaml', 'mcap', 'a2b.api', 'a2b.poses') if m in sys.modules]\n"
+        "heavy = [m for m in ('numpy', 'rich', 'yaml', 'mcap', 'a2b.api', 'a2b.poses') if m in "
+        "sys.modules]\n"
         "print(heavy, file=sys.stderr)\n"
     )
     result = subprocess.run(

@@ -768,7 +768,8 @@ PROCESS_CASES = [
     (
         "batch",
         "latin1.jsonl",
-        b'{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}, "name": "caf\xe9"}\n',
+        b'{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}, "name": '
+        b'"caf\xe9"}\n',
     ),
 ]
 

@@ -48,7 +48,8 @@ def big_jobs(path: Path, samples: int) -> Path:
         "- name: big\n"
         f"  samples: {samples}\n"
         "  start: {quaternion: [1, 0, 0, 0]}\n"
-        "  end: {quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [1, 1, 0.5]}\n"
+        "  end: {quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [1, 1, "
+        "0.5]}\n"
     )
     return path
 

@@ -30,7 +30,8 @@ MALFORMED = [
     ),
     (
         "dup.json",
-        '{"start": {"quaternion": [1, 0, 0, 0]},\n  "end": {"quaternion": [1, 0, 0, 0],\n   "quaternion": [1, 0, 0, 0]}}',
+        '{"start": {"quaternion": [1, 0, 0, 0]},\n  "end": {"quaternion": [1, 0, 0, 0],\n   '
+        '"quaternion": [1, 0, 0, 0]}}',
         ["dup.json:3:4", "duplicate key 'quaternion'"],
     ),
     (
@@ -50,7 +51,8 @@ MALFORMED = [
     ),
     (
         "matrix.json",
-        '{"start": {"matrix": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]}, "end": {"study": [1,0,0,0,0,0,0,0]}}',
+        '{"start": {"matrix": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]}, "end": {"study": '
+        "[1,0,0,0,0,0,0,0]}}",
         ["matrix.json:1:12", "start.matrix", "expected 4 rows of 4 numbers, got 3 rows"],
     ),
     (
@@ -65,12 +67,14 @@ MALFORMED = [
     ),
     (
         "bool.json",
-        '{"start": {"quaternion": [1, 0, 0, 0]},\n "end": {"quaternion": {"w": 1, "x": 0, "y": true, "z": 0}}}',
+        '{"start": {"quaternion": [1, 0, 0, 0]},\n "end": {"quaternion": {"w": 1, "x": 0, "y": '
+        'true, "z": 0}}}',
         ["bool.json:2:", "end.quaternion.y", "got the boolean true"],
     ),
     (
         "nan.json",
-        '{"start": {"quaternion": [1, 0, 0, 0]},\n "end": {"quaternion": [1, 0, 0, 0], "translation": [0, NaN, 0]}}',
+        '{"start": {"quaternion": [1, 0, 0, 0]},\n "end": {"quaternion": [1, 0, 0, 0], '
+        '"translation": [0, NaN, 0]}}',
         ["nan.json:2:", "end.translation[1]", "NaN is not allowed"],
     ),
     (
@@ -112,7 +116,8 @@ MALFORMED = [
     ),
     (
         "rotation.yaml",
-        f"start: {{matrix: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 2, 0], [0, 0, 0, 1]]}}\nend: {QUARTER}\n",
+        f"start: {{matrix: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 2, 0], [0, 0, 0, 1]]}}\nend: "
+        f"{QUARTER}\n",
         ["rotation.yaml:1:9", "start.matrix", "not orthogonal"],
     ),
     (
@@ -320,7 +325,8 @@ def test_an_empty_jobs_file_is_an_error():
         list(
             readers.read_jobs(
                 io.BytesIO(
-                    b'{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}\n\xff\n'
+                    b'{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, '
+                    b"0]}}\n\xff\n"
                 ),
                 "jobs.jsonl",
             )

@@ -611,7 +611,8 @@ def test_command_without_matplotlib(tmp_path, monkeypatch):
     result = run(QUARTER, "-o", str(tmp_path / "x.png"))
     assert (result.exit_code, result.output) == (
         1,
-        "Error: plotting needs matplotlib, which is not installed: pip install 'a2b-motions[plot]'\n",
+        "Error: plotting needs matplotlib, which is not installed: pip install "
+        "'a2b-motions[plot]'\n",
     )
     assert not (tmp_path / "x.png").exists()
 

@@ -6,6 +6,7 @@ import click
 
 from . import CONTEXT_SETTINGS, options
 
+
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=click.File("rb"))
 @options.space_option

@@ -33,7 +33,8 @@ def render(result: dict) -> None:
             )
         console.print(
             Text(
-                f"μ_[m]-fiber, m = ({_fmt(result['m'])}), {result['basis_name']} basis f0 … f5 (x0, a11 … a33):"
+                f"μ_[m]-fiber, m = ({_fmt(result['m'])}), {result['basis_name']} basis f0 … f5 "
+                f"(x0, a11 … a33):"
             )
         )
         basis = Table(show_header=False)

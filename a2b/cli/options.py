@@ -66,7 +66,8 @@ class Vector(click.ParamType):
         parts = [p.strip() for p in str(value).split(",")]
         if len(parts) != self.n:
             self.fail(
-                f"expected {self.n} comma-separated numbers ({self.names}), got {len(parts)}: {value!r}",
+                f"expected {self.n} comma-separated numbers ({self.names}), got {len(parts)}: "
+                f"{value!r}",
                 param,
                 ctx,
             )

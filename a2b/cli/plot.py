@@ -22,7 +22,8 @@ class ModeList(click.ParamType):
         unknown = [mode for mode in modes if mode not in options.MODES]
         if unknown or not modes:
             self.fail(
-                f"expected modes from {', '.join(options.MODES)} separated by commas, got {value!r}",
+                f"expected modes from {', '.join(options.MODES)} separated by commas, got "
+                f"{value!r}",
                 param,
                 ctx,
             )

@@ -144,7 +144,8 @@ def _nanoseconds(t, duration: float, start_time: float) -> np.ndarray:
     if times.size and not (np.isfinite(times).all() and times.min() >= 0):
         bad = times[~(np.isfinite(times) & (times >= 0))][0]
         raise ParameterError(
-            f"MCAP times must be finite and not negative; t · duration + start_time reaches {bad:g} s"
+            f"MCAP times must be finite and not negative; t · duration + start_time reaches "
+            f"{bad:g} s"
         )
     ns = np.rint(times * 1e9)
     if ns.size and ns.max() >= 2.0**63:

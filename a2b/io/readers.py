@@ -757,7 +757,8 @@ def _parameters(doc: _Document, path: Path, v) -> dict:
             if not _is_number(value) or value not in (1, -1):
                 raise doc.error(
                     here,
-                    f"expected +1 or -1, got {_describe(value) if not _is_number(value) else value}",
+                    f"expected +1 or -1, got "
+                    f"{_describe(value) if not _is_number(value) else value}",
                 )
             out[key] = int(value)
         elif kind == "bool":
@@ -920,7 +921,8 @@ def _pose_list(doc: _Document, key: str) -> PoseList:
     if "start" in top and "end" in top and key not in top:
         raise doc.error(
             (),
-            f"this is a poses file (start and end); this command needs a list of poses under {key!r}",
+            f"this is a poses file (start and end); this command needs a list of poses under "
+            f"{key!r}",
         )
     _check_keys(doc, (), top, (key, "space", "samples", "parameters"), f"a {key} file")
     if key not in top:

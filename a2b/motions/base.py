@@ -202,7 +202,8 @@ class Motion:
             lambda i: (
                 f"the {self.what} passes close to p(t) = 0 at t = {value(t_min, i):.6g} "
                 f"(|p(t)|² / |p|²_max = {value(ratio, i):.3g}): its poses near there change by "
-                f"about {EPS / value(ratio, i):.1g} of the motion's size under rounding of the input"
+                f"about {EPS / value(ratio, i):.1g} of the motion's size under rounding of the "
+                f"input"
             ),
         )
 
