@@ -32,7 +32,8 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
         darboux: ``delta, kappa, lam, branch, pitch_start, pitch_end, through, long_way``;
         cubic: ``m, alpha, beta, a, b, frame``; screw: none. ``None`` means "not given".
         Numbers (and ``m``, ``alpha``, ``beta``, ``through`` by their leading shape)
-        broadcast with the poses: ``S`` is the broadcast shape of all of them. See :class:`a2b.motions.darboux.DarbouxMotion` and
+        broadcast with the poses: ``S`` is the broadcast shape of all of them. See
+        :class:`a2b.motions.darboux.DarbouxMotion` and
         :class:`a2b.motions.cubic.CubicMotion`.
 
     Returns
@@ -102,7 +103,8 @@ def interpolate(start, end, ts, mode: str = "darboux", **parameters) -> np.ndarr
     start, end : array_like, shape (..., 4, 4)
         Robotics-layout poses, broadcast against each other to the shape ``S`` of the motions.
     ts : array_like, shape (N,), or int
-        Sample parameters, or a count of evenly spaced ones in [0, 1]. ``t = 0`` gives ``start`` and ``t = 1`` gives ``end``; values
+        Sample parameters, or a count of evenly spaced ones in [0, 1]. ``t = 0`` gives ``start`` and
+        ``t = 1`` gives ``end``; values
         outside ``[0, 1]`` extrapolate along the same motion (and are checked for
         singularities on the extended range).
     mode, **parameters

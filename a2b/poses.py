@@ -246,7 +246,8 @@ def rotations_from_quaternions(quat_wxyz: np.ndarray) -> np.ndarray:
 
 
 def matrices_from_quat_trans(quat_wxyz: np.ndarray, translations: np.ndarray) -> np.ndarray:
-    """Robotics-layout matrices ``(..., 4, 4)`` from quaternions ``(..., 4)`` and translations ``(..., 3)``.
+    """Robotics-layout matrices ``(..., 4, 4)`` from quaternions ``(..., 4)`` and translations
+    ``(..., 3)``.
 
     The quaternion is validated by :func:`check_quaternions` (non-zero, finite; any scale).
     """
@@ -264,7 +265,8 @@ def matrices_from_quat_trans(quat_wxyz: np.ndarray, translations: np.ndarray) ->
 
 
 def quat_trans_from_matrices(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unit quaternions ``(..., 4)`` (w, x, y, z) and translations ``(..., 3)`` of robotics matrices.
+    """Unit quaternions ``(..., 4)`` (w, x, y, z) and translations ``(..., 3)`` of robotics
+    matrices.
 
     The quaternion sign follows :func:`quaternions_from_rotations` (``w ≥ 0``).
     """

@@ -162,7 +162,8 @@ def check_study(h: np.ndarray, *, tol: float = STUDY_TOL, on_quadric: bool = Tru
 
 
 def study_from_quat_trans(quat_wxyz: np.ndarray, translations: np.ndarray) -> np.ndarray:
-    """Study parameters ``(..., 8)`` from quaternions ``p`` and translations ``t``: ``q = −½ t p`` (eq. 6).
+    """Study parameters ``(..., 8)`` from quaternions ``p`` and translations ``t``: ``q = −½ t p``
+    (eq. 6).
 
     For a unit ``p`` this is eq. 6; for any ``p ≠ 0`` it gives the point of the Study quadric with
     primal part ``p`` whose κ-image has the translation ``t``.

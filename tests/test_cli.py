@@ -791,11 +791,14 @@ def test_absurd_requests_are_usage_errors(poses, args, message):
     "args, message",
     [
         (["--format", "mcap", "--samples", 2**32 + 1],
-         "MCAP numbers messages with 32-bit sequence numbers: at most 2**32 = 4294967296 samples, got 4294967297"),
+         "MCAP numbers messages with 32-bit sequence numbers: at most 2**32 = 4294967296 "
+         "samples, got 4294967297"),
         (["--format", "mcap", "--duration", 1e10],
-         "MCAP log times are nanoseconds below 2**63 (the year 2262); the time of t = 1, duration + start_time, is 1e+10 s"),
+         "MCAP log times are nanoseconds below 2**63 (the year 2262); the time of t = 1, "
+         "duration + start_time, is 1e+10 s"),
         (["--format", "mcap", "--start-time", 9.3e9],
-         "MCAP log times are nanoseconds below 2**63 (the year 2262); the time of t = 1, duration + start_time, is 9.3e+09 s"),
+         "MCAP log times are nanoseconds below 2**63 (the year 2262); the time of t = 1, "
+         "duration + start_time, is 9.3e+09 s"),
         (["--format", "mcap", "--start-time", -0.5], "MCAP times must not be negative; --start-time is -0.5 s"),
         (["--format", "tum", "--start-time", 1e308, "--duration", 1e308],
          "the time of t = 1, duration + start_time = 1e+308 + 1e+308, overflows a double"),

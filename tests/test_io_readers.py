@@ -257,13 +257,17 @@ def test_a_poses_file_where_one_pose_belongs_and_back(tmp_path):
 
 EXACT_ERRORS = [
     ("big.json", b'{"quaternion": [1' + b"0" * 400 + b", 0, 0, 0]}",
-     "big.json:1:17: quaternion[0]: 100000000000…000000 (401 digits) is too large for a double; numbers must be finite (|x| < 1.8e308)"),
+     "big.json:1:17: quaternion[0]: 100000000000…000000 (401 digits) is too large for a double; "
+     "numbers must be finite (|x| < 1.8e308)"),
     ("digits.yaml", b"quaternion: [1" + b"0" * 5000 + b", 0, 0, 0]\n",
-     "digits.yaml:1:14: quaternion[0]: 100000000000…000000 (5001 digits) is too large for a double; numbers must be finite (|x| < 1.8e308)"),
+     "digits.yaml:1:14: quaternion[0]: 100000000000…000000 (5001 digits) is too large for a "
+     "double; numbers must be finite (|x| < 1.8e308)"),
     ("exp.json", b'{"quaternion": [1e999, 0, 0, 0]}',
-     "exp.json:1:17: quaternion[0]: 1e999 is too large for a double; numbers must be finite (|x| < 1.8e308)"),
+     "exp.json:1:17: quaternion[0]: 1e999 is too large for a double; numbers must be finite "
+     "(|x| < 1.8e308)"),
     ("exp.yaml", b"quaternion: [1, 0, 0, -1.5e+400]\n",
-     "exp.yaml:1:23: quaternion[3]: -1.5e+400 is too large for a double; numbers must be finite (|x| < 1.8e308)"),
+     "exp.yaml:1:23: quaternion[3]: -1.5e+400 is too large for a double; numbers must be finite "
+     "(|x| < 1.8e308)"),
     ("inf.yaml", b"quaternion: [1, 0, 0, 0]\ntranslation: [-.Inf, 0, 0]\n",
      "inf.yaml:2:15: translation[0]: -.Inf is not allowed; numbers must be finite"),
     ("sexagesimal.yaml", b"quaternion: [1:20, 0, 0, 0]\n",
@@ -280,7 +284,8 @@ EXACT_ERRORS = [
      "deep.yaml:1:101: nested too deeply (a2b reads at most 100 levels)"),
     ("deep.json", b"[" * 50_000 + b"]" * 50_000, "deep.json: invalid JSON: nested too deeply to read"),
     ("key.json", b'{"quaternion": [1, 0, 0, 0], "a\\nb": 1}',
-     "key.json:1:30: 'a\\nb': unknown key 'a\\nb' in a pose (expected matrix, quaternion, quaternion_xyzw, study, layout, translation, kappa)"),
+     "key.json:1:30: 'a\\nb': unknown key 'a\\nb' in a pose (expected matrix, quaternion, "
+     "quaternion_xyzw, study, layout, translation, kappa)"),
 ]  # fmt: skip
 
 

@@ -62,7 +62,8 @@ def command(jobs, mode, samples, fmt, chunk_size, output, verbose):
     A job has start and end poses and, optionally, name (default: its index), mode, samples
     and parameters, as in a poses file. Jobs are read, built and sampled in chunks, the jobs
     of one kind (mode and parameters given) all at once, with the results of building each
-    alone; a progress bar shows on stderr when stderr is a terminal. A job that fails stops the run with a message that names it (by line and index
+    alone; a progress bar shows on stderr when stderr is a terminal. A job that fails stops the run
+    with a message that names it (by line and index
     for an error in the file, by name for one of the mathematics), and with -o no file is
     written.
     -v states every choice a2b makes, job by job.

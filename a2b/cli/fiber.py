@@ -77,7 +77,8 @@ def command(pose, kind, offsets, m, alphas, basis, as_json):
 
     A fiber is every point of the extended model that maps to the same pose. Under κ it is
     the line h + s εp (a2b uses the corrected form: docs/math.md, correction 1); under
-    μ_[m] it is the 6-dimensional family (1, R) + Σ α_l f_l of affine matrices (eq. 15). Each point is mapped
+    μ_[m] it is the 6-dimensional family (1, R) + Σ α_l f_l of affine matrices (eq. 15). Each point
+    is mapped
     back, and the largest deviation from the pose is shown.
 
     \b

@@ -145,13 +145,13 @@ def command(
       a2b plot samples/half-turn.yaml --mode cubic --family --angle-unit rad -o family.pdf
       a2b plot samples/planar-bezier.yaml --space study -o planar.svg
     """
+    import sys
+
     from ..api import PARAMETERS
     from ..errors import ParameterError
     from ..io.atomic import atomic_output
     from ..io.readers import PoseList, read_motion_file
     from ..plot import figure_format, plot_motions, write_figure
-
-    import sys
 
     choices: list[str] = []
     if image_format:

@@ -1,4 +1,5 @@
-"""Cubic circular motions: straight lines in the extended matrix model, mapped by μ_[m] (sections 4, 5).
+"""Cubic circular motions: straight lines in the extended matrix model, mapped by μ_[m] (sections 4,
+5).
 
 The fiber points ``A = ((1, RA) + Σ α_l f_l, ψA tA)`` and ``B = ((1, RB) + Σ β_l f_l, ψB tB)``
 with ``ψA = 1 + a``, ``ψB = 1 + b`` span the line ``x(t) = (1−t) A + t B``; the pose at ``t`` is
