@@ -30,4 +30,5 @@ class InputFileError(A2bError):
 
 
 class A2bWarning(UserWarning):
-    """A result that a2b computes but that is sensitive to rounding of the input (near a singularity)."""
+    """A result that a2b computes but that is sensitive to rounding of the input (near a
+    singularity)."""

@@ -172,7 +172,8 @@ def kernel_basis(m, basis: str = "auto") -> tuple[np.ndarray, str]:
 
 
 def model_points_from_matrices(matrices) -> np.ndarray:
-    """The points ``(1, R row by row, t)`` of R^13 of robotics matrices ``(..., 4, 4)`` → ``(..., 13)``."""
+    """The points ``(1, R row by row, t)`` of R^13 of robotics matrices ``(..., 4, 4)`` → ``(...,
+    13)``."""
     mat = np.asarray(matrices, dtype=float)
     out = np.empty(mat.shape[:-2] + (13,))
     out[..., 0] = 1.0

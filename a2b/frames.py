@@ -107,7 +107,8 @@ class ScrewFrame:
         return self.t_disp - np.asarray(self.d)[..., None] * self.axis_direction
 
     def canonical_transform(self) -> np.ndarray:
-        """Rigid ``F`` (``S + (4, 4)``) taking the axis to the z-axis, the axis point to the origin."""
+        """Rigid ``F`` (``S + (4, 4)``) taking the axis to the z-axis, the axis point to the
+        origin."""
         u = np.asarray(self.axis_direction)
         ez = np.array([0.0, 0.0, 1.0])
         v = np.cross(u, ez)

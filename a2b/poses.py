@@ -153,7 +153,8 @@ def check_matrices(
 
 
 def robotics_from_paper(matrices: np.ndarray) -> np.ndarray:
-    """Convert ``[[1, 0ᵀ], [t, R]]`` (eq. 1) to ``[[R, t], [0, 0, 0, 1]]``, shape ``(..., 4, 4)``."""
+    """Convert ``[[1, 0ᵀ], [t, R]]`` (eq. 1) to ``[[R, t], [0, 0, 0, 1]]``, shape ``(..., 4,
+    4)``."""
     m = np.asarray(matrices, dtype=float)
     out = np.zeros_like(m)
     out[..., :3, :3] = m[..., 1:, 1:]
@@ -309,7 +310,8 @@ def matrices_from_study(
 
 
 def matrices_from_rot_trans(rotations: np.ndarray, translations: np.ndarray) -> np.ndarray:
-    """Robotics matrices ``(..., 4, 4)`` from rotations ``(..., 3, 3)`` and translations ``(..., 3)``."""
+    """Robotics matrices ``(..., 4, 4)`` from rotations ``(..., 3, 3)`` and translations ``(...,
+    3)``."""
     rot = np.asarray(rotations, dtype=float)
     out = np.zeros(rot.shape[:-2] + (4, 4))
     out[..., :3, :3] = rot

@@ -22,7 +22,8 @@ def random_pose(rng, scale=1.0):
 
 
 def pose_about_axis(angle, axis, point, slide):
-    """The screw displacement: rotation by ``angle`` about the line (axis, point), slide along it."""
+    """The screw displacement: rotation by ``angle`` about the line (axis, point), slide along
+    it."""
     axis = np.asarray(axis, float) / np.linalg.norm(axis)
     k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
     rot = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k

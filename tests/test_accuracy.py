@@ -118,7 +118,8 @@ def test_ill_conditioned_canonical_cubic_warns_or_refuses():
 
 
 def test_long_way_close_to_a_translation_warns_or_refuses():
-    """|p(½)|²/max|p|² ≈ 6e-10: the exact motion moves by about 2e-7 L under rounding of the input."""
+    """|p(½)|²/max|p|² ≈ 6e-10: the exact motion moves by about 2e-7 L under rounding of the
+    input."""
     pair = accuracy.general_pair(accuracy.MP.mpf("1e-4"), 1.0, 0)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

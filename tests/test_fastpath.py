@@ -140,7 +140,8 @@ def test_extrapolated_samples_match_exact_evaluation(rng, mode):
 
 @pytest.mark.parametrize("mode", MODES)
 def test_many_blocks_and_a_partial_last_block(rng, mode):
-    """Indexing across blocks: every row against the plain product, rows near block sizes exactly."""
+    """Indexing across blocks: every row against the plain product, rows near block sizes
+    exactly."""
     motion = random_motion(rng, mode)
     n = 3 * _rational.SAMPLE_BLOCK + 123
     ts = np.sort(rng.uniform(0.0, 1.0, n))

@@ -1,4 +1,5 @@
-"""``a2b fiber``: points of the fiber of one pose under κ or μ_[m], and the check that they map back."""
+"""``a2b fiber``: points of the fiber of one pose under κ or μ_[m], and the check that they map
+back."""
 
 from __future__ import annotations
 
@@ -63,7 +64,8 @@ def render(result: dict) -> None:
     type=click.Choice(["kappa", "mu"]),
     default="kappa",
     show_default=True,
-    help="κ (extended dual-quaternion model, points of P^7) or μ_[m] (extended matrix model, points of R^13).",
+    help="κ (extended dual-quaternion model, points of P^7) or μ_[m] (extended matrix model, "
+    "points of R^13).",
 )
 @options.offsets_option("kappa: one fiber point h + s εp per offset s  [default: -1,0,1]")
 @options.m_option("mu: the vector m of μ_[m] (required).")

@@ -167,7 +167,8 @@ def motion_options(f):
     return click.option(
         "--mode",
         type=click.Choice(MODES),
-        help="The motion: darboux (vertical Darboux motion, default), cubic (cubic circular) or screw (ScLERP).",
+        help="The motion: darboux (vertical Darboux motion, default), cubic (cubic circular) or "
+        "screw (ScLERP).",
     )(f)
 
 

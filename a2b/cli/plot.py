@@ -75,7 +75,8 @@ class PointList(click.ParamType):
 @click.option(
     "--family",
     is_flag=True,
-    help="Also draw the family of transmission curves through A and B: darboux varies δ, cubic (1+b)/(1+a).",
+    help="Also draw the family of transmission curves through A and B: darboux varies δ, cubic "
+    "(1+b)/(1+a).",
 )
 @click.option(
     "--family-of",
@@ -85,7 +86,8 @@ class PointList(click.ParamType):
 @click.option(
     "--points",
     type=PointList(),
-    help="Body points whose trajectories are drawn, in the moving frame  [default: the tips of its unit axes]",
+    help="Body points whose trajectories are drawn, in the moving frame  [default: the tips of "
+    "its unit axes]",
 )
 @click.option(
     "--angle-unit",

@@ -198,7 +198,8 @@ def write_csv(stream: IO, chunks: Iterable[Chunk]) -> None:
 
 
 def write_matrix_csv(stream: IO, chunks: Iterable[Chunk]) -> None:
-    """Write ``t`` and the 12 entries of ``[R | t]`` row by row, with a header. Needs ``matrices``."""
+    """Write ``t`` and the 12 entries of ``[R | t]`` row by row, with a header. Needs
+    ``matrices``."""
     _write_table(stream, "matrix", MATRIX_HEADER, chunks)
 
 

@@ -119,7 +119,8 @@ def bern_to_monomial(a: np.ndarray) -> np.ndarray:
 
 
 def make_table(rot, rot_den, trans, trans_den) -> np.ndarray:
-    """Tables ``(..., k, 14)`` from coefficients ``(..., k, 9)``, ``(..., k)``, ``(..., k, 3)``, ``(..., k)``."""
+    """Tables ``(..., k, 14)`` from coefficients ``(..., k, 9)``, ``(..., k)``, ``(..., k, 3)``,
+    ``(..., k)``."""
     rot = np.asarray(rot, dtype=float)
     trans = np.asarray(trans, dtype=float)
     rot_den = np.asarray(rot_den, dtype=float)

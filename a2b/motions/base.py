@@ -79,7 +79,8 @@ def evenly_spaced(samples: int, size: int):
 
 
 def linear_path(ts: np.ndarray, ends: np.ndarray) -> np.ndarray:
-    """``(1−t) ends[..., 0, :] + t ends[..., 1, :]``: shape ``S + (N, 4)`` for ends ``S + (2, 4)``."""
+    """``(1−t) ends[..., 0, :] + t ends[..., 1, :]``: shape ``S + (N, 4)`` for ends ``S + (2,
+    4)``."""
     u = (1.0 - ts)[:, None]
     return u * ends[..., None, 0, :] + ts[:, None] * ends[..., None, 1, :]
 

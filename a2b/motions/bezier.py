@@ -110,7 +110,8 @@ _BISECTIONS = 80
 
 
 def _bern_eval(coeffs: np.ndarray, ts: np.ndarray) -> np.ndarray:
-    """Values ``(S, P)`` of ``S`` polynomials (Bernstein coefficients ``(S, n+1)``) at ``ts (S, P)``."""
+    """Values ``(S, P)`` of ``S`` polynomials (Bernstein coefficients ``(S, n+1)``) at ``ts (S,
+    P)``."""
     n = coeffs.shape[-1] - 1
     if n == 0:
         return np.broadcast_to(coeffs[:, :1], ts.shape).copy()

@@ -43,7 +43,8 @@ SENSITIVITY_WARNING = 1e-9
 
 
 def default_m(frame: ScrewFrame, which: str) -> np.ndarray:
-    """``m = pA + pB``: ``(1 + cos(φ/2), 0, 0, sin(φ/2))`` in canonical coordinates (``docs/math.md``)."""
+    """``m = pA + pB``: ``(1 + cos(φ/2), 0, 0, sin(φ/2))`` in canonical coordinates
+    (``docs/math.md``)."""
     if which == "canonical":
         r = np.asarray(frame.r)
         out = np.zeros(r.shape)
