@@ -257,7 +257,10 @@ def closed_form_z(motion, omega) -> np.ndarray | None:
 
         * darboux: the sine of Theorem 1 (``docs/math.md``, correction 4),
 
-          .. math:: z = \\frac d2 + \\frac{\\frac d2 \\sin(ω − φ/2) − δ (\\cos(ω − φ/2) − \\cos(φ/2))}{\\sin(φ/2)}
+          .. math::
+
+             z = \\frac d2
+               + \\frac{\\frac d2 \\sin(ω − φ/2) − δ (\\cos(ω − φ/2) − \\cos(φ/2))}{\\sin(φ/2)}
 
           with ``φ`` replaced by ``φ − 2π`` for the long way round;
         * cubic: eq. 17 solved for t and put into eq. 18, a scaled and shifted tangent:

@@ -255,7 +255,7 @@ def mu_prime(m, x):
         [x3 - x7, x4 + x2, x0 - x1 + x5 - x9, x8 + x6],
         [x4 - x2, x7 + x3, x8 + x6, x0 - x1 - x5 + x9],
     ]
-    return [MP.fsum(m[l] * maps[l][i] for l in range(4)) for i in range(4)]
+    return [MP.fsum(m[k] * maps[k][i] for k in range(4)) for i in range(4)]
 
 
 def paper_kernel(m):
@@ -463,7 +463,10 @@ def rotation_to_z(u):
 
 
 def canonical_m(params: dict, fr: Frame) -> list:
-    """m of a canonical-frame cubic: the user's, or the default ``(1 + cos(φ/2), 0, 0, sin(φ/2))``."""
+    """m of a canonical-frame cubic.
+
+    The user's m, or the default ``(1 + cos(φ/2), 0, 0, sin(φ/2))``.
+    """
     if params.get("m") is not None:
         return mpv(params["m"])
     return [1 + fr.cos_half, MP.zero, MP.zero, fr.sin_half]
@@ -894,7 +897,10 @@ def probe_opposite_weights() -> list[tuple]:
 
 
 def probe_cubic_condition() -> list[tuple]:
-    """The canonical cubic near φ = 0: measured error, input sensitivity and the a priori estimate."""
+    """The canonical cubic near φ = 0.
+
+    Its measured error, its input sensitivity and the a priori estimate.
+    """
     rows = []
     case = CASE_BY_KEY["cubic-canonical"]
     for label in ("1e-14", "1e-12", "1e-10", "1e-8", "1e-6", "1e-4", "1e-2"):
@@ -1190,9 +1196,9 @@ def _near_singularities() -> tuple[str, list[str]]:
             "which for these inputs is rounding noise of the input; the half-turn rule is not "
             "applied"
             + (f" (d < 0 on pairs {', '.join(negative)})" if negative else "")
-            + ", and the choice reported is either none or “flipped the sign of B's quaternion so that "
-            "pA·pB ≥ 0 (the short way round)”, although both ways are equally short. Both motions "
-            "are "
+            + ", and the choice reported is either none or “flipped the sign of B's quaternion "
+            "so that pA·pB ≥ 0 (the short way round)”, although both ways are equally short. "
+            "Both motions are "
             "valid interpolants and the grid measures a2b against the sense it chose, so accuracy "
             "is not "
             "affected; reproducibility is: a rounding-level change of the input can turn the "
@@ -1333,17 +1339,18 @@ measurement functions (it imports this script).
 
 - **end**: both end poses reproduced within {sci(TARGETS["end"])}: rotation entries absolutely,
   translations relative to the motion's scale `L = max(|tA|, |tB|)`;
-- **rigidity**: `max |R Rᵀ − I|` and `max |det R − 1|` over all samples at most {sci(TARGETS["rigid"])};
+- **rigidity**: `max |R Rᵀ − I|` and `max |det R − 1|` over all samples at most
+  {sci(TARGETS["rigid"])};
 - **closed forms**: every closed form of `docs/math.md` within {sci(TARGETS["closed"])}, relative;
-- **reference**: every sample within {sci(TARGETS["pose"])} (rotation entries absolutely, translation
-  relative to L) of the same construction carried out in 50-digit arithmetic from the same
-  float64 inputs; this is the closed-form target applied to the whole pose."""
+- **reference**: every sample within {sci(TARGETS["pose"])} (rotation entries absolutely,
+  translation relative to L) of the same construction carried out in 50-digit arithmetic from
+  the same float64 inputs; this is the closed-form target applied to the whole pose."""
 
 
 _METHOD = f"""## Method
 
-**Inputs.** Each cell (mode, φ, s) uses {1 + GENERAL_PAIRS} pose pairs, handed to a2b as float64 robotics
-matrices:
+**Inputs.** Each cell (mode, φ, s) uses {1 + GENERAL_PAIRS} pose pairs, handed to a2b as float64
+robotics matrices:
 
 - the *canonical* pair: `A = I`, and `B` the rotation by φ about z with the slide `0.75 s` along z
   (for φ = π the entries are exactly −1 and 0);
@@ -1370,9 +1377,10 @@ inputs exactly as a2b received them: the quaternions by eq. 7–9, the screw axi
 - screw: the helix, the rotation by `tφ` about the axis and the slide `t d` along it.
 
 The closed forms are evaluated in 50 digits too: darboux `tan(ω/2) = t sin(φ/2) / (1 − t +
-t cos(φ/2))` and `z = z0 + λ sin(ω + κ)` (the script asserts that `z(ω)` of `docs/math.md` agrees with
-the sine form to 30 digits at every sample); cubic eq. 17 and eq. 18; cubic given eq. 17 with the
-canonical `m0 = wA/4`, `m3 = (wB/4 − m0 cos(φ/2)) / sin(φ/2)` of its weights `w = 4 m·p`, and the
+t cos(φ/2))` and `z = z0 + λ sin(ω + κ)` (the script asserts that `z(ω)` of `docs/math.md`
+agrees with the sine form to 30 digits at every sample); cubic eq. 17 and eq. 18; cubic given eq. 17
+with the canonical `m0 = wA/4`, `m3 = (wB/4 − m0 cos(φ/2)) / sin(φ/2)` of its weights `w = 4 m·p`,
+and the
 weighted linear interpolation of the translations, since eq. 18 does not hold in the given frame;
 screw `ω = tφ`, `z = t d`. The ω and z of a sample are its rotation angle about the axis u and its
 slide along u relative to A, extracted in 50 digits from a2b's float64 matrix.
@@ -1442,25 +1450,25 @@ computed from a2b's `weights`, `psi_a` and `psi_b` (function `cubic_canonical_co
 "a2b warned" records any Python warning a2b issued."""
 
 
-_LONG_WAY_PROBE = """`p(t) = (1−t) pA − t pB` passes close to 0 at t = ½ when the motion goes the long way round a
-small rotation; for a pure translation it passes through 0 (`docs/math.md`). a2b refuses when
-`|p(t)|² ≤ 1e-12 · max(|pA|², |pB|²)` on the sampled range. s = 1, δ = 0, the canonical pair and
-the random pairs; the closed forms are not evaluated (they hold with φ − 2π)."""
+_LONG_WAY_PROBE = """`p(t) = (1−t) pA − t pB` passes close to 0 at t = ½ when the motion goes the
+long way round a small rotation; for a pure translation it passes through 0 (`docs/math.md`). a2b
+refuses when `|p(t)|² ≤ 1e-12 · max(|pA|², |pB|²)` on the sampled range. s = 1, δ = 0, the canonical
+pair and the random pairs; the closed forms are not evaluated (they hold with φ − 2π)."""
 
 
-_OPPOSITE_PROBE = """The same happens in the cubic mode when the weights `w = 4 m·p` have opposite signs: here the
-given frame with `m = pA − pB` (so `p(t) ∝ (1−t) pA − t pB`), a = b = 0, s = 1. The reference and
-the closed forms are evaluated as in the grid."""
+_OPPOSITE_PROBE = """The same happens in the cubic mode when the weights `w = 4 m·p` have opposite
+signs: here the given frame with `m = pA − pB` (so `p(t) ∝ (1−t) pA − t pB`), a = b = 0, s = 1. The
+reference and the closed forms are evaluated as in the grid."""
 
 
-_HALF_TURN_PROBE = """For φ = π, `pA·pB = cos(φ/2) = 0` and both senses of rotation are equally short; a2b documents
-the choice "the axis orientation with d > 0" (`a2b.frames`). On the random pairs the float64
-inputs have `pA·pB` at the level of rounding (about 1e-17) instead of 0. The table shows what a2b
-decides (screw mode, s = 1; the same frame serves every mode)."""
+_HALF_TURN_PROBE = """For φ = π, `pA·pB = cos(φ/2) = 0` and both senses of rotation are equally
+short; a2b documents the choice "the axis orientation with d > 0" (`a2b.frames`). On the random
+pairs the float64 inputs have `pA·pB` at the level of rounding (about 1e-17) instead of 0. The table
+shows what a2b decides (screw mode, s = 1; the same frame serves every mode)."""
 
 
-_WHY_Z = """Darboux, δ = 0.7 s, s = 1, first random pair. The left column compares each sample's z with
-`z(ω̂)`, where ω̂ is measured from the same float64 sample; the right column compares it with
+_WHY_Z = """Darboux, δ = 0.7 s, s = 1, first random pair. The left column compares each sample's z
+with `z(ω̂)`, where ω̂ is measured from the same float64 sample; the right column compares it with
 z at the reference `ω(t)`. Both use 50-digit arithmetic on the same samples: the left column's
 error comes from the check (ω̂ is known to about 1e-16 rad and `dz/dω ≈ d/φ`), not from a2b."""
 

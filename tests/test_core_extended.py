@@ -50,11 +50,11 @@ def test_ratio_rows_of_eq_9(rng):
     mat = random_pose(rng)
     p = quaternions_from_rotations(mat[:3, :3])
     x = model_points_from_matrices(mat)[:10]
-    for l in range(4):
+    for k in range(4):
         e = np.zeros(4)
-        e[l] = 1
+        e[k] = 1
         row = mu_prime_matrix(e) @ x
-        np.testing.assert_allclose(row, 4 * p[l] * p, atol=1e-14)
+        np.testing.assert_allclose(row, 4 * p[k] * p, atol=1e-14)
 
 
 def test_mu_prime_of_a_pose_is_4_m_dot_p_times_p(rng):

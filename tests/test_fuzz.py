@@ -259,7 +259,8 @@ def mutated(draw, kind: str):
     numbers = [p for p, v in nodes if is_number(v) and p and p[-1] != "name"]
     mappings = [p for p, v in nodes if isinstance(v, dict)]
     choices = ["wrong type", "non-finite", "unknown key", "duplicate key", "missing key",
-               "wrong length", "wrong container", "bad enum", "bad samples", "bad pose"]  # fmt: skip
+               "wrong length", "wrong container", "bad enum", "bad samples",
+               "bad pose"]  # fmt: skip
     how = draw(st.sampled_from(choices))
     if how == "wrong type" and numbers:
         path = draw(st.sampled_from(numbers))
@@ -434,7 +435,8 @@ YAML_TOKENS = {
 def written(draw, kind: str):
     """A malformed file of ``kind``: (name, bytes, how)."""
     how = draw(st.sampled_from(["tree"] * 6 + ["truncated", "garbled", "control", "binary",
-                                              "empty", "deep", "yaml-only", "json-syntax"]))  # fmt: skip
+                                              "empty", "deep", "yaml-only",
+                                              "json-syntax"]))  # fmt: skip
     suffix = draw(
         st.sampled_from([".json", ".yaml", ".yml", ""] + ([".jsonl"] if kind == "jobs" else []))
     )
@@ -648,7 +650,10 @@ def test_fuzz_command(workdir, command, kind):
     run_fuzz(command, written(kind), check)
 
 
-GOOD_POSES = b"start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [1, 1, 0.5]}\n"
+GOOD_POSES = (
+    b"start: {quaternion: [1, 0, 0, 0]}\n"
+    b"end: {quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [1, 1, 0.5]}\n"
+)
 GOOD_POSE = b"quaternion: [0.5, 0.5, -0.5, 0.5]\ntranslation: [1, 2, 3]\n"
 GOOD_JOBS = b"- " + GOOD_POSES.replace(b"\nend", b"\n  end")
 
@@ -666,7 +671,8 @@ def bad_options(draw):
     command = draw(st.sampled_from(["interpolate", "fiber", "batch"]))
     if command == "interpolate":
         option = draw(st.sampled_from(["--samples", "--m", "--delta", "--duration", "--start-time",
-                                       "--format", "--branch", "--alpha", "--mode", "--frame"]))  # fmt: skip
+                                       "--format", "--branch", "--alpha", "--mode",
+                                       "--frame"]))  # fmt: skip
         if option == "--samples":
             value = draw(
                 st.one_of(
@@ -693,7 +699,8 @@ def bad_options(draw):
                 st.one_of(st.integers().filter(lambda b: b not in (1, -1)).map(str), NOT_A_NUMBER)
             )
         elif option in ("--format", "--mode", "--frame"):
-            allowed = {"--format": ("csv", "matrix", "study", "tum", "kitti", "mcap"), "--mode": ("darboux", "cubic", "screw"),
+            allowed = {"--format": ("csv", "matrix", "study", "tum", "kitti", "mcap"),
+                       "--mode": ("darboux", "cubic", "screw"),
                        "--frame": ("canonical", "given")}[option]  # fmt: skip
             value = draw(st.text(max_size=8).filter(lambda s: s not in allowed))
         else:

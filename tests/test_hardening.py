@@ -175,7 +175,10 @@ def test_interrupted_run_keeps_the_old_file(tmp_path, name, args, sig):
 def test_failed_run_in_a_real_process_keeps_the_old_file(tmp_path):
     """A job that fails after others were written: status 1, old file intact."""
     jobs = tmp_path / "jobs.yaml"
-    good = "  start: {quaternion: [1, 0, 0, 0]}\n  end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\n"
+    good = (
+        "  start: {quaternion: [1, 0, 0, 0]}\n"
+        "  end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\n"
+    )
     jobs.write_text(f"- samples: 300000\n{good}- samples: 3\n  parameters: {{lam: 0.1}}\n{good}")
     out = tmp_path / "out.csv"
     out.write_bytes(PRECIOUS)

@@ -282,7 +282,8 @@ EXACT_ERRORS = [
      "control.yaml:1:19: invalid YAML: control characters are not allowed (#x0007)"),
     ("deep.yaml", b"[" * 50_000 + b"]" * 50_000,
      "deep.yaml:1:101: nested too deeply (a2b reads at most 100 levels)"),
-    ("deep.json", b"[" * 50_000 + b"]" * 50_000, "deep.json: invalid JSON: nested too deeply to read"),
+    ("deep.json", b"[" * 50_000 + b"]" * 50_000,
+     "deep.json: invalid JSON: nested too deeply to read"),
     ("key.json", b'{"quaternion": [1, 0, 0, 0], "a\\nb": 1}',
      "key.json:1:30: 'a\\nb': unknown key 'a\\nb' in a pose (expected matrix, quaternion, "
      "quaternion_xyzw, study, layout, translation, kappa)"),
@@ -339,7 +340,11 @@ def test_an_empty_jobs_file_is_an_error():
 
 
 def test_read_pose_list_and_read_motion_file():
-    text = b"controls:\n  - quaternion: [1, 0, 0, 0]\n  - {quaternion: [0, 0, 0, 1], translation: [1, 0, 0]}\nspace: study\nparameters: {weights: [1, 2]}\n"
+    text = (
+        b"controls:\n  - quaternion: [1, 0, 0, 0]\n"
+        b"  - {quaternion: [0, 0, 0, 1], translation: [1, 0, 0]}\n"
+        b"space: study\nparameters: {weights: [1, 2]}\n"
+    )
     curve = readers.read_pose_list(io.BytesIO(text), "controls", "c.yaml")
     assert curve.key == "controls" and curve.poses.shape == (2, 4, 4)
     assert (
@@ -354,12 +359,14 @@ def test_read_pose_list_and_read_motion_file():
     assert isinstance(job, readers.Job)
     with pytest.raises(
         InputFileError,
-        match=r"^c.yaml:1:1: this is a list of controls \(a2b bezier\), but start and end poses are needed",
+        match=r"^c.yaml:1:1: this is a list of controls \(a2b bezier\), "
+        r"but start and end poses are needed",
     ):
         readers.read_poses(io.BytesIO(text), "c.yaml")
     with pytest.raises(
         InputFileError,
-        match=r"^p.yaml:1:1: this is a poses file \(start and end\); this command needs a list of poses under 'poses'",
+        match=r"^p.yaml:1:1: this is a poses file \(start and end\); "
+        r"this command needs a list of poses under 'poses'",
     ):
         readers.read_pose_list(
             io.BytesIO(f"start: {IDENTITY}\nend: {QUARTER}\n".encode()), "poses", "p.yaml"
@@ -384,7 +391,10 @@ def test_a_job_name_a2b_cannot_write_is_an_input_error(name_json, problem, suffi
     """A name goes into the job column: a NUL or a lone surrogate (which JSON can escape, and
     UTF-8 cannot write) is an error at the name, not a failure when the CSV is written."""
     good = '{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}'
-    bad = f'{{"name": {name_json}, "start": {{"quaternion": [1, 0, 0, 0]}}, "end": {{"quaternion": [1, 0, 0, 0]}}}}'
+    bad = (
+        f'{{"name": {name_json}, "start": {{"quaternion": [1, 0, 0, 0]}}, '
+        '"end": {"quaternion": [1, 0, 0, 0]}}'
+    )
     text = f"{good}\n{bad}\n" if suffix == "jsonl" else f"[{good},\n{bad}]\n"
     where = "2:2"  # at the key
     with pytest.raises(InputFileError, match=rf"^jobs\.{suffix}:{where}: job 1: name: {problem}$"):

@@ -99,8 +99,8 @@ def test_names_beyond_ascii_stay_on_the_fast_path():
         return readers.json_line_job(*args)
 
     lines = [
-        '{"name": "%s", "start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [0, 1, 0, 0]}}'
-        % name
+        f'{{"name": "{name}", "start": {{"quaternion": [1, 0, 0, 0]}}, '
+        '"end": {"quaternion": [0, 1, 0, 0]}}'
         for name in ("Gelenk-ä", "関節", "ok", "\\udcff")
     ]
     stream = io.BytesIO(("\n".join(lines) + "\n").encode())
