@@ -55,6 +55,7 @@ def sample(
     rows: int = PIECE_ROWS,
     report: Callable[[str, list], None] | None = None,
     advance: Callable[[int], None] | None = None,
+    unique_names: bool = False,
 ) -> Iterator[Piece]:
     """Sample every job of ``blocks`` at evenly spaced t in [0, 1], in order.
 
@@ -73,13 +74,25 @@ def sample(
         ``report(name, choices)`` for every job, before its samples.
     advance : callable, optional
         ``advance(n)`` after the ``n`` jobs of each block.
+    unique_names : bool
+        Refuse a job whose name (given, or its index) an earlier job has, before the samples
+        of its block: for outputs that keep each job under its name.
 
     Yields
     ------
     Piece
     """
     first = 0
+    seen: set = set()
     for block in blocks:
+        if unique_names:
+            for i, name in enumerate(_names(block, first)):
+                if name in seen:
+                    raise A2bError(
+                        f"job {name!r} (job {first + i}): an earlier job has this name; "
+                        "each job is written under its name, so names must differ"
+                    )
+                seen.add(name)
         yield from _block(block, first, mode, samples, representation, rows, report)
         first += len(block.names)
         if advance is not None:
@@ -91,9 +104,14 @@ def _kind(mode: str, parameters: dict) -> tuple:
     return (mode, tuple(sorted(parameters)), parameters.get("frame"))
 
 
+def _names(block, first: int) -> list[str]:
+    """The names of the jobs of a block: given, or the index in the file."""
+    return [str(first + i) if name is None else name for i, name in enumerate(block.names)]
+
+
 def _block(block, first, mode, samples, representation, rows, report) -> Iterator[Piece]:
     count = len(block.names)
-    names = [str(first + i) if name is None else name for i, name in enumerate(block.names)]
+    names = _names(block, first)
     modes = [m or mode for m in block.modes]
     counts = [s or samples for s in block.samples]
     kinds: dict = {}

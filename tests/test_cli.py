@@ -525,7 +525,7 @@ def _check_batch(jobs, out):
         n = len(ts)
         assert names[row : row + n] == [job.get("name", str(i))] * n
         assert np.array_equal(values[row : row + n, 0], ts)
-        # batch builds the jobs together (a2b.motions.batched): the same to 1e-15 of their size
+        # batch builds the jobs together through the one core: the same to 1e-15 of their size
         scale = max(1.0, float(np.abs(trans).max()))
         np.testing.assert_allclose(values[row : row + n, 1:4], trans, rtol=0, atol=1e-15 * scale)
         np.testing.assert_allclose(values[row : row + n, 4:8], quat, rtol=0, atol=1e-15)

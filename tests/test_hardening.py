@@ -257,14 +257,35 @@ def test_a_billion_sample_job_streams_in_bounded_memory(tmp_path):
     assert code == 0 and err == b""
 
 
+#: Runs a command and writes the peak resident memory (kB) of its children on fd ``argv[1]``.
+_PEAK = (
+    "import os, resource, subprocess, sys\n"
+    "code = subprocess.run(sys.argv[2:]).returncode\n"
+    "peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss\n"
+    "os.write(int(sys.argv[1]), str(peak).encode())\n"
+    "sys.exit(code)\n"
+)
+
+
 def _peak_of_run(args) -> tuple[float, subprocess.CompletedProcess]:
-    """Peak resident memory (MB) of a whole ``a2b`` run, from the kernel's count for children."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    done = subprocess.run(a2b_cmd(*args), capture_output=True)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    if after <= before:  # an earlier child peaked higher: this run's peak is not known
-        pytest.skip("an earlier child process of this test run used more memory")
-    return after / 1024, done
+    """Peak resident memory (MB) of a whole ``a2b`` run, measured by a parent of its own (the
+    kernel's count for the children of this test process would include earlier tests)."""
+    read, write = os.pipe()
+    try:
+        done = subprocess.run(
+            [sys.executable, "-c", _PEAK, str(write), *a2b_cmd(*args)],
+            capture_output=True,
+            pass_fds=(write,),
+        )
+        os.close(write)
+        write = None
+        peak_kb = int(os.read(read, 64) or b"0")
+    finally:
+        os.close(read)
+        if write is not None:
+            os.close(write)
+    assert peak_kb > 0, done.stderr.decode()
+    return peak_kb / 1024, done
 
 
 @linux_only

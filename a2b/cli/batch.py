@@ -1,7 +1,9 @@
-"""``a2b batch``: many motions from a jobs file into one CSV with a ``job`` column."""
+"""``a2b batch``: many motions from a jobs file: one CSV with a ``job`` column, a directory of
+tum or kitti files, or an MCAP file with one topic per job."""
 
 from __future__ import annotations
 
+import os
 import sys
 from contextlib import nullcontext
 
@@ -42,8 +44,11 @@ def _progress(total: int | None):
 @click.option(
     "--format",
     "fmt",
-    type=click.Choice(["csv", "matrix", "study"]),
-    help="The CSV layout after the job column (as for a2b interpolate)  [default: csv]",
+    type=click.Choice(options.FORMATS),
+    help="csv, matrix, study: one CSV, the job column first (layouts as for a2b interpolate); "
+    "tum, kitti: a file per job, DIR/NAME.tum or DIR/NAME.kitti, in the directory -o DIR; "
+    "mcap: one file, the poses of job NAME on topic /a2b/NAME/pose  "
+    "[default: from the -o suffix .mcap, else csv]",
 )
 @click.option(
     "--chunk-size",
@@ -53,33 +58,63 @@ def _progress(total: int | None):
     help="Jobs read and built together, and the most in one chunk of output; memory is "
     "bounded by them.",
 )
-@options.output_option
+@options.timing_options
+@click.option(
+    "--frame-id",
+    default="world",
+    show_default=True,
+    help="mcap: the fixed frame of the poses.",
+)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(allow_dash=True),
+    default="-",
+    show_default=True,
+    help="Where to write; '-' is standard output. A file is written to a temporary file and "
+    "renamed into place when complete; tum and kitti need a directory, made if missing.",
+)
 @options.verbose_option
-def command(jobs, mode, samples, fmt, chunk_size, output, verbose):
-    """Sample every job in JOBS into one CSV whose first column, job, names the motion.
+def command(jobs, mode, samples, fmt, chunk_size, duration, start_time, frame_id, output, verbose):
+    """Sample every job in JOBS: into one CSV whose first column, job, names the motion, into
+    a file per job (tum, kitti), or into one MCAP file with a topic per job.
 
     JOBS is a YAML or JSON list of jobs, or JSON Lines (one job per line, read as it goes).
     A job has start and end poses and, optionally, name (default: its index), mode, samples
     and parameters, as in a poses file. Jobs are read, built and sampled in chunks, the jobs
     of one kind (mode and parameters given) all at once, with the results of building each
-    alone; a progress bar shows on stderr when stderr is a terminal. A job that fails stops the run
-    with a message that names it (by line and index
-    for an error in the file, by name for one of the mathematics), and with -o no file is
-    written.
+    alone; a progress bar shows on stderr when stderr is a terminal. A job that fails stops
+    the run with a message that names it (by line and index for an error in the file, by
+    name for one of the mathematics), and with -o no file is written. tum, kitti and mcap
+    keep each job under its name, so names must differ (and, for tum and kitti, be file
+    names); the files of a directory are moved into it only when every job is written,
+    replacing files of the same name and leaving others alone.
     -v states every choice a2b makes, job by job.
 
     \b
     Example:
       a2b batch samples/jobs.yaml -o motions.csv
       a2b batch samples/jobs.jsonl --samples 101 --format matrix -o motions.csv
+      a2b batch samples/jobs.yaml --format tum --duration 2 -o motions/
+      a2b batch samples/jobs.yaml -o motions.mcap
     """
-    from ..io.atomic import atomic_output
+    from ..io.atomic import atomic_directory, atomic_output
     from ..io.readers import read_jobs
-    from ..io.writers import REPRESENTATION, Chunk, JobRuns, write_batch_csv
+    from ..io.writers import (
+        REPRESENTATION,
+        Chunk,
+        JobRuns,
+        write_batch_csv,
+        write_batch_files,
+        write_batch_mcap,
+    )
     from ..jobs import sample
 
     choices: list[str] = []
-    if fmt is None:
+    if fmt is None and str(output).lower().endswith(".mcap"):
+        fmt = "mcap"
+        choices.append("format mcap: from the -o suffix .mcap (--format to change)")
+    elif fmt is None:
         fmt = "csv"
         choices.append("format csv: the default (--format to change)")
     if mode is None:
@@ -87,13 +122,19 @@ def command(jobs, mode, samples, fmt, chunk_size, output, verbose):
     if samples is None:
         choices.append("101 samples for jobs that give none: the default (--samples to change)")
     options.state_choices(choices, verbose)
+    options.check_output(fmt, output, samples or 101, duration, start_time)
 
     def report(name, made):
         for choice in made:
             click.echo(f"  • job {name}: {choice}", err=True)
 
+    if fmt in ("tum", "kitti") and output == "-":
+        raise click.UsageError(f"{fmt} writes one file per job: give a directory with -o DIR")
     job_list = read_jobs(jobs)
-    with _progress(job_list.count) as progress, atomic_output(output) as stream:
+    target = atomic_directory if fmt in ("tum", "kitti") else atomic_output
+    if target is atomic_output and os.path.isdir(output):
+        raise click.BadParameter(f"{output!r} is a directory", param_hint="'-o' / '--output'")
+    with _progress(job_list.count) as progress, target(output) as out:
         advance = None
         if progress is not None:
             task = progress.add_task("jobs", total=job_list.count)
@@ -108,9 +149,17 @@ def command(jobs, mode, samples, fmt, chunk_size, output, verbose):
             representation=REPRESENTATION[fmt],
             report=report if verbose else None,
             advance=advance,
+            unique_names=fmt in ("tum", "kitti", "mcap"),
         )
         chunks = (
             Chunk(piece.t, job=JobRuns(piece.names, piece.counts), **piece.fields)
             for piece in pieces
         )
-        write_batch_csv(stream, chunks, fmt)
+        if fmt in ("tum", "kitti"):
+            write_batch_files(out, chunks, fmt, duration=duration, start_time=start_time)
+        elif fmt == "mcap":
+            write_batch_mcap(
+                out, chunks, duration=duration, start_time=start_time, frame_id=frame_id
+            )
+        else:
+            write_batch_csv(out, chunks, fmt)

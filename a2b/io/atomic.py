@@ -1,7 +1,8 @@
 """Output that appears whole or not at all.
 
 :func:`atomic_output` writes into a temporary file next to the target and renames it into
-place only when the writer finished. A failure, Ctrl-C, SIGTERM, SIGHUP or a full disk removes
+place only when the writer finished (:func:`atomic_directory` does the same for the files of a
+directory). A failure, Ctrl-C, SIGTERM, SIGHUP or a full disk removes
 the temporary file and leaves any existing target untouched. Standard output (``-``) and targets
 that are no regular file (``/dev/null``, a named pipe, a terminal) are written directly: a
 rename cannot replace them. A reader that goes away early (``a2b ... | head``) raises
@@ -23,7 +24,7 @@ from typing import IO
 
 from ..errors import A2bError
 
-__all__ = ["OutputFileError", "atomic_output", "silence_stdout"]
+__all__ = ["OutputFileError", "atomic_directory", "atomic_output", "silence_stdout"]
 
 
 class OutputFileError(A2bError):
@@ -126,6 +127,49 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
             except FileNotFoundError:
                 pass
             raise
+
+
+@contextmanager
+def atomic_directory(path: str | os.PathLike | None) -> Iterator[str]:
+    """A temporary directory whose files are moved into the directory ``path`` at the end.
+
+    The files are written into a temporary directory beside ``path``. When the block ends
+    normally, ``path`` is created if it does not exist, and each file is renamed into it,
+    replacing a file of the same name; other files in ``path`` are left alone. If the block
+    raises (including ``KeyboardInterrupt``, SIGTERM and a failed write), the temporary
+    directory is removed and ``path`` is left as it was.
+
+    Raises
+    ------
+    OutputFileError
+        If ``path`` is standard output or an existing file that is no directory, or the
+        temporary directory cannot be made or its files renamed into place.
+    """
+    import shutil
+
+    if _is_stdout(path) or not os.fspath(path):
+        raise OutputFileError("this format writes one file per job: give a directory with -o DIR")
+    target = os.path.realpath(os.fspath(path))
+    if os.path.exists(target) and not os.path.isdir(target):
+        raise OutputFileError(f"cannot write into {path}: it is a file, not a directory")
+    parent = os.path.dirname(target)
+    with _terminate_as_exit():
+        try:
+            tmp = tempfile.mkdtemp(
+                prefix=f".{os.path.basename(target)}.", suffix=".tmp", dir=parent
+            )
+        except OSError as e:
+            raise OutputFileError(f"cannot write {path}: {e.strerror or e}") from e
+        try:
+            with _write_errors(os.fspath(path)):
+                yield tmp
+                os.makedirs(target, exist_ok=True)
+                mode = _default_mode()
+                for name in os.listdir(tmp):
+                    os.chmod(os.path.join(tmp, name), mode)
+                    os.replace(os.path.join(tmp, name), os.path.join(target, name))
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
 
 
 @contextmanager

@@ -2,14 +2,18 @@
 
 The ``mcap`` package's writer costs about 10 µs per message in Python. Here the JSON
 payloads of thousands of messages are formatted at once (:mod:`a2b.io.floatrepr`), the
-binary record headers packed with numpy, and each chunk compressed with zstd in a thread of
-its own, which gives several hundred thousand poses per second.
+headers of the Message records and the entries of the Message Index records packed with
+numpy, and each chunk compressed with zstd in a thread of its own, which gives several hundred
+thousand poses per second (docs/benchmarks.md). Every other record (Header, Schema, Channel,
+Chunk, Chunk Index, Statistics, Summary Offset, Data End, Footer) is one of the ``mcap``
+package's record classes, serialised by its own code.
 
 What is written, in the order of the MCAP specification (https://mcap.dev/spec):
 
 * magic, Header (profile ``""``, library ``a2b <version>``);
-* in the data section, one Schema and one Channel record per topic, then for each chunk of
-  :data:`CHUNK_POSES` poses a Chunk record (zstd, with the CRC-32 of its records), followed
+* in the data section, one Schema record per message type and one Channel record per topic
+  (:func:`write_topic_mcap`: each just before the chunk of its first message), then for each
+  chunk of :data:`CHUNK_POSES` poses a Chunk record (zstd, with the CRC-32 of its records), followed
   by one Message Index record per channel; then Data End with the CRC-32 of the data section;
 * in the summary section: the Schema and Channel records again, a Statistics record, and a
   Chunk Index record per chunk; then one Summary Offset record per group of the summary;
@@ -26,7 +30,6 @@ import struct
 import zlib
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
-from functools import partial
 from typing import IO
 
 import numpy as np
@@ -35,7 +38,7 @@ from ..errors import ParameterError
 from .floatrepr import integer_words, number_words
 from .parallel import in_order
 
-__all__ = ["CHUNK_POSES", "MAGIC", "write_pose_mcap"]
+__all__ = ["CHUNK_POSES", "MAGIC", "write_pose_mcap", "write_topic_mcap"]
 
 MAGIC = b"\x89MCAP0\r\n"
 _HEADER, _FOOTER, _SCHEMA, _CHANNEL, _MESSAGE, _CHUNK = 0x01, 0x02, 0x03, 0x04, 0x05, 0x06
@@ -103,40 +106,47 @@ class _Message:
 
 @dataclass
 class _Layout:
-    """The two messages of a pose, side by side in one row of words."""
+    """The messages of a pose, side by side in one row of words.
 
-    pose: _Message
-    tf: _Message
+    ``pose`` (a ``foxglove.PoseInFrame``) and, when there is a child frame, ``tf`` (a
+    ``foxglove.FrameTransform`` from the fixed frame to it).
+    """
+
+    messages: list
 
     @classmethod
-    def create(cls, frame_id: str, child_frame_id: str) -> _Layout:
-        frame, child = json.dumps(frame_id).encode(), json.dumps(child_frame_id).encode()
+    def create(cls, frame_id: str, child_frame_id: str | None) -> _Layout:
+        frame = json.dumps(frame_id).encode()
         stamp = [b'{"timestamp":{"sec":', "sec", b',"nsec":', "nsec"]
         xyz = [0, b',"y":', 1, b',"z":', 2]
         xyzw = [3, b',"y":', 4, b',"z":', 5, b',"w":', 6]
         pose = stamp + [b'},"frame_id":' + frame + b',"pose":{"position":{"x":', *xyz]
         pose += [b'},"orientation":{"x":', *xyzw, b"}}}"]
-        tf = stamp + [b'},"parent_frame_id":' + frame + b',"child_frame_id":' + child]
-        tf += [b',"translation":{"x":', *xyz, b'},"rotation":{"x":', *xyzw, b"}}"]
-        first = _Message(pose)
-        return cls(first, _Message(tf, start=len(first.row)))
+        messages = [_Message(pose)]
+        if child_frame_id is not None:
+            child = json.dumps(child_frame_id).encode()
+            tf = stamp + [b'},"parent_frame_id":' + frame + b',"child_frame_id":' + child]
+            tf += [b',"translation":{"x":', *xyz, b'},"rotation":{"x":', *xyzw, b"}}"]
+            messages.append(_Message(tf, start=len(messages[0].row)))
+        return cls(messages)
 
     @property
     def row(self) -> np.ndarray:
-        return np.concatenate([self.pose.row, self.tf.row])
+        return np.concatenate([message.row for message in self.messages])
 
 
 @dataclass
 class _Built:
-    """One chunk, ready to write: its record in pieces, and what its indexes need."""
+    """One chunk, ready to write: its record, and what its indexes need."""
 
-    pieces: list
+    record: bytes
     poses: int
     start: int
     end: int
     uncompressed_size: int
     compressed_size: int
-    message_indexes: list  # (channel id, Message Index record body)
+    message_indexes: list  # (channel id, Message Index record)
+    message_counts: dict  # channel id: messages
 
 
 def _nanoseconds(t, duration: float, start_time: float) -> np.ndarray:
@@ -155,10 +165,34 @@ def _nanoseconds(t, duration: float, start_time: float) -> np.ndarray:
     return ns.astype(np.int64)
 
 
-def _build_chunk(item, layout: _Layout, row: np.ndarray, channels: tuple[int, int]) -> _Built:
-    """The Chunk record and the Message Index records of ``item = (sequence, ns, numbers)``."""
-    sequence, ns, numbers = item
-    n = len(ns)
+def _serialise(record) -> bytes:
+    """The bytes of one of the ``mcap`` package's record objects."""
+    from mcap.data_stream import RecordBuilder
+
+    builder = RecordBuilder()
+    record.write(builder)
+    return builder.end()
+
+
+def _message_index(channel: int, log_time: np.ndarray, offset: np.ndarray) -> bytes:
+    """A Message Index record, its entries packed with numpy (the ``mcap`` package's
+    ``MessageIndex`` writes them one by one in Python, about 1 µs each)."""
+    entries = np.empty(len(log_time), _INDEX_ENTRY)
+    entries["log_time"] = log_time
+    entries["offset"] = offset
+    return _record(_MESSAGE_INDEX, struct.pack("<HI", channel, entries.nbytes), entries.tobytes())
+
+
+def _build_chunk(item, layout: _Layout, row: np.ndarray) -> _Built:
+    """The Chunk record and the Message Index records of ``item``.
+
+    ``item = (sequence, ns, numbers, channels)``: per pose its sequence number, log time,
+    the 7 numbers ``x y z qx qy qz qw`` and the channel id of each message of the layout.
+    """
+    from mcap.records import Chunk
+
+    sequence, ns, numbers, channels = item
+    n, per = len(ns), len(layout.messages)
     sec, nsec = np.divmod(ns, 1_000_000_000)
     number_cells, number_length = number_words(numbers.reshape(-1), lengths=True)
     number_cells = number_cells.reshape(n, 7, 4)
@@ -166,49 +200,60 @@ def _build_chunk(item, layout: _Layout, row: np.ndarray, channels: tuple[int, in
     nsec_cells, nsec_length = integer_words(nsec, lengths=True)
     cells = np.empty((n, len(row)), _U64)
     cells[:] = row
-    for message in (layout.pose, layout.tf):
+    for message in layout.messages:
         cells[:, message.sec : message.sec + 2] = sec_cells
         cells[:, message.nsec : message.nsec + 2] = nsec_cells
         for j, column in enumerate(message.numbers):
             cells[:, column : column + 4] = number_cells[:, j]
     records = np.frombuffer(cells.tobytes().translate(None, b"\0"), np.uint8).copy()
     variable = number_length.reshape(n, 7).sum(axis=1) + sec_length + nsec_length
-    data_length = np.empty(2 * n, np.int64)  # messages in order: pose, tf, pose, tf, …
-    data_length[0::2] = layout.pose.const_length + variable
-    data_length[1::2] = layout.tf.const_length + variable
+    data_length = np.empty((n, per), np.int64)  # messages in order: pose, tf, pose, tf, …
+    for k, message in enumerate(layout.messages):
+        data_length[:, k] = message.const_length + variable
+    data_length = data_length.reshape(-1)
     record_length = data_length + _HEAD_SIZE
     offset = np.cumsum(record_length) - record_length
     if offset[-1] + record_length[-1] != records.size:  # pragma: no cover - a bug if it happens
         raise AssertionError("MCAP message lengths disagree with the formatted text")
-    head = np.empty(2 * n, _MESSAGE_HEAD)
+    head = np.empty(n * per, _MESSAGE_HEAD)
     head["opcode"] = _MESSAGE
     head["length"] = data_length + (_HEAD_SIZE - 9)
-    head["channel"] = np.tile(channels, n)
-    head["sequence"] = np.repeat(np.arange(sequence, sequence + n, dtype=np.uint64), 2)
-    head["log_time"] = head["publish_time"] = np.repeat(ns, 2)
+    head["channel"] = channels.reshape(-1)
+    head["sequence"] = np.repeat(sequence, per)
+    head["log_time"] = head["publish_time"] = np.repeat(ns, per)
     records[offset[:, None] + np.arange(_HEAD_SIZE)] = head.view(np.uint8).reshape(
-        2 * n, _HEAD_SIZE
+        n * per, _HEAD_SIZE
     )
-    crc = zlib.crc32(records)
     import zstandard
 
     compressed = zstandard.ZstdCompressor(level=ZSTD_LEVEL).compress(records)
     start, end = int(ns.min()), int(ns.max())
-    chunk_head = struct.pack("<QQQI", start, end, records.size, crc) + _string("zstd")
-    chunk_head += struct.pack("<Q", len(compressed))
-    pieces = [
-        struct.pack("<BQ", _CHUNK, len(chunk_head) + len(compressed)) + chunk_head,
-        compressed,
-    ]
-    order = np.argsort(ns, kind="stable") if (np.diff(ns) < 0).any() else slice(None)
+    record = Chunk(
+        message_start_time=start,
+        message_end_time=end,
+        uncompressed_size=int(records.size),
+        uncompressed_crc=zlib.crc32(records),
+        compression="zstd",
+        data=compressed,
+    )
+    log_time = head["log_time"]
+    order = np.argsort(log_time, kind="stable")  # Message Index entries go by log time
+    ids, counts = np.unique(head["channel"], return_counts=True)
+    by_channel = head["channel"][order]
     message_indexes = []
-    for k, channel in enumerate(channels):
-        entries = np.empty(n, _INDEX_ENTRY)
-        entries["log_time"] = ns[order]
-        entries["offset"] = offset[k::2][order]
-        body = struct.pack("<HI", channel, entries.nbytes) + entries.tobytes()
-        message_indexes.append((channel, body))
-    return _Built(pieces, n, start, end, int(records.size), len(compressed), message_indexes)
+    for channel in ids.tolist():
+        mine = order[by_channel == channel]
+        message_indexes.append((channel, _message_index(channel, log_time[mine], offset[mine])))
+    return _Built(
+        _serialise(record),
+        n,
+        start,
+        end,
+        int(records.size),
+        len(compressed),
+        message_indexes,
+        dict(zip(ids.tolist(), counts.tolist())),
+    )
 
 
 class _Output:
@@ -262,106 +307,195 @@ def write_pose_mcap(
     ParameterError
         If a time is negative, not finite, or beyond 2**63 ns, or a pose is not finite.
     """
+    from mcap.records import Channel
+
+    channels = [
+        Channel(id=1, schema_id=1, topic=pose_topic, message_encoding="json", metadata={}),
+        Channel(id=2, schema_id=2, topic=tf_topic, message_encoding="json", metadata={}),
+    ]
+
+    def items():
+        sequence = 0
+        for t, trans, quat_wxyz in samples:
+            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time):
+                n = len(ns)
+                if sequence + n > 2**32:
+                    raise ParameterError(
+                        "MCAP numbers messages with 32-bit sequence numbers: at most 2**32 samples"
+                    )
+                ids = np.broadcast_to(np.array([1, 2], np.uint16), (n, 2))
+                yield np.arange(sequence, sequence + n, dtype=np.uint64), ns, numbers, ids, []
+                sequence += n
+
+    layout = _Layout.create(frame_id, child_frame_id)
+    _write_file(stream, layout, schemas, library, channels, items())
+
+
+def write_topic_mcap(
+    stream: IO,
+    samples: Iterable[tuple],
+    *,
+    duration: float = 1.0,
+    start_time: float = 0.0,
+    frame_id: str = "world",
+    schemas: dict[str, bytes],
+    library: str = "a2b",
+) -> None:
+    """Write poses as ``foxglove.PoseInFrame`` JSON messages, each run of rows on its topic.
+
+    ``samples`` yields ``(t, trans, quat_wxyz, topics, counts)``: the first ``counts[0]``
+    rows go to ``topics[0]``, the next ``counts[1]`` to ``topics[1]``, and so on. A topic's
+    Channel record is written before its first message, and each topic counts its own
+    sequence numbers from 0. Otherwise as :func:`write_pose_mcap` (no ``/tf``).
+    """
+    from mcap.records import Channel
+
+    ids: dict[str, int] = {}  # topic: channel id
+    sequences: dict[str, int] = {}  # topic: messages so far
+
+    def items():
+        for t, trans, quat_wxyz, topics, counts in samples:
+            new, first = [], []
+            for topic, count in zip(topics, counts):
+                if topic not in ids:
+                    if len(ids) >= 65535:
+                        raise ParameterError("MCAP has room for at most 65535 topics")
+                    ids[topic] = len(ids) + 1
+                    sequences[topic] = 0
+                    new.append(
+                        Channel(
+                            id=ids[topic],
+                            schema_id=1,
+                            topic=topic,
+                            message_encoding="json",
+                            metadata={},
+                        )
+                    )
+                first.append(sequences[topic])
+                sequences[topic] += count
+            counts = np.asarray(counts, np.int64)
+            channel = np.repeat(np.array([ids[topic] for topic in topics], np.uint16), counts)
+            offset = np.asarray(first, np.int64) - (np.cumsum(counts) - counts)
+            sequence = (np.arange(len(channel)) + np.repeat(offset, counts)).astype(np.uint64)
+            lo = 0
+            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time):
+                n = len(ns)
+                yield sequence[lo : lo + n], ns, numbers, channel[lo : lo + n, None], new
+                new, lo = [], lo + n
+
+    layout = _Layout.create(frame_id, None)
+    _write_file(stream, layout, schemas, library, [], items())
+
+
+def _write_file(stream: IO, layout: _Layout, schemas: dict, library: str, channels, items):
+    """Header, the schemas of ``layout``, ``channels``, then a chunk of each of ``items``
+    (after the channels it brings), then the summary and the footer.
+
+    ``items`` yields ``(sequence, ns, numbers, channel ids, new Channel records)``.
+    """
+    from mcap.records import (
+        ChunkIndex,
+        DataEnd,
+        Footer,
+        Header,
+        Schema,
+        Statistics,
+        SummaryOffset,
+    )
+
     out = _Output(stream)
     out.write(MAGIC)
-    out.write(_record(_HEADER, _string(""), _string(library)))
-    names = ("foxglove.PoseInFrame", "foxglove.FrameTransform")
+    out.write(_serialise(Header(profile="", library=library)))
+    names = ("foxglove.PoseInFrame", "foxglove.FrameTransform")[: len(layout.messages)]
     schema_records = [
-        _record(
-            _SCHEMA,
-            struct.pack("<H", k + 1),
-            _string(name),
-            _string("jsonschema"),
-            _string(schemas[name]),
-        )
+        _serialise(Schema(id=k + 1, name=name, encoding="jsonschema", data=schemas[name]))
         for k, name in enumerate(names)
     ]
-    channel_records = [
-        _record(
-            _CHANNEL,
-            struct.pack("<HH", k + 1, k + 1),
-            _string(topic),
-            _string("json"),
-            struct.pack("<I", 0),
-        )
-        for k, topic in enumerate((pose_topic, tf_topic))
-    ]
+    channel_records = [_serialise(channel) for channel in channels]
     for record in schema_records + channel_records:
         out.write(record)
-    layout = _Layout.create(frame_id, child_frame_id)
-    build = partial(_build_chunk, layout=layout, row=layout.row, channels=(1, 2))
+
+    def build(item):
+        *chunk, new = item
+        return [_serialise(channel) for channel in new], _build_chunk(chunk, layout, layout.row)
+
     chunk_indexes = []
-    count, first, last = 0, None, None
-    for built in in_order(build, _batches(samples, duration, start_time)):
+    counts: dict[int, int] = {}
+    first, last = None, None
+    for new, built in in_order(build, items):
+        for record in new:
+            out.write(record)
+        channel_records += new
         chunk_start = out.position
-        for piece in built.pieces:
-            out.write(piece)
-        chunk_length = out.position - chunk_start
-        index_offsets = []
-        for channel, body in built.message_indexes:
-            index_offsets.append(struct.pack("<HQ", channel, out.position))
-            out.write(_record(_MESSAGE_INDEX, body))
+        out.write(built.record)
+        index_offsets = {}
+        for channel, record in built.message_indexes:
+            index_offsets[channel] = out.position
+            out.write(record)
         chunk_indexes.append(
-            _record(
-                _CHUNK_INDEX,
-                struct.pack("<QQQQ", built.start, built.end, chunk_start, chunk_length),
-                struct.pack("<I", 10 * len(index_offsets)),
-                *index_offsets,
-                struct.pack("<Q", out.position - chunk_start - chunk_length),
-                _string("zstd"),
-                struct.pack("<QQ", built.compressed_size, built.uncompressed_size),
+            ChunkIndex(
+                message_start_time=built.start,
+                message_end_time=built.end,
+                chunk_start_offset=chunk_start,
+                chunk_length=len(built.record),
+                message_index_offsets=index_offsets,
+                message_index_length=out.position - chunk_start - len(built.record),
+                compression="zstd",
+                compressed_size=built.compressed_size,
+                uncompressed_size=built.uncompressed_size,
             )
         )
-        count += built.poses
+        for channel, count in built.message_counts.items():
+            counts[channel] = counts.get(channel, 0) + count
         first = built.start if first is None else min(first, built.start)
         last = built.end if last is None else max(last, built.end)
-    out.write(_record(_DATA_END, struct.pack("<I", out.crc)))
-    statistics = _record(
-        _STATISTICS,
-        struct.pack("<QHIIIIQQ", 2 * count, 2, 2, 0, 0, len(chunk_indexes), first or 0, last or 0),
-        struct.pack("<I", 20),
-        struct.pack("<HQHQ", 1, count, 2, count),
+    out.write(_serialise(DataEnd(data_section_crc=out.crc)))
+    statistics = Statistics(
+        message_count=sum(counts.values()),
+        schema_count=len(schema_records),
+        channel_count=len(channel_records),
+        attachment_count=0,
+        metadata_count=0,
+        chunk_count=len(chunk_indexes),
+        message_start_time=first or 0,
+        message_end_time=last or 0,
+        channel_message_counts=counts,
     )
     summary_start = out.position
     summary = bytearray()
     offsets = []
-    groups = [(_SCHEMA, schema_records), (_CHANNEL, channel_records), (_STATISTICS, [statistics])]
-    groups += [(_CHUNK_INDEX, chunk_indexes)] if chunk_indexes else []
+    groups = [(_SCHEMA, schema_records), (_CHANNEL, channel_records)]
+    groups += [(_STATISTICS, [_serialise(statistics)])]
+    groups += [(_CHUNK_INDEX, [_serialise(c) for c in chunk_indexes])] if chunk_indexes else []
     for opcode, records in groups:
         group_start = summary_start + len(summary)
         for record in records:
             summary += record
         offsets.append(
-            _record(
-                _SUMMARY_OFFSET,
-                struct.pack(
-                    "<BQQ", opcode, group_start, summary_start + len(summary) - group_start
-                ),
+            SummaryOffset(
+                group_opcode=opcode,
+                group_start=group_start,
+                group_length=summary_start + len(summary) - group_start,
             )
         )
     summary_offset_start = summary_start + len(summary)
     for record in offsets:
-        summary += record
-    footer_head = struct.pack("<BQQQ", _FOOTER, 20, summary_start, summary_offset_start)
-    summary_crc = zlib.crc32(footer_head, zlib.crc32(summary))
+        summary += _serialise(record)
+    footer = Footer(
+        summary_start=summary_start, summary_offset_start=summary_offset_start, summary_crc=0
+    )
+    head = _serialise(footer)[:-4]  # the CRC covers the summary and the footer up to itself
+    footer.summary_crc = zlib.crc32(head, zlib.crc32(summary))
     out.write(bytes(summary))
-    out.write(footer_head + struct.pack("<I", summary_crc))
+    out.write(_serialise(footer))
     out.write(MAGIC)
 
 
-def _batches(samples, duration: float, start_time: float) -> Iterator[tuple]:
-    """``(first sequence number, log times in ns, numbers)`` of at most CHUNK_POSES poses."""
-    sequence = 0
-    for t, trans, quat_wxyz in samples:
-        ns = _nanoseconds(np.asarray(t, float), duration, start_time)
-        numbers = np.column_stack([trans, np.asarray(quat_wxyz)[:, [1, 2, 3, 0]]])
-        if not np.isfinite(numbers).all():
-            raise ParameterError("MCAP poses must be finite; a sample is NaN or infinite")
-        if sequence + len(ns) > 2**32:
-            raise ParameterError(
-                "MCAP numbers messages with 32-bit sequence numbers: at most 2**32 samples"
-            )
-        for lo in range(0, len(ns), CHUNK_POSES):
-            part = ns[lo : lo + CHUNK_POSES]
-            yield sequence, part, numbers[lo : lo + CHUNK_POSES]
-            sequence += len(part)
+def _pieces(t, trans, quat_wxyz, duration: float, start_time: float) -> Iterator[tuple]:
+    """``(log times in ns, numbers x y z qx qy qz qw)`` of at most CHUNK_POSES poses."""
+    ns = _nanoseconds(np.asarray(t, float), duration, start_time)
+    numbers = np.column_stack([trans, np.asarray(quat_wxyz)[:, [1, 2, 3, 0]]])
+    if not np.isfinite(numbers).all():
+        raise ParameterError("MCAP poses must be finite; a sample is NaN or infinite")
+    for lo in range(0, len(ns), CHUNK_POSES):
+        yield ns[lo : lo + CHUNK_POSES], numbers[lo : lo + CHUNK_POSES]

@@ -23,6 +23,7 @@ In ``tum`` and ``mcap`` the time of sample ``t`` is ``t · duration + start_time
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from functools import partial
@@ -43,6 +44,8 @@ __all__ = [
     "JobRuns",
     "sample_chunks",
     "write_batch_csv",
+    "write_batch_files",
+    "write_batch_mcap",
     "write_csv",
     "write_kitti",
     "write_matrix_csv",
@@ -224,12 +227,16 @@ def write_tum(
 
     The quaternion is rolled from a2b's ``wxyz`` to TUM's ``xyzw`` here, at the edge.
     """
-    stream.write(b"# time tx ty tz qx qy qz qw\n")
-    tables = (
-        np.column_stack([_times(c.t, duration, start_time), c.trans, c.quat_wxyz[:, [1, 2, 3, 0]]])
-        for c in chunks
-    )
-    _write_rows(stream, tables, sep=" ")
+    stream.write(TUM_HEADER)
+    _write_rows(stream, (_tum_rows(c, duration, start_time) for c in chunks), sep=" ")
+
+
+TUM_HEADER = b"# time tx ty tz qx qy qz qw\n"
+
+
+def _tum_rows(chunk: Chunk, duration: float, start_time: float) -> np.ndarray:
+    times = _times(chunk.t, duration, start_time)
+    return np.column_stack([times, chunk.trans, chunk.quat_wxyz[:, [1, 2, 3, 0]]])
 
 
 _QUOTED = frozenset(',"\n\r')
@@ -305,6 +312,122 @@ def _batch_text(piece: tuple) -> bytes:
         out.append(lead + (b"\n" + lead).join(lines[lo : lo + count]) + b"\n")
         lo += count
     return b"".join(out)
+
+
+#: The suffix of the file of each job in a directory of tum or kitti files.
+FILE_SUFFIXES = {"tum": ".tum", "kitti": ".kitti"}
+
+
+def job_file_name(name: str, fmt: str) -> str:
+    """The file name of job ``name`` in a directory of ``fmt`` files: the name and a suffix.
+
+    Raises
+    ------
+    ParameterError
+        If the name cannot be a file name: empty, ``.`` or ``..``, with a ``/`` or a NUL
+        character, not encodable for the file system, or longer than 255 bytes with the suffix.
+    """
+    file_name = name + FILE_SUFFIXES[fmt]
+    why = None
+    if name in ("", ".", "..") or "/" in name or "\0" in name or os.sep in name:
+        why = "it is empty, . or .., or holds a / or a NUL character"
+    else:
+        try:
+            if len(os.fsencode(file_name)) > 255:
+                why = "it is longer than the 255 bytes a file name may have"
+        except UnicodeEncodeError:
+            why = "the file system cannot encode it"
+    if why is not None:
+        raise ParameterError(
+            f"job {name!r}: {fmt} writes one file per job, named after the job, and this name "
+            f"cannot be a file name ({why}); rename the job"
+        )
+    return file_name
+
+
+def write_batch_files(
+    directory: str,
+    chunks: Iterable[Chunk],
+    fmt: str,
+    duration: float = 1.0,
+    start_time: float = 0.0,
+) -> None:
+    """Write each job of ``chunks`` into a file of its own in ``directory``: ``NAME.tum`` or
+    ``NAME.kitti`` (:func:`job_file_name`), as :func:`write_tum` or :func:`write_kitti` would.
+
+    The rows of one job are consecutive (they may span chunks). A file that exists already is
+    an error (two jobs of one name); write into a new directory, as
+    :func:`a2b.io.atomic.atomic_directory` provides.
+    """
+    current, stream = None, None
+    try:
+        for chunk in chunks:
+            if not len(chunk.t):
+                continue
+            rows = _tum_rows(chunk, duration, start_time) if fmt == "tum" else _rows(fmt, chunk)
+            lines = format_rows(rows, sep=" ").split(b"\n")
+            lo = 0
+            for name, count in zip(*_runs(chunk)):
+                if name != current:
+                    if stream is not None:
+                        stream.close()
+                    path = os.path.join(directory, job_file_name(name, fmt))
+                    try:
+                        stream = open(path, "xb")
+                    except FileExistsError:
+                        raise ParameterError(
+                            f"job {name!r}: a second job of this name; each job writes the "
+                            "file named after it, so names must differ"
+                        ) from None
+                    current = name
+                    if fmt == "tum":
+                        stream.write(TUM_HEADER)
+                stream.write(b"\n".join(lines[lo : lo + count]) + b"\n")
+                lo += count
+    finally:
+        if stream is not None:
+            stream.close()
+
+
+def _runs(chunk: Chunk) -> tuple[list, list]:
+    runs = JobRuns.of(chunk.job)
+    if sum(runs.counts) != len(chunk.t):
+        raise ValueError(f"a job column of {len(runs)} rows for {len(chunk.t)} samples")
+    return runs.names, runs.counts
+
+
+#: The topic of a job's poses in a batch MCAP file.
+JOB_TOPIC = "/a2b/{name}/pose"
+
+
+def write_batch_mcap(
+    stream: IO,
+    chunks: Iterable[Chunk],
+    duration: float = 1.0,
+    start_time: float = 0.0,
+    frame_id: str = "world",
+) -> None:
+    """Write an MCAP file with one topic per job: ``foxglove.PoseInFrame`` messages in
+    ``frame_id`` on ``/a2b/NAME/pose`` (:data:`JOB_TOPIC`), each job's times
+    ``t · duration + start_time``. Otherwise as :func:`write_mcap`.
+    """
+    from .. import __version__
+    from .mcapwriter import write_topic_mcap
+
+    def samples():
+        for c in chunks:
+            names, counts = _runs(c)
+            yield c.t, c.trans, c.quat_wxyz, [JOB_TOPIC.format(name=n) for n in names], counts
+
+    write_topic_mcap(
+        stream,
+        samples(),
+        duration=duration,
+        start_time=start_time,
+        frame_id=frame_id,
+        schemas={"foxglove.PoseInFrame": _schema("foxglove.PoseInFrame")},
+        library=f"a2b {__version__}",
+    )
 
 
 def _schema(name: str) -> bytes:
