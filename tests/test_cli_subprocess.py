@@ -110,8 +110,12 @@ def test_ctrl_c_leaves_no_file(tmp_path):
     assert left == []
 
 
-@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
-def test_sigterm_and_sighup_leave_no_file(tmp_path, sig):
+TERMINATING = ["SIGTERM", "SIGHUP", "SIGQUIT", "SIGUSR1", "SIGUSR2", "SIGALRM", "SIGPIPE"]
+
+
+@pytest.mark.parametrize("name", TERMINATING)
+def test_every_terminating_signal_leaves_no_file(tmp_path, name):
+    sig = getattr(signal, name)
     code, err, left = _interrupt(tmp_path, sig)
     assert code == 128 + sig
     assert b"Traceback" not in err

@@ -128,6 +128,81 @@ def test_full_disk_for_the_temporary_file_keeps_the_old_file(tmp_path, command, 
     assert sorted(p.name for p in tmp_path.iterdir()) == before  # no temporary file left
 
 
+# -- output targets ---------------------------------------------------------------------------
+
+
+def test_dev_stdout_appended_by_the_shell_keeps_what_was_there(tmp_path):
+    """``-o /dev/stdout >> log`` writes through the descriptor: the log is appended to."""
+    log = tmp_path / "log.csv"
+    log.write_bytes(PRECIOUS)
+    command = a2b_cmd("interpolate", QUARTER, "--samples", 3, "-o", "/dev/stdout")
+    script = 'exec "$@" >> "$LOG"'  # the shell opens the log for appending, as `a2b ... >> log`
+    done = subprocess.run(
+        ["sh", "-c", script, "sh", *command],
+        env={**os.environ, "LOG": str(log)},
+        capture_output=True,
+        timeout=60,
+    )
+    assert done.returncode == 0, done.stderr
+    text = log.read_bytes()
+    assert text.startswith(PRECIOUS) and text[len(PRECIOUS) :].startswith(b"t,tx,ty,tz")
+    assert len(text[len(PRECIOUS) :].splitlines()) == 4
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["log.csv"]
+
+
+@pytest.mark.parametrize("target", ["/dev/stdout", "/dev/fd/1", "/proc/self/fd/1"])
+def test_descriptor_paths_into_a_pipe(target):
+    if not Path(target).parent.exists():
+        pytest.skip(f"{Path(target).parent} does not exist on this system")
+    done = subprocess.run(
+        a2b_cmd("interpolate", QUARTER, "--samples", 3, "-o", target),
+        capture_output=True,
+        timeout=60,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines()[0] == b"t,tx,ty,tz,qw,qx,qy,qz"
+    assert len(done.stdout.splitlines()) == 4
+
+
+def test_dev_fd_n_writes_that_descriptor(tmp_path):
+    out = tmp_path / "via-fd.csv"
+    with open(out, "wb") as f:
+        f.write(PRECIOUS)
+        f.flush()
+        fd = f.fileno()
+        done = subprocess.run(
+            a2b_cmd("interpolate", QUARTER, "--samples", 3, "-o", f"/dev/fd/{fd}"),
+            capture_output=True,
+            timeout=60,
+            pass_fds=(fd,),
+        )
+    assert done.returncode == 0, done.stderr
+    assert out.read_bytes().startswith(PRECIOUS + b"t,tx,ty,tz")
+
+
+@pytest.mark.parametrize("command", ["interpolate", "batch"])
+def test_a_trailing_slash_names_a_directory(tmp_path, command):
+    source = QUARTER if command == "interpolate" else SAMPLES / "jobs.yaml"
+    done = subprocess.run(
+        a2b_cmd(command, source, "-o", f"{tmp_path}/new/"), capture_output=True, timeout=60
+    )
+    assert done.returncode != 0
+    assert b"names a directory" in done.stderr or b"is a directory" in done.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_replaced_file_loses_set_id_bits(tmp_path):
+    out = tmp_path / "out.csv"
+    out.write_bytes(PRECIOUS)
+    os.chmod(out, 0o6755)
+    done = subprocess.run(
+        a2b_cmd("interpolate", QUARTER, "--samples", 3, "-o", out), capture_output=True, timeout=60
+    )
+    assert done.returncode == 0, done.stderr
+    assert stat.S_IMODE(out.stat().st_mode) == 0o755
+    assert out.read_bytes().startswith(b"t,tx")
+
+
 # -- interrupted runs -------------------------------------------------------------------------
 
 

@@ -13,6 +13,7 @@ error (``ENOSPC``, ``EFBIG``, ``EIO``) is an :class:`OutputFileError` naming the
 from __future__ import annotations
 
 import os
+import re
 import signal
 import stat
 import sys
@@ -35,10 +36,14 @@ def _is_stdout(path) -> bool:
     return path is None or str(path) == "-"
 
 
+#: The catchable signals that end a process by default (SIGINT raises KeyboardInterrupt).
+_TERMINATING = ("SIGTERM", "SIGHUP", "SIGQUIT", "SIGUSR1", "SIGUSR2", "SIGALRM", "SIGPIPE")
+
+
 @contextmanager
 def _terminate_as_exit() -> Iterator[None]:
-    """Turn SIGTERM and SIGHUP (a closed terminal) into ``SystemExit(128 + signal)`` for the
-    duration, so ``finally`` blocks run."""
+    """Turn every catchable terminating signal (:data:`_TERMINATING`) into
+    ``SystemExit(128 + signal)`` for the duration, so ``finally`` blocks run."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -46,13 +51,27 @@ def _terminate_as_exit() -> Iterator[None]:
     def handler(signum, frame):
         raise SystemExit(128 + signum)
 
-    signals = [signal.SIGTERM] + ([signal.SIGHUP] if hasattr(signal, "SIGHUP") else [])
+    signals = [getattr(signal, name) for name in _TERMINATING if hasattr(signal, name)]
     previous = {number: signal.signal(number, handler) for number in signals}
     try:
         yield
     finally:
         for number, handler_before in previous.items():
             signal.signal(number, handler_before)
+
+
+#: Paths that name an open file descriptor of this process: written through that descriptor.
+_DESCRIPTOR_PATH = re.compile(r"/dev/(stdin|stdout|stderr)|/dev/fd/(\d+)|/proc/self/fd/(\d+)")
+_STANDARD = {"stdin": 0, "stdout": 1, "stderr": 2}
+
+
+def _descriptor(path: str) -> int | None:
+    """The file descriptor that ``path`` names (``/dev/stdout``, ``/dev/fd/3``), else None."""
+    match = _DESCRIPTOR_PATH.fullmatch(os.path.normpath(path))
+    if match is None:
+        return None
+    standard, fd, proc_fd = match.groups()
+    return _STANDARD[standard] if standard else int(fd or proc_fd)
 
 
 def _default_mode() -> int:
@@ -66,11 +85,14 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
     """A binary stream for ``path``; ``None`` or ``"-"`` is standard output.
 
     For a file, the stream is a temporary file in the same directory, renamed to ``path``
-    when the block ends normally (keeping the mode of an existing target, else the umask's;
+    when the block ends normally (keeping the mode of an existing target without its set-uid
+    and set-gid bits, else the umask's;
     a symbolic link is followed, so the file it points to is replaced). If the block raises
     (including ``KeyboardInterrupt``, SIGTERM and a failed write), the temporary file is
     removed and ``path`` is left as it was. Standard output and targets that are no regular
-    file, such as ``/dev/null`` or a named pipe, are written directly.
+    file, such as ``/dev/null`` or a named pipe, are written directly; ``/dev/stdout``,
+    ``/dev/stderr``, ``/dev/fd/N`` and ``/proc/self/fd/N`` through that descriptor, so a
+    shell's ``>> log`` appends. A path that ends in ``/`` names a directory and is refused.
 
     Raises
     ------
@@ -86,6 +108,21 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
         return
     if not os.fspath(path):
         raise OutputFileError("cannot write to an empty file name")
+    if os.fspath(path).endswith(("/", os.sep)):
+        raise OutputFileError(f"cannot write {path}: a path ending in / names a directory")
+    fd = _descriptor(os.fspath(path))
+    if fd is not None:
+        # The descriptor itself, not the file it points to: `-o /dev/stdout >> log` appends.
+        with _write_errors(os.fspath(path), on_error=silence_stdout if fd == 1 else None):
+            try:
+                stream = os.fdopen(os.dup(fd), "wb")
+            except OSError as e:
+                raise OutputFileError(f"cannot write {path}: {e.strerror or e}") from e
+            with stream:
+                if fd == 1:
+                    sys.stdout.flush()
+                yield stream
+        return
     target = os.path.realpath(os.fspath(path))
     directory = os.path.dirname(target)
     try:
@@ -107,7 +144,7 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
             # A rename would replace a file its owner made read-only; a write would fail. The mode
             # bits count even for root, who may write anything: read-only means "keep this".
             raise OutputFileError(f"cannot write {path}: Permission denied (the file is read-only)")
-        mode = info.st_mode & 0o7777
+        mode = info.st_mode & 0o7777 & ~(stat.S_ISUID | stat.S_ISGID)  # never set-id bits
     with _terminate_as_exit():
         try:
             fd, tmp = tempfile.mkstemp(
