@@ -32,3 +32,23 @@ class InputFileError(A2bError):
 class A2bWarning(UserWarning):
     """A result that a2b computes but that is sensitive to rounding of the input (near a
     singularity)."""
+
+
+_ESCAPES = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
+
+
+def printable(text: str) -> str:
+    """``text`` with every character that is not printable escaped (``\\n``, ``\\x1b``,
+    ``\\u202e``), so that a name or value from the user cannot break a one-line message or
+    send a terminal escape sequence. Spaces and printable text are kept as they are."""
+    if text.isprintable():
+        return text
+    out = []
+    for ch in text:
+        if ch.isprintable():
+            out.append(ch)
+        elif ch in _ESCAPES:
+            out.append(_ESCAPES[ch])
+        else:
+            out.append(ascii(ch)[1:-1])
+    return "".join(out)

@@ -389,3 +389,53 @@ def test_a_100_kb_job_name_keeps_batch_memory_bounded(tmp_path):
         rows = [line.split(b",", 1)[0] for line in f]
     assert len(rows) == 1 + 300 * 101
     assert rows.count(long_name.encode()) == 101
+
+
+# -- user text in messages --------------------------------------------------------------------
+
+HOSTILE = [
+    "two\nlines",
+    "Error: forged\r",
+    "\x1b[31mred\x1b[0m",
+    "bidi\u202eevil",
+    "bell\x07",
+    "tab\there",
+]
+
+
+@pytest.mark.parametrize("name", HOSTILE)
+def test_a_job_name_reaches_stderr_escaped(tmp_path, name):
+    job = {
+        "name": name,
+        "start": {"quaternion": [1, 0, 0, 0]},
+        "end": {"quaternion": [0, 0, 0, 1], "translation": [0, 0, 1]},
+        "parameters": {"lam": 1e-6},
+    }
+    path = tmp_path / "jobs.json"
+    path.write_text(json.dumps([job]))
+    done = subprocess.run(
+        a2b_cmd("batch", path, "-o", tmp_path / "out.csv"), capture_output=True, timeout=60
+    )
+    assert done.returncode == 1
+    err = done.stderr.decode()
+    assert err.count("\n") == 1 and err.startswith("Error: job ")
+    assert all(ch.isprintable() for ch in err[:-1]), repr(err)
+    from a2b.errors import printable
+
+    assert f"job {printable(name)}:" in err
+
+
+@pytest.mark.parametrize("name", HOSTILE)
+def test_a_file_name_in_a_usage_error_is_escaped(tmp_path, name):
+    done = subprocess.run(a2b_cmd("interpolate", tmp_path / name), capture_output=True, timeout=60)
+    assert done.returncode == 2
+    last = done.stderr.decode().splitlines()[-1]
+    assert last.startswith("Error: ") and "No such file or directory" in last
+    assert all(ch.isprintable() for ch in last), repr(last)
+
+
+def test_printable_escapes_only_what_is_not_printable():
+    from a2b.errors import printable
+
+    assert printable("Gelenk-ä 関節 a b") == "Gelenk-ä 関節 a b"
+    assert printable("a\nb\x1b[0m\u202e\t") == "a\\nb\\x1b[0m\\u202e\\t"

@@ -23,7 +23,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import click
 
 from .. import __version__
-from ..errors import A2bError, A2bWarning
+from ..errors import A2bError, A2bWarning, printable
 
 #: name -> (module defining ``command``, short help shown by ``a2b --help``)
 COMMANDS = {
@@ -84,7 +84,10 @@ class LazyGroup(click.Group):
                 warnings.showwarning = _show_warning
                 return super().invoke(ctx)
         except A2bError as e:
-            raise click.ClickException(str(e)) from e
+            raise click.ClickException(printable(str(e))) from e
+        except click.ClickException as e:  # usage errors quote what the user typed
+            e.message = printable(e.message)
+            raise
         except BrokenPipeError:
             from ..io.atomic import silence_stdout
 
@@ -98,7 +101,7 @@ _python_showwarning = warnings.showwarning
 def _show_warning(message, category, filename, lineno, file=None, line=None):
     """``Warning: message`` for a2b's own warnings; Python's format for any other."""
     if issubclass(category, A2bWarning):
-        click.echo(f"Warning: {message}", err=True)
+        click.echo(f"Warning: {printable(str(message))}", err=True)
     else:
         _python_showwarning(message, category, filename, lineno, file, line)
 

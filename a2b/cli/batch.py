@@ -98,6 +98,7 @@ def command(jobs, mode, samples, fmt, chunk_size, duration, start_time, frame_id
       a2b batch samples/jobs.yaml --format tum --duration 2 -o motions/
       a2b batch samples/jobs.yaml -o motions.mcap
     """
+    from ..errors import printable
     from ..io.atomic import atomic_directory, atomic_output
     from ..io.readers import read_jobs
     from ..io.writers import (
@@ -126,7 +127,7 @@ def command(jobs, mode, samples, fmt, chunk_size, duration, start_time, frame_id
 
     def report(name, made):
         for choice in made:
-            click.echo(f"  • job {name}: {choice}", err=True)
+            click.echo(f"  • {printable(f'job {name}: {choice}')}", err=True)
 
     if fmt in ("tum", "kitti") and output == "-":
         raise click.UsageError(f"{fmt} writes one file per job: give a directory with -o DIR")

@@ -10,6 +10,7 @@ import math
 
 import click
 
+from ..errors import printable
 from ..names import MAX_SAMPLES, MIN_SAMPLES, MODES
 from ..parameters import BY_NAME, EXCLUSIVE, OF_MODE, TABLE
 
@@ -367,7 +368,7 @@ def state_choices(choices: list, verbose: bool) -> None:
         return
     click.echo("Choices a2b made:" if choices else "Choices a2b made: none", err=True)
     for choice in choices:
-        click.echo(f"  • {choice}", err=True)
+        click.echo(f"  • {printable(choice)}", err=True)
 
 
 def check_finite(data, what: str) -> None:
