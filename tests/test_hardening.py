@@ -439,3 +439,35 @@ def test_printable_escapes_only_what_is_not_printable():
 
     assert printable("Gelenk-ä 関節 a b") == "Gelenk-ä 関節 a b"
     assert printable("a\nb\x1b[0m\u202e\t") == "a\\nb\\x1b[0m\\u202e\\t"
+
+
+# -- one number grammar -----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("spelling", ["1_0", "١٠", "𝟙", "0x10", "inf", "-nan", "1e", "", "½"])
+def test_options_take_only_decimal_numbers(spelling):
+    from click.testing import CliRunner
+
+    from a2b.cli import cli
+
+    result = CliRunner().invoke(cli, ["interpolate", str(QUARTER), "--delta", spelling])
+    assert result.exit_code == 2
+    assert "is not a decimal number" in result.output
+
+
+@pytest.mark.parametrize("spelling", ["1_0", "١٠", "1e3", "0x10", "10.0", "-5"])
+def test_counts_take_only_decimal_digits(spelling):
+    from click.testing import CliRunner
+
+    from a2b.cli import cli
+
+    result = CliRunner().invoke(cli, ["interpolate", str(QUARTER), "--samples", spelling])
+    assert result.exit_code == 2
+    assert "is not a whole number of decimal digits" in result.output
+
+
+@pytest.mark.parametrize("spelling", ["2", "-0.5", ".5", "5.", "+1e-3", "1E+2", " 3 "])
+def test_decimal_spellings_are_read_as_float_reads_them(spelling):
+    from a2b.cli.options import FLOAT
+
+    assert FLOAT.convert(spelling, None, None) == float(spelling)

@@ -38,7 +38,7 @@ def _progress(total: int | None):
 )
 @click.option(
     "--samples",
-    type=click.IntRange(min=options.MIN_SAMPLES, max=options.MAX_SAMPLES),
+    type=options.Count(min=options.MIN_SAMPLES, max=options.MAX_SAMPLES),
     help="Samples per motion for jobs that do not say  [default: 101]",
 )
 @click.option(
@@ -52,7 +52,7 @@ def _progress(total: int | None):
 )
 @click.option(
     "--chunk-size",
-    type=click.IntRange(min=1),
+    type=options.Count(min=1),
     default=1024,
     show_default=True,
     help="Jobs read and built together, and the most in one chunk of output; memory is "

@@ -7,6 +7,7 @@ functions that need them, so ``a2b --help`` stays fast.
 from __future__ import annotations
 
 import math
+import re
 
 import click
 
@@ -24,21 +25,37 @@ MCAP_MAX_SAMPLES = 2**32
 MCAP_MAX_NANOSECONDS = 2**63 - 1
 
 
+#: The numbers of the command line, as in the files: ASCII decimal digits with an optional sign,
+#: point and exponent (``2``, ``-0.5``, ``.5``, ``1e-3``); no ``inf``, ``nan``, ``1_000``,
+#: hexadecimal or other scripts' digits, which Python's ``float`` and ``int`` would take.
+DECIMAL = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?", re.ASCII)
+INTEGER = re.compile(r"\+?[0-9]+", re.ASCII)
+
+
 class FiniteFloat(click.ParamType):
-    """A finite float (no NaN or infinity)."""
+    """A finite decimal number (:data:`DECIMAL`)."""
 
     name = "NUMBER"
 
     def convert(self, value, param, ctx):
         if isinstance(value, float):
             return value
-        try:
-            number = float(value)
-        except ValueError:
-            self.fail(f"{value!r} is not a number", param, ctx)
+        text = str(value).strip()
+        if not DECIMAL.fullmatch(text):
+            self.fail(f"{value!r} is not a decimal number (such as 2, -0.5 or 1e-3)", param, ctx)
+        number = float(text)
         if not math.isfinite(number):
             self.fail(f"{value!r} is not a finite number", param, ctx)
         return number
+
+
+class Count(click.IntRange):
+    """A whole number of ASCII digits (:data:`INTEGER`) within a range."""
+
+    def convert(self, value, param, ctx):
+        if not isinstance(value, int) and not INTEGER.fullmatch(str(value).strip()):
+            self.fail(f"{value!r} is not a whole number of decimal digits", param, ctx)
+        return super().convert(value, param, ctx)
 
 
 class PositiveFloat(FiniteFloat):
@@ -184,7 +201,7 @@ output_option = click.option(
 )
 samples_option = click.option(
     "--samples",
-    type=click.IntRange(min=MIN_SAMPLES, max=MAX_SAMPLES),
+    type=Count(min=MIN_SAMPLES, max=MAX_SAMPLES),
     help="Number of samples, t evenly spaced in [0, 1], written as they are computed "
     "(any number streams in bounded memory)  [default: the file's samples, else 101]",
 )

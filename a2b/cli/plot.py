@@ -103,7 +103,7 @@ class PointList(click.ParamType):
 )
 @click.option(
     "--samples",
-    type=click.IntRange(min=2, max=PLOT_MAX_SAMPLES),
+    type=options.Count(min=2, max=PLOT_MAX_SAMPLES),
     help="Samples per motion, t evenly spaced in [0, 1] (a figure shows no more than "
     f"{PLOT_MAX_SAMPLES})  [default: the file's samples, else 101]",
 )
