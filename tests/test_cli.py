@@ -785,9 +785,9 @@ def test_batch_splits_a_large_job_into_bounded_chunks(rng):
         (["--samples", 0], "0 is not in the range"),
         (["--samples", -5], "-5 is not in the range"),
         (["--samples", 2**53 + 1], "is not in the range"),
-        (["--duration", "inf"], "'inf' is not a finite number"),
+        (["--duration", "inf"], "'inf' is not a decimal number"),
         (["--duration", "0"], "'0' is not greater than 0"),
-        (["--duration", "nan"], "'nan' is not a finite number"),
+        (["--duration", "nan"], "'nan' is not a decimal number"),
     ],
 )
 def test_absurd_requests_are_usage_errors(poses, args, message):

@@ -455,7 +455,7 @@ def test_options_take_only_decimal_numbers(spelling):
     assert "is not a decimal number" in result.output
 
 
-@pytest.mark.parametrize("spelling", ["1_0", "١٠", "1e3", "0x10", "10.0", "-5"])
+@pytest.mark.parametrize("spelling", ["1_0", "١٠", "1e3", "0x10", "10.0", "--5"])
 def test_counts_take_only_decimal_digits(spelling):
     from click.testing import CliRunner
 

@@ -29,7 +29,7 @@ MCAP_MAX_NANOSECONDS = 2**63 - 1
 #: point and exponent (``2``, ``-0.5``, ``.5``, ``1e-3``); no ``inf``, ``nan``, ``1_000``,
 #: hexadecimal or other scripts' digits, which Python's ``float`` and ``int`` would take.
 DECIMAL = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?", re.ASCII)
-INTEGER = re.compile(r"\+?[0-9]+", re.ASCII)
+INTEGER = re.compile(r"[-+]?[0-9]+", re.ASCII)
 
 
 class FiniteFloat(click.ParamType):
