@@ -22,6 +22,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -345,10 +346,15 @@ _PEAK = (
 def _peak_of_run(args) -> tuple[float, subprocess.CompletedProcess]:
     """Peak resident memory (MB) of a whole ``a2b`` run, measured by a parent of its own (the
     kernel's count for the children of this test process would include earlier tests)."""
+    return _peak_of_command(a2b_cmd(*args))
+
+
+def _peak_of_command(argv) -> tuple[float, subprocess.CompletedProcess]:
+    """Peak resident memory (MB) of a command, as :func:`_peak_of_run`."""
     read, write = os.pipe()
     try:
         done = subprocess.run(
-            [sys.executable, "-c", _PEAK, str(write), *a2b_cmd(*args)],
+            [sys.executable, "-c", _PEAK, str(write), *argv],
             capture_output=True,
             pass_fds=(write,),
         )
@@ -471,3 +477,105 @@ def test_decimal_spellings_are_read_as_float_reads_them(spelling):
     from a2b.cli.options import FLOAT
 
     assert FLOAT.convert(spelling, None, None) == float(spelling)
+
+
+# -- memory for long names, long frame ids and many controls --------------------------------
+
+MEGABYTE_NAME = "n" * 1_000_000
+MEMORY_CAP_MB = 200
+
+
+def _jobs_with_a_long_name(path: Path) -> Path:
+    with open(path, "w") as f:
+        for i in range(20):
+            job = {
+                "name": MEGABYTE_NAME if i == 10 else f"job{i}",
+                "start": {"quaternion": [1, 0, 0, 0]},
+                "end": {"quaternion": [0, 0, 0, 1], "translation": [1, 2, i]},
+            }
+            f.write(json.dumps(job) + "\n")
+    return path
+
+
+@linux_only
+@pytest.mark.parametrize("fmt", ["csv", "mcap"])
+def test_a_1_mb_job_name_stays_under_the_memory_cap(tmp_path, fmt):
+    jobs = _jobs_with_a_long_name(tmp_path / "jobs.jsonl")
+    out = tmp_path / f"out.{fmt}"
+    peak, done = _peak_of_run(["batch", jobs, "--format", fmt, "-o", out])
+    assert done.returncode == 0, done.stderr.decode()[:500]
+    assert peak < MEMORY_CAP_MB, peak
+    if fmt == "csv":
+        with open(out, "rb") as f:
+            names = [line.split(b",", 1)[0] for line in f]
+        assert names.count(MEGABYTE_NAME.encode()) == 101 and len(names) == 1 + 20 * 101
+
+
+#: The longest single argument Linux passes to a program (MAX_ARG_STRLEN is 128 kB).
+LONGEST_ARGUMENT = "f" * (128 * 1024 - 1)
+
+#: Writes 1,000 poses as MCAP with a 1 MB frame id and child frame id, through the library.
+_MCAP_WITH_LONG_FRAMES = """
+import sys
+import numpy as np
+from a2b.io.writers import Chunk, write_mcap
+t = np.linspace(0.0, 1.0, 1_000)
+quat = np.tile([1.0, 0.0, 0.0, 0.0], (len(t), 1))
+trans = np.zeros((len(t), 3))
+chunks = (Chunk(t[i : i + 4096], quat_wxyz=quat[i : i + 4096], trans=trans[i : i + 4096])
+          for i in range(0, len(t), 4096))
+with open(sys.argv[1], "wb") as f:
+    write_mcap(f, chunks, frame_id="w" * 1_000_000, child_frame_id="c" * 1_000_000)
+"""  # fmt: skip
+
+
+@linux_only
+@pytest.mark.parametrize("option", ["--frame-id", "--child-frame-id"])
+def test_the_longest_frame_id_a_shell_passes_stays_under_the_memory_cap(tmp_path, option):
+    from mcap.reader import make_reader
+
+    out = tmp_path / "out.mcap"
+    args = ["interpolate", QUARTER, "--samples", 10_000, "--format", "mcap", option]
+    peak, done = _peak_of_run([*args, LONGEST_ARGUMENT, "-o", out])
+    assert done.returncode == 0, done.stderr.decode()[:500]
+    assert peak < MEMORY_CAP_MB, peak
+    with open(out, "rb") as f:
+        assert make_reader(f).get_summary().statistics.message_count == 20_000
+
+
+@linux_only
+def test_a_1_mb_frame_id_stays_under_the_memory_cap(tmp_path):
+    from mcap.reader import make_reader
+
+    out = tmp_path / "out.mcap"
+    peak, done = _peak_of_command([sys.executable, "-c", _MCAP_WITH_LONG_FRAMES, str(out)])
+    assert done.returncode == 0, done.stderr.decode()[:500]
+    assert peak < MEMORY_CAP_MB, peak
+    with open(out, "rb") as f:
+        reader = make_reader(f)
+        assert reader.get_summary().statistics.message_count == 2_000
+        _, _, message = next(reader.iter_messages())
+        assert json.loads(message.data)["frame_id"] == "w" * 1_000_000
+
+
+@linux_only
+def test_200_bezier_controls_stay_under_the_memory_cap(tmp_path):
+    rng = np.random.default_rng(7)
+    controls = []
+    for _ in range(200):
+        quaternion = np.array([1.0, 0, 0, 0]) + 0.3 * rng.normal(size=4)
+        controls.append(
+            {"quaternion": quaternion.tolist(), "translation": rng.normal(size=3).tolist()}
+        )
+    path = tmp_path / "controls.json"
+    path.write_text(json.dumps({"controls": controls}))
+    out = tmp_path / "out.csv"
+    peak, done = _peak_of_run(["bezier", path, "--samples", 100_000, "-o", out])
+    assert done.returncode == 0, done.stderr.decode()[:500]
+    assert peak < MEMORY_CAP_MB, peak
+    rows = out.read_text().splitlines()
+    assert len(rows) == 100_001
+    first = np.array(rows[1].split(","), dtype=float)
+    quat, trans = controls[0]["quaternion"], controls[0]["translation"]
+    np.testing.assert_allclose(first[1:4], trans, atol=1e-12)
+    np.testing.assert_allclose(np.abs(first[4:] @ quat) / np.linalg.norm(quat), 1, atol=1e-12)

@@ -46,6 +46,8 @@ _MESSAGE_INDEX, _CHUNK_INDEX, _STATISTICS, _SUMMARY_OFFSET, _DATA_END = 0x07, 0x
 
 #: Poses per chunk: two JSON messages of about 280 bytes each, so chunks of about 2 MB.
 CHUNK_POSES = 4096
+#: At most this many bytes of message text in one chunk: a long frame id means fewer poses.
+CHUNK_BYTES = 8 << 20
 #: zstd's fastest regular level; on these messages it also compresses best (about 10:1).
 ZSTD_LEVEL = 1
 
@@ -314,10 +316,13 @@ def write_pose_mcap(
         Channel(id=2, schema_id=2, topic=tf_topic, message_encoding="json", metadata={}),
     ]
 
+    layout = _Layout.create(frame_id, child_frame_id)
+    size = _chunk_poses(layout)
+
     def items():
         sequence = 0
         for t, trans, quat_wxyz in samples:
-            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time):
+            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time, size):
                 n = len(ns)
                 if sequence + n > 2**32:
                     raise ParameterError(
@@ -327,7 +332,6 @@ def write_pose_mcap(
                 yield np.arange(sequence, sequence + n, dtype=np.uint64), ns, numbers, ids, []
                 sequence += n
 
-    layout = _Layout.create(frame_id, child_frame_id)
     _write_file(stream, layout, schemas, library, channels, items())
 
 
@@ -350,6 +354,8 @@ def write_topic_mcap(
     """
     from mcap.records import Channel
 
+    layout = _Layout.create(frame_id, None)
+    size = _chunk_poses(layout)
     ids: dict[str, int] = {}  # topic: channel id
     sequences: dict[str, int] = {}  # topic: messages so far
 
@@ -378,12 +384,11 @@ def write_topic_mcap(
             offset = np.asarray(first, np.int64) - (np.cumsum(counts) - counts)
             sequence = (np.arange(len(channel)) + np.repeat(offset, counts)).astype(np.uint64)
             lo = 0
-            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time):
+            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time, size):
                 n = len(ns)
                 yield sequence[lo : lo + n], ns, numbers, channel[lo : lo + n, None], new
                 new, lo = [], lo + n
 
-    layout = _Layout.create(frame_id, None)
     _write_file(stream, layout, schemas, library, [], items())
 
 
@@ -491,11 +496,17 @@ def _write_file(stream: IO, layout: _Layout, schemas: dict, library: str, channe
     out.write(MAGIC)
 
 
-def _pieces(t, trans, quat_wxyz, duration: float, start_time: float) -> Iterator[tuple]:
-    """``(log times in ns, numbers x y z qx qy qz qw)`` of at most CHUNK_POSES poses."""
+def _pieces(t, trans, quat_wxyz, duration: float, start_time: float, size: int) -> Iterator[tuple]:
+    """``(log times in ns, numbers x y z qx qy qz qw)`` of at most ``size`` poses."""
     ns = _nanoseconds(np.asarray(t, float), duration, start_time)
     numbers = np.column_stack([trans, np.asarray(quat_wxyz)[:, [1, 2, 3, 0]]])
     if not np.isfinite(numbers).all():
         raise ParameterError("MCAP poses must be finite; a sample is NaN or infinite")
-    for lo in range(0, len(ns), CHUNK_POSES):
-        yield ns[lo : lo + CHUNK_POSES], numbers[lo : lo + CHUNK_POSES]
+    for lo in range(0, len(ns), size):
+        yield ns[lo : lo + size], numbers[lo : lo + size]
+
+
+def _chunk_poses(layout: _Layout) -> int:
+    """Poses per chunk: :data:`CHUNK_POSES`, fewer where the messages are long (a long frame
+    id), so that a chunk's text stays within :data:`CHUNK_BYTES`."""
+    return max(1, min(CHUNK_POSES, CHUNK_BYTES // layout.row.nbytes))

@@ -74,10 +74,25 @@ def bernstein_basis(ts: np.ndarray, degree: int) -> np.ndarray:
         uu *= 3.0
         uu *= t
         tt *= t
-    else:
+    elif degree <= 1000:  # C(1000, 500) ≈ 2.7e299 is still a double
         u = 1.0 - t
         for i in range(degree + 1):
-            out[i] = comb(degree, i) * u ** (degree - i) * t**i
+            out[i] = float(comb(degree, i)) * u ** (degree - i) * t**i
+    else:  # logarithms of binomials, which overflow a double beyond C(1029, 514)
+        from math import lgamma
+
+        log_binomials = [
+            lgamma(degree + 1) - lgamma(i + 1) - lgamma(degree - i + 1) for i in range(degree + 1)
+        ]
+        u = 1.0 - t
+        sign_u, sign_t = np.where(u < 0, -1.0, 1.0), np.where(t < 0, -1.0, 1.0)  # extrapolation
+        with np.errstate(divide="ignore", over="ignore"):
+            log_u, log_t = np.log(np.abs(u)), np.log(np.abs(t))
+            for i in range(degree + 1):
+                power_u = 0.0 if i == degree else (degree - i) * log_u
+                power_t = 0.0 if i == 0 else i * log_t
+                out[i] = np.exp(log_binomials[i] + power_u + power_t)
+                out[i] *= sign_u ** (degree - i) * sign_t**i
     return out.T if len(shape) == 1 else np.moveaxis(out, 0, -1).reshape(shape + (degree + 1,))
 
 
@@ -87,11 +102,37 @@ def bern_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     b = np.asarray(b, dtype=float)
     m, n = a.shape[0] - 1, b.shape[0] - 1
     shape = np.broadcast_shapes(a.shape[1:], b.shape[1:])
+    weights = _product_weights(m, n).reshape((m + 1, n + 1) + (1,) * len(shape))
     out = np.zeros((m + n + 1,) + shape)
-    for i in range(m + 1):
-        for j in range(n + 1):
-            out[i + j] += comb(m, i) * comb(n, j) / comb(m + n, i + j) * a[i] * b[j]
+    for i in range(m + 1):  # one array operation per coefficient of a: O(m n) numbers in all
+        out[i : i + n + 1] += weights[i] * a[i] * b
     return out
+
+
+def _product_weights(m: int, n: int) -> np.ndarray:
+    """``C(m, i) C(n, j) / C(m + n, i + j)``, shape ``(m + 1, n + 1)``, in (0, 1].
+
+    Correctly rounded from exact integers up to ``m + n = 60``; from binomials rounded to
+    doubles up to ``m + n = 1000`` (a few ulp; ``C(1000, 500) ≈ 2.7e299``); beyond, from their
+    logarithms (about 1e-13 relative), so that nothing overflows for any degree.
+    """
+    i, j = np.arange(m + 1)[:, None], np.arange(n + 1)[None, :]
+    if m + n <= 60:
+        return np.array(
+            [[comb(m, a) * comb(n, b) / comb(m + n, a + b) for b in j[0]] for a in i[:, 0]]
+        )
+    if m + n <= 1000:
+
+        def binomials(k: int) -> np.ndarray:
+            return np.array([float(comb(k, r)) for r in range(k + 1)])
+
+        return binomials(m)[i] * binomials(n)[j] / binomials(m + n)[i + j]
+    from math import lgamma
+
+    def log_binomials(k: int) -> np.ndarray:
+        return np.array([lgamma(k + 1) - lgamma(r + 1) - lgamma(k - r + 1) for r in range(k + 1)])
+
+    return np.exp(log_binomials(m)[i] + log_binomials(n)[j] - log_binomials(m + n)[i + j])
 
 
 def bern_elevate(a: np.ndarray, degree: int) -> np.ndarray:

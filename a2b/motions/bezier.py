@@ -104,6 +104,8 @@ SPACES = ("matrix", "study")
 SINGULAR_TOL = 1e-12
 
 _BISECTIONS = 80
+#: The most entries of a Bernstein basis evaluated at once (8 MB).
+BASIS_NUMBERS = 1 << 20
 
 
 # -- polynomials in Bernstein form ---------------------------------------------------------------
@@ -137,21 +139,33 @@ def _bisect(coeffs: np.ndarray, rows: np.ndarray, lo: np.ndarray, hi: np.ndarray
 def _zeros_and_extrema(coeffs: np.ndarray, lo: float, hi: float) -> tuple[np.ndarray, np.ndarray]:
     """Real zeros and critical points in ``[lo, hi]`` of polynomials in Bernstein form.
 
-    ``coeffs`` has shape ``(S, n+1)``; both results have shape ``(S, w)``, padded with NaN.
+    ``coeffs`` has shape ``(S, n+1)``; both results have shape ``(S, w)`` with ``w ≤ n + 1``,
+    padded with NaN.
 
-    Derivative recursion: the critical points are the zeros of the derivative (Bernstein
-    coefficients ``n (c_{i+1} − c_i)``), found the same way. Between two consecutive ones, and
-    the ends of the interval, a polynomial is monotone, so a sign change there brackets exactly
-    one zero, which bisection finds to machine precision. Zeros of even multiplicity are
-    critical points; callers compare the values there with a tolerance.
+    The critical points are the zeros of the derivative (Bernstein coefficients proportional to
+    ``c_{i+1} − c_i``; the constant factor ``n`` is left out, as it moves no zero and would
+    overflow over many derivatives). Between two consecutive ones, and the ends of the interval,
+    a polynomial is monotone, so a sign change there brackets exactly one zero, which bisection
+    finds to machine precision. The derivatives are taken down to degree 1 and their zeros
+    found from there upwards, in a loop: work and memory are polynomial in ``n``. Zeros of even
+    multiplicity are critical points; callers compare the values there with a tolerance.
     """
     rows, n = coeffs.shape[0], coeffs.shape[1] - 1
+    empty = np.full((rows, 0), np.nan)
     if n <= 0:
-        return np.full((rows, 0), np.nan), np.full((rows, 0), np.nan)
-    if n == 1:
-        crit = np.full((rows, 0), np.nan)
-    else:
-        crit, _ = _zeros_and_extrema(n * np.diff(coeffs, axis=-1), lo, hi)
+        return empty, empty
+    chain = [coeffs]
+    while chain[-1].shape[1] > 2:  # down to degree 1, whose derivative has no zero
+        chain.append(np.diff(chain[-1], axis=-1))
+    crit, zeros = empty, empty
+    for c in reversed(chain):
+        crit, zeros = zeros, _zeros_between(c, zeros, lo, hi)
+    return zeros, crit
+
+
+def _zeros_between(coeffs: np.ndarray, crit: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    """The zeros in ``[lo, hi]`` of polynomials whose critical points there are ``crit``."""
+    rows = coeffs.shape[0]
     pts = np.concatenate([np.full((rows, 1), lo), crit, np.full((rows, 1), hi)], axis=1)
     pts = np.sort(pts, axis=1)  # NaN last
     pts = np.where(np.isnan(pts), hi, pts)
@@ -162,7 +176,52 @@ def _zeros_and_extrema(coeffs: np.ndarray, lo: float, hi: float) -> tuple[np.nda
     if np.any(change):
         r, i = np.nonzero(change)
         bracketed[r, i] = _bisect(coeffs, r, pts[r, i], pts[r, i + 1])
-    return np.concatenate([exact, bracketed], axis=1), crit
+    zeros = np.sort(np.concatenate([exact, bracketed], axis=1), axis=1)  # NaN last
+    width = int(np.max(np.sum(~np.isnan(zeros), axis=1), initial=0))
+    return zeros[:, :width]
+
+
+#: Halvings of [0, 1] that :func:`_away_from_zero` tries before it gives up.
+_HALVINGS = 6
+
+
+def _away_from_zero(c: np.ndarray, tol: float) -> np.ndarray:
+    """Which polynomials (Bernstein coefficients ``(S, n+1)`` on [0, 1]) provably stay above
+    ``tol · max |c|`` in absolute value on [0, 1].
+
+    A polynomial lies in the convex hull of its Bernstein coefficients, so coefficients all
+    above ``tol · max |c|`` (or all below its negative) prove it; where they do not, the
+    interval is halved by de Casteljau's algorithm, up to :data:`_HALVINGS` times, and each half
+    is tested alike. False means "not proved": the exact search decides. This is ``O(n²)`` per
+    piece, against the exact search's many evaluations of high-degree polynomials.
+    """
+    bound = tol * np.max(np.abs(c), axis=1, keepdims=True)
+    pieces = c[:, None, :]  # (S, pieces, n + 1)
+    proved = np.zeros(c.shape[0], dtype=bool)
+    for _ in range(_HALVINGS + 1):
+        positive = (pieces > bound[:, :, None]).all(axis=2)
+        negative = (pieces < -bound[:, :, None]).all(axis=2)
+        ok = positive | negative
+        if ok.all(axis=1).all():
+            return np.ones(c.shape[0], dtype=bool)
+        proved = ok.all(axis=1)
+        if pieces.shape[1] >= 2**_HALVINGS or (~ok).sum() * c.shape[1] ** 2 > 1 << 24:
+            break
+        pieces = np.concatenate(_halves(pieces), axis=1)
+    return proved
+
+
+def _halves(pieces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The Bernstein coefficients of the left and right halves (de Casteljau at t = ½)."""
+    n = pieces.shape[-1] - 1
+    left = np.empty_like(pieces)
+    right = np.empty_like(pieces)
+    row = pieces.copy()
+    for k in range(n + 1):
+        left[..., k] = row[..., 0]
+        right[..., n - k] = row[..., -1]
+        row = 0.5 * (row[..., :-1] + row[..., 1:])
+    return left, right
 
 
 def first_small_values(coeffs, lo: float, hi: float, tol: float = SINGULAR_TOL):
@@ -183,10 +242,18 @@ def first_small_values(coeffs, lo: float, hi: float, tol: float = SINGULAR_TOL):
         The first such ``t`` (NaN if there is none) and ``|f(t)| / max |coeffs|`` there.
     """
     c = np.asarray(coeffs, dtype=float)
+    rows = c.shape[0]
+    if 0.0 <= lo and hi <= 1.0:
+        away = _away_from_zero(c, tol)
+        if away.all():
+            return np.full(rows, np.nan), np.full(rows, np.nan)
+        if away.any():
+            ts, ratios = np.full(rows, np.nan), np.full(rows, np.nan)
+            ts[~away], ratios[~away] = first_small_values(c[~away], lo, hi, tol)
+            return ts, ratios
     scale = np.max(np.abs(c), axis=1)
     safe = np.where(scale == 0.0, 1.0, scale)
     zeros, crit = _zeros_and_extrema(c / safe[:, None], lo, hi)
-    rows = c.shape[0]
     pts = np.concatenate([np.full((rows, 1), lo), crit, np.full((rows, 1), hi)], axis=1)
     pts = np.where(np.isnan(pts), hi, pts)
     small = np.where(np.abs(_bern_eval(c, pts)) <= tol * scale[:, None], pts, np.nan)
@@ -442,13 +509,19 @@ class BezierMotion:
 
     def _evaluate(self, flat: np.ndarray) -> np.ndarray:
         segments = self.controls.shape[0]
-        scaled = flat * segments
-        j = np.clip(np.floor(scaled), 0, segments - 1).astype(int)
-        u = scaled - j
-        basis = bernstein_basis(u, self.degree)
-        if segments == 1:
-            return basis @ self.controls[0]
-        return np.einsum("si,sid->sd", basis, self.controls[j])
+        out = np.empty((len(flat), self.controls.shape[-1]))
+        # Blocks of samples whose basis has at most BASIS_NUMBERS entries: memory stays bounded
+        # for any number of controls.
+        size = max(1, BASIS_NUMBERS // (self.degree + 1))
+        for lo in range(0, len(flat), size):
+            scaled = flat[lo : lo + size] * segments
+            j = np.clip(np.floor(scaled), 0, segments - 1).astype(int)
+            basis = bernstein_basis(scaled - j, self.degree)
+            if segments == 1:
+                out[lo : lo + size] = basis @ self.controls[0]
+            else:
+                out[lo : lo + size] = np.einsum("si,sid->sd", basis, self.controls[j])
+        return out
 
     def points(self, ts) -> np.ndarray:
         """The curve itself: points ``(..., 13)`` of R^13 or Study vectors ``(..., 8)``.
