@@ -579,3 +579,50 @@ def test_200_bezier_controls_stay_under_the_memory_cap(tmp_path):
     quat, trans = controls[0]["quaternion"], controls[0]["translation"]
     np.testing.assert_allclose(first[1:4], trans, atol=1e-12)
     np.testing.assert_allclose(np.abs(first[4:] @ quat) / np.linalg.norm(quat), 1, atol=1e-12)
+
+
+# -- closed and failing streams ---------------------------------------------------------------
+
+
+def test_closed_stdout_is_one_error_line():
+    err_r, err_w = os.pipe()
+    done = subprocess.run(
+        a2b_cmd("interpolate", QUARTER),
+        stderr=err_w,
+        timeout=60,
+        preexec_fn=lambda: os.close(1),
+    )
+    os.close(err_w)
+    err = os.read(err_r, 65536)
+    os.close(err_r)
+    assert done.returncode == 1
+    assert err == b"Error: cannot write standard output: it is closed (give -o FILE)\n"
+
+
+def test_closed_stdout_does_not_matter_with_o(tmp_path):
+    out = tmp_path / "out.csv"
+    done = subprocess.run(
+        a2b_cmd("interpolate", QUARTER, "--samples", 3, "-o", out),
+        stderr=subprocess.PIPE,
+        timeout=60,
+        preexec_fn=lambda: os.close(1),
+    )
+    assert done.returncode == 0, done.stderr
+    assert len(out.read_text().splitlines()) == 4
+
+
+@pytest.mark.parametrize("args", [["interpolate", "-"], ["interpolate", QUARTER, "--through", "-"]])
+def test_closed_stdin_is_a_usage_error(args):
+    done = subprocess.run(
+        a2b_cmd(*args), capture_output=True, timeout=60, preexec_fn=lambda: os.close(0)
+    )
+    assert done.returncode == 2
+    assert b"standard input is closed" in done.stderr and b"Traceback" not in done.stderr
+
+
+@linux_only
+def test_a_read_error_is_one_error_line():
+    """Reading /proc/self/mem at offset 0 fails with EIO."""
+    done = subprocess.run(a2b_cmd("interpolate", "/proc/self/mem"), capture_output=True, timeout=60)
+    assert done.returncode == 1
+    assert done.stderr == b"Error: cannot read an input file: Input/output error\n"

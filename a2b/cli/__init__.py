@@ -93,6 +93,10 @@ class LazyGroup(click.Group):
 
             silence_stdout()
             ctx.exit(0)
+        except OSError as e:  # reading failed (EIO, a vanished network file): no bug of a2b's
+            what = e.filename if e.filename is not None else "an input file"
+            message = f"cannot read {what}: {e.strerror or e}"
+            raise click.ClickException(printable(message)) from e
 
 
 _python_showwarning = warnings.showwarning

@@ -30,7 +30,7 @@ def _progress(total: int | None):
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
-@click.argument("jobs", type=click.File("rb"))
+@click.argument("jobs", type=options.INPUT)
 @click.option(
     "--mode",
     type=click.Choice(options.MODES),

@@ -71,7 +71,7 @@ def render(description: dict, defaults: list | None = None) -> None:
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
-@click.argument("poses", type=click.File("rb"))
+@click.argument("poses", type=options.INPUT)
 @options.motion_options
 @options.space_option
 @options.json_option

@@ -57,7 +57,7 @@ def render(result: dict) -> None:
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
-@click.argument("pose", type=click.File("rb"))
+@click.argument("pose", type=options.INPUT)
 @click.option(
     "--map",
     "kind",

@@ -8,7 +8,7 @@ from . import CONTEXT_SETTINGS, options
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
-@click.argument("poses", type=click.File("rb"))
+@click.argument("poses", type=options.INPUT)
 @options.motion_options
 @options.trajectory_options
 def command(poses, mode, samples, verbose, **parameters):

@@ -7,7 +7,9 @@ functions that need them, so ``a2b --help`` stays fast.
 from __future__ import annotations
 
 import math
+import os
 import re
+import sys
 
 import click
 
@@ -119,6 +121,27 @@ class Branch(click.ParamType):
         self.fail(f"expected +1 or -1, got {value!r}", param, ctx)
 
 
+class InputFile(click.File):
+    """A file to read in binary, or ``-`` for standard input, which must be open."""
+
+    def __init__(self):
+        super().__init__("rb")
+
+    def convert(self, value, param, ctx):
+        if value == "-" and (sys.stdin is None or _closed(0)):
+            self.fail("standard input is closed (give a file, or - with input)", param, ctx)
+        return super().convert(value, param, ctx)
+
+
+def _closed(fd: int) -> bool:
+    try:
+        os.fstat(fd)
+    except OSError:
+        return True
+    return False
+
+
+INPUT = InputFile()
 FLOAT = FiniteFloat()
 M_VECTOR = Vector(4, "m0, m1, m2, m3")
 ALPHA_VECTOR = Vector(6, "α0 … α5")
@@ -165,7 +188,7 @@ def _motion_option(parameter):
     kinds = {
         "number": FLOAT,
         "branch": Branch(),
-        "pose": click.File("rb"),
+        "pose": INPUT,
         "frame": click.Choice(FRAMES),
     }
     kind = kinds.get(parameter.kind) or Vector(parameter.size, parameter.components)

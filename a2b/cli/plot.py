@@ -50,7 +50,7 @@ class PointList(click.ParamType):
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
-@click.argument("poses", type=click.File("rb"))
+@click.argument("poses", type=options.INPUT)
 @click.option(
     "-o",
     "--output",

@@ -101,6 +101,8 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
         permission, a full disk, a file-size limit), or standard output cannot be written.
     """
     if _is_stdout(path):
+        if sys.stdout is None:  # the shell closed it: `a2b ... >&-`
+            raise OutputFileError("cannot write standard output: it is closed (give -o FILE)")
         with _write_errors("standard output", on_error=silence_stdout):
             out = sys.stdout.buffer
             yield out
