@@ -10,12 +10,31 @@ without the index), so that a caller such as ``a2b batch`` can name the element 
 
 from __future__ import annotations
 
+import reprlib
 import warnings
 from collections.abc import Callable
 
 import numpy as np
 
 from .errors import A2bError, A2bWarning
+
+
+def as_numbers(values, what: str, error: type[A2bError] | None = None) -> np.ndarray:
+    """``values`` as a float array, if they are numbers: a string, a boolean or another object
+    that merely converts to a float is an ``error`` (default :class:`ParameterError`) that
+    names ``what``."""
+    try:
+        raw = np.asarray(values)
+    except (TypeError, ValueError):  # ragged nesting
+        raw = np.asarray(None)
+    if raw.dtype.kind not in "iuf":
+        from .errors import ParameterError
+
+        shown = reprlib.repr(values)
+        raise (error or ParameterError)(
+            f"{what} must be a number or an array of numbers, got {shown}"
+        )
+    return raw.astype(float)
 
 
 def label(shape: tuple, flat: int) -> str:

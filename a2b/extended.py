@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .elements import refuse
+from .elements import as_numbers, refuse
 from .errors import ParameterError, PoseError
 from .poses import matrices_from_rot_trans, quaternions_from_rotations
 from .study import kappa, study_from_quat_trans
@@ -46,7 +46,7 @@ for _row, _terms in enumerate(
 
 def check_m(m) -> np.ndarray:
     """Validate parameters ``m ∈ R^4 \\ {0}`` of μ_[m], shape ``(..., 4)``, and return them."""
-    arr = np.asarray(m, dtype=float)
+    arr = as_numbers(m, "m")
     if arr.shape[-1:] != (4,):
         raise ParameterError(f"m needs 4 numbers (m0, m1, m2, m3), got shape {arr.shape}")
     shape = arr.shape[:-1]

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .elements import as_numbers
 from .errors import PoseError
 from .study import STUDY_TOL, check_study, kappa, rotation_numerators, study_from_quat_trans
 
@@ -121,7 +122,7 @@ def check_matrices(
         For a wrong shape, NaN or infinity, a bad constant row or column, a non-orthogonal
         rotation block or ``det R = −1``.
     """
-    m = np.asarray(matrices, dtype=float)
+    m = as_numbers(matrices, "a pose matrix", PoseError)
     if m.shape[-2:] != (4, 4):
         raise PoseError(f"a pose matrix must be 4x4, got shape {m.shape}")
     _finite(m, "the pose matrix")

@@ -8,6 +8,7 @@ same motion built alone.
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
@@ -280,3 +281,43 @@ def test_a_failing_job_comes_after_the_jobs_before_it(rng):
         for piece in sample([block]):
             seen += piece.names
     assert seen == ["v", "w"]
+
+
+@pytest.mark.parametrize(
+    "mode, parameters, message",
+    [
+        ("darboux", {"long_way": "no"}, "long_way must be True or False"),
+        ("darboux", {"long_way": 0}, "long_way must be True or False"),
+        ("darboux", {"long_way": np.array([1.0])}, "long_way must be True or False"),
+        ("darboux", {"delta": "1"}, "delta must be a number"),
+        ("darboux", {"delta": True}, "delta must be a number"),
+        ("darboux", {"lam": 2.0, "branch": True}, "branch must be a number"),
+        ("darboux", {"lam": 2.0, "branch": float("nan")}, "branch must be finite"),
+        ("darboux", {"lam": 2.0, "branch": 0.5}, "branch must be +1 or -1"),
+        ("darboux", {"kappa": [[1.0], ["x"]]}, "kappa must be a number"),
+        ("cubic", {"m": "1,0,0,0"}, "m must be a number"),
+        ("cubic", {"a": "0.5"}, "a must be a number"),
+        ("cubic", {"alpha": [True] * 6}, "alpha must be a number"),
+        ("screw", {"delta": 1.0}, "delta"),
+    ],
+)
+def test_library_arguments_of_the_wrong_type_name_the_argument(rng, mode, parameters, message):
+    a, b = random_pose(rng), random_pose(rng)
+    with pytest.raises(A2bError, match=re.escape(message)):
+        a2b.motion(a, b, mode, **parameters)
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda a, b: a2b.motion(a, b).matrices("0.5"), "ts must be a number"),
+        (lambda a, b: a2b.motion(a, b).matrices([True, False]), "ts must be a number"),
+        (lambda a, b: a2b.interpolate(a, b, [[0.0], [0.5, 1.0]]), "ts must be a number"),
+        (lambda a, b: a2b.motion("pose A", b), "a pose matrix must be a number"),
+        (lambda a, b: a2b.bezier([a, b], 5, weights="1,2"), "weights must be a number"),
+        (lambda a, b: a2b.bezier([a, b], 5, weights=[True, True]), "weights must be a number"),
+    ],
+)
+def test_samples_poses_and_weights_of_the_wrong_type(rng, call, message):
+    with pytest.raises(A2bError, match=re.escape(message)):
+        call(random_pose(rng), random_pose(rng))

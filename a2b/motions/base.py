@@ -12,7 +12,7 @@ import numbers
 
 import numpy as np
 
-from ..elements import Notes, refuse, value, warn
+from ..elements import Notes, as_numbers, refuse, value, warn
 from ..errors import ParameterError, SingularMotionError
 from ..frames import ScrewFrame
 from ..poses import rotations_from_quaternions, study_from_quat_trans
@@ -35,7 +35,7 @@ def check_ts(ts, one_dimensional: bool = True) -> np.ndarray:
         if ts < 2:
             raise ParameterError(f"the number of samples must be at least 2, got {ts}")
         return np.linspace(0.0, 1.0, int(ts))
-    arr = np.asarray(ts, dtype=float)
+    arr = as_numbers(ts, "ts")
     if one_dimensional and arr.ndim != 1:
         raise ParameterError(f"ts must be a 1-D array or a count, got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
@@ -331,11 +331,11 @@ def _vec(a) -> list:
 
 
 def broadcast_parameter(values, shape: tuple, name: str, width: int | None = None) -> np.ndarray:
-    """A float parameter broadcast to ``shape`` (``+ (width,)``), finite, or a clear error."""
-    try:
-        arr = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a number, got {values!r}") from None
+    """A float parameter broadcast to ``shape`` (``+ (width,)``), finite, or a clear error.
+
+    Numbers only: a string, a boolean or an object that merely converts to a float is refused.
+    """
+    arr = as_numbers(values, name)
     trailing = () if width is None else (width,)
     if arr.shape[len(arr.shape) - len(trailing) :] != trailing or (width and arr.ndim < 1):
         raise ParameterError(f"{name} needs {width} numbers, got shape {arr.shape}")
@@ -356,6 +356,19 @@ def broadcast_parameter(values, shape: tuple, name: str, width: int | None = Non
         shape,
     )
     return arr
+
+
+def boolean_parameter(values, shape: tuple, name: str) -> np.ndarray:
+    """A boolean parameter (``True``, ``False`` or an array of them) broadcast to ``shape``."""
+    arr = np.asarray(values)
+    if arr.dtype.kind != "b":
+        raise ParameterError(f"{name} must be True or False (or an array of them), got {values!r}")
+    try:
+        return np.broadcast_to(arr, shape).copy()
+    except ValueError:
+        raise ParameterError(
+            f"{name} of shape {arr.shape} does not broadcast against the poses' shape {shape}"
+        ) from None
 
 
 def _show(item) -> str:

@@ -69,10 +69,9 @@ and section 6 (figure 4).
 
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 
+from ..elements import as_numbers
 from ..errors import ParameterError, PoseError, SingularMotionError
 from ..extended import (
     BASES,
@@ -85,6 +84,7 @@ from ..extended import (
 from ..poses import check_matrices, quat_trans_from_matrices, study_from_matrices
 from ..study import kappa_fiber_points, rotation_numerators, translation_numerators
 from ._rational import bern_mul, bernstein_basis
+from .base import check_ts
 
 __all__ = [
     "SINGULAR_TOL",
@@ -280,17 +280,6 @@ def first_small_value(coeffs, lo: float, hi: float, tol: float = SINGULAR_TOL):
 # -- validation ---------------------------------------------------------------------------------
 
 
-def _check_ts(ts) -> np.ndarray:
-    if isinstance(ts, numbers.Integral) and not isinstance(ts, bool):
-        if ts < 2:
-            raise ParameterError(f"the number of samples must be at least 2, got {ts}")
-        return np.linspace(0.0, 1.0, int(ts))
-    arr = np.asarray(ts, dtype=float)
-    if not np.all(np.isfinite(arr)):
-        raise ParameterError("ts contains NaN or infinity")
-    return arr
-
-
 def _check_poses(poses, what: str, minimum: int = 2) -> np.ndarray:
     arr = check_matrices(poses)
     if arr.ndim != 3:
@@ -303,7 +292,7 @@ def _check_poses(poses, what: str, minimum: int = 2) -> np.ndarray:
 
 
 def _per_control(values, k: int, name: str, width: int | None = None) -> np.ndarray:
-    arr = np.asarray(values, dtype=float)
+    arr = as_numbers(values, name)
     shape = (k,) if width is None else (k, width)
     if arr.shape != shape:
         each = "one number" if width is None else f"{width} numbers"
@@ -501,7 +490,7 @@ class BezierMotion:
 
     # -- sampling -------------------------------------------------------------------------------
     def _prepare(self, ts) -> tuple[np.ndarray, tuple]:
-        arr = _check_ts(ts)
+        arr = check_ts(ts, one_dimensional=False)
         flat = arr.reshape(-1)
         if flat.size and (flat.min() < 0.0 or flat.max() > 1.0):
             self._check_segments(min(0.0, float(flat.min())), max(1.0, float(flat.max())))

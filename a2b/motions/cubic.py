@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..elements import refuse, value
+from ..elements import as_numbers, refuse, value
 from ..errors import ParameterError, SingularMotionError
 from ..extended import check_m, check_not_orthogonal, paper_basis_degenerate, paper_kernel_basis
 from ..frames import ScrewFrame
@@ -62,7 +62,7 @@ def _psi(m, coeffs, scalar, name: str, letter: str, shape: tuple) -> np.ndarray:
         return 1.0 + broadcast_parameter(scalar, shape, letter)
     if coeffs is None:
         return np.ones(shape)
-    arr = np.asarray(coeffs, dtype=float)
+    arr = as_numbers(coeffs, name)
     if arr.shape[-1:] != (6,):
         raise ParameterError(
             f"{name} needs 6 numbers (coefficients of f0 … f5), got shape {arr.shape}"

@@ -25,7 +25,7 @@ from ..parameters import SOLVERS
 from ..poses import check_matrices, quat_trans_from_matrices, rotations_from_quaternions
 from ..study import quat_conj, quat_mul, rotation_numerators, translation_numerators
 from ._rational import bernstein_basis, make_table
-from .base import Motion, broadcast_parameter
+from .base import Motion, boolean_parameter, broadcast_parameter
 
 #: Relative tolerance for a third pose to count as a member of the cylinder group of A and B.
 CYLINDER_TOL = 1e-9
@@ -220,7 +220,7 @@ class DarbouxMotion(Motion):
             )
         if branch is not None and lam is None:
             raise ParameterError("branch chooses between the two solutions for lam; give lam too")
-        self.long_way = np.broadcast_to(np.asarray(long_way, dtype=bool), shape).copy()
+        self.long_way = boolean_parameter(long_way, shape, "long_way")
         phi, d = np.asarray(frame.phi), np.asarray(frame.d)
         turning = phi > 0
         self.phi_eff = np.where(
