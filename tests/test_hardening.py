@@ -626,3 +626,68 @@ def test_a_read_error_is_one_error_line():
     done = subprocess.run(a2b_cmd("interpolate", "/proc/self/mem"), capture_output=True, timeout=60)
     assert done.returncode == 1
     assert done.stderr == b"Error: cannot read an input file: Input/output error\n"
+
+
+# -- YAML 1.2 core schema, exactly ------------------------------------------------------------
+
+POSES_YAML = "start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [0, 0, 0, 1]}\n"
+
+
+@pytest.mark.parametrize(
+    "line, message",
+    [
+        ("x: !!set {a, b}", "3:4: invalid YAML: the tag !!set is not read by a2b"),
+        ("x: !!timestamp 2001-01-01", "3:4: invalid YAML: the tag !!timestamp is not read"),
+        ("x: !!binary aGVsbG8=", "3:4: invalid YAML: the tag !!binary is not read"),
+        ("x: !!omap [a: 1]", "3:4: invalid YAML: the tag !!omap is not read"),
+        ("x: !local 1", "3:4: invalid YAML: the tag !local is not read"),
+        ("x: !!python/name:os.system", "3:4: invalid YAML: the tag !!python/name:os.system"),
+        ("x: !!bool maybe", "3:4: invalid YAML: cannot read 'maybe' as true or false"),
+        (
+            "samples: 2001-02-30",
+            "3:1: samples: expected a whole number of samples, at least 2, got the string "
+            "'2001-02-30'",
+        ),
+        ("samples: yes", "got the string 'yes'"),
+        ("samples: 1_000", "got the string '1_000'"),
+        ("mode: =", "mode: expected one of darboux, cubic, screw, got the string '='"),
+        ("<<: {samples: 3}", "3:1: <<: unknown key '<<'"),
+        ("samples: 0x" + "F" * 5000, "got a number too large for a double"),
+        ("samples: " + "9" * 5000, "got a number too large for a double"),
+    ],
+)
+def test_yaml_is_the_1_2_core_schema(tmp_path, line, message):
+    from a2b.errors import InputFileError
+    from a2b.io.readers import read_poses
+
+    path = tmp_path / "p.yaml"
+    path.write_text(POSES_YAML + line + "\n")
+    with open(path, "rb") as f, pytest.raises(InputFileError) as caught:
+        read_poses(f, "p.yaml")
+    assert message in str(caught.value)
+    assert str(caught.value).startswith("p.yaml:")
+
+
+@pytest.mark.parametrize(
+    "written", ["007", "7", "true", "null", "0x1F", "1e3", "2024-01-01", "=", "1_0"]
+)
+def test_a_job_name_is_the_text_as_written(tmp_path, written):
+    from a2b.io.readers import read_jobs
+
+    path = tmp_path / "jobs.yaml"
+    path.write_text(
+        f"- name: {written}\n" + "".join("  " + ln + "\n" for ln in POSES_YAML.splitlines())
+    )
+    with open(path, "rb") as f:
+        (job,) = list(read_jobs(f, "jobs.yaml"))
+    assert job.name == written
+
+
+def test_explicitly_tagged_core_scalars_are_read():
+    import io
+
+    from a2b.io.readers import read_poses
+
+    text = POSES_YAML + "samples: !!int 0x1F\nparameters: {delta: !!float 2}\n"
+    job = read_poses(io.BytesIO(text.encode()), "p.yaml")
+    assert job.samples == 31 and job.parameters == {"delta": 2.0}

@@ -40,6 +40,7 @@ import io
 import json
 import math
 import re
+import sys
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -353,6 +354,12 @@ _YAML_SCALARS = (
 )
 
 
+_STR = "tag:yaml.org,2002:str"
+_YAML_BOOLEANS = {v: True for v in ("true", "True", "TRUE")} | {
+    v: False for v in ("false", "False", "FALSE")
+}
+
+
 def _yaml_loader():
     """A safe loader with YAML 1.2 core-schema scalars that rejects duplicate keys.
 
@@ -369,8 +376,10 @@ def _yaml_loader():
     class Loader(base):  # type: ignore[misc, valid-type]
         def construct_mapping(self, node, deep=False):
             seen = set()
-            for key_node, _ in node.value:
+            for key_node, value_node in node.value:
                 key = self.construct_object(key_node, deep=deep)
+                if key == "name" and isinstance(value_node, yaml.ScalarNode):
+                    value_node.tag = _STR  # a name is the text as written: 007, true, 1e3
                 try:
                     repeated = key in seen
                 except TypeError:  # an unhashable key; the constructor reports it
@@ -387,6 +396,8 @@ def _yaml_loader():
             try:
                 if digits.startswith(("0o", "0x")):
                     value = int(digits[2:], 8 if digits[1] == "o" else 16)
+                    if value > sys.float_info.max:  # beyond a double (and beyond str())
+                        return _NonFinite(text)
                     return -value if text.startswith("-") else value
                 return int(text)
             except ValueError:
@@ -395,6 +406,24 @@ def _yaml_loader():
                 raise yaml.constructor.ConstructorError(
                     None, None, f"cannot read {text!r} as an integer", node.start_mark
                 ) from None
+
+        def construct_yaml_bool(self, node):
+            text = self.construct_scalar(node)
+            if text not in _YAML_BOOLEANS:
+                raise yaml.constructor.ConstructorError(
+                    None, None, f"cannot read {text!r} as true or false", node.start_mark
+                )
+            return _YAML_BOOLEANS[text]
+
+        def construct_undefined(self, node):
+            raise yaml.constructor.ConstructorError(
+                None,
+                None,
+                f"the tag {node.tag.replace('tag:yaml.org,2002:', '!!')} is not read by a2b, "
+                "which reads the YAML 1.2 core schema: strings, numbers, true and false, null, "
+                "lists and mappings",
+                node.start_mark,
+            )
 
         def construct_yaml_float(self, node):
             text = self.construct_scalar(node)
@@ -408,20 +437,20 @@ def _yaml_loader():
                 ) from None
             return value if math.isfinite(value) else _NonFinite(text)
 
-    resolvers = {}
-    for first, entries in base.yaml_implicit_resolvers.items():
-        kept = [
-            (tag, regexp)
-            for tag, regexp in entries
-            if tag.rsplit(":", 1)[-1] not in ("bool", "int", "float", "null")
-        ]
-        if kept:
-            resolvers[first] = kept
-    Loader.yaml_implicit_resolvers = resolvers
+    # Only the core schema's implicit types: no YAML 1.1 timestamps (2001-02-30), merge keys
+    # (<<) or value keys (=), which are strings here.
+    Loader.yaml_implicit_resolvers = {}
     for name, pattern, first in _YAML_SCALARS:
         Loader.add_implicit_resolver(f"tag:yaml.org,2002:{name}", re.compile(pattern), list(first))
+    core = {f"tag:yaml.org,2002:{t}" for t in ("str", "seq", "map", "null")}
+    Loader.yaml_constructors = {
+        tag: constructor for tag, constructor in base.yaml_constructors.items() if tag in core
+    }
     Loader.add_constructor("tag:yaml.org,2002:int", Loader.construct_yaml_int)
     Loader.add_constructor("tag:yaml.org,2002:float", Loader.construct_yaml_float)
+    Loader.add_constructor("tag:yaml.org,2002:bool", Loader.construct_yaml_bool)
+    Loader.add_constructor(None, Loader.construct_undefined)  # every other tag: !!set, !foo
+    Loader.yaml_multi_constructors = {}
     _YAML_LOADER = Loader
     return Loader
 
