@@ -6,7 +6,7 @@ import numpy as np
 
 from .errors import ParameterError
 from .frames import screw_frame
-from .motions.base import Motion, check_table
+from .motions.base import Motion, check_ends, check_table
 from .names import MODES
 from .parameters import OF_MODE, TABLE
 from .poses import check_matrices
@@ -92,6 +92,7 @@ def _build(a, b, mode, params) -> Motion:
 
         result = ScrewMotion(a, b, frame)
     check_table(result.table, result.shape)
+    check_ends(result)
     return result
 
 

@@ -321,3 +321,28 @@ def test_library_arguments_of_the_wrong_type_name_the_argument(rng, mode, parame
 def test_samples_poses_and_weights_of_the_wrong_type(rng, call, message):
     with pytest.raises(A2bError, match=re.escape(message)):
         call(random_pose(rng), random_pose(rng))
+
+
+@pytest.mark.parametrize("parameter", ["delta", "lam", "pitch_start", "pitch_end"])
+def test_a_parameter_that_swamps_the_poses_is_refused_at_the_ends(rng, parameter):
+    """With δ = 1e16 the t = 1 sample was not B (tz 0.0 instead of 0.5), with no warning."""
+    a, b = random_pose(rng), random_pose(rng)
+    value = 1e16
+    with pytest.raises(ParameterError, match="does not reach its end poses") as caught:
+        a2b.motion(a, b, "darboux", **{parameter: value})
+    assert "tolerance 1e-09" in str(caught.value)
+    fine = a2b.motion(a, b, "darboux", delta=0.5).describe()[parameter]  # a valid value
+    batch = np.array([fine, value, fine])
+    with pytest.raises(ParameterError, match=r"^motion 1: the Darboux motion does not reach"):
+        a2b.motion(a, b, "darboux", **{parameter: batch})
+
+
+def test_every_mode_reaches_its_end_poses_to_the_tolerance(rng):
+    from a2b.motions.base import END_TOL
+
+    for a, b in pairs(rng, 12):
+        for mode in ("darboux", "cubic", "screw"):
+            ends = a2b.motion(a, b, mode).matrices(np.array([0.0, 1.0]))
+            scale = max(1.0, np.linalg.norm(a[:3, 3]), np.linalg.norm(b[:3, 3]))
+            assert np.abs(ends[0] - a).max() <= END_TOL * scale
+            assert np.abs(ends[1] - b).max() <= END_TOL * scale

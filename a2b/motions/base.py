@@ -58,6 +58,35 @@ def check_table(table: np.ndarray, shape: tuple) -> None:
     )
 
 
+#: How far a motion's computed end poses may be from A and B: rotation entries absolutely,
+#: translations relative to ``max(|tA|, |tB|)``. Every mode reproduces them to about 1e-15; a
+#: parameter so large that its terms swamp the poses (``delta = 1e16``) would not.
+END_TOL = 1e-9
+
+
+def check_ends(motion) -> None:
+    """Refuse a motion whose samples at t = 0 and t = 1 are not its start and end poses."""
+    ends = motion.matrices(np.array([0.0, 1.0]))
+    given = np.stack(np.broadcast_arrays(motion.start, motion.end), axis=-3)
+    given = np.broadcast_to(given, ends.shape)
+    rotation = np.abs(ends[..., :3, :3] - given[..., :3, :3]).max(axis=(-3, -2, -1))
+    size = np.linalg.norm(given[..., :3, 3], axis=-1).max(axis=-1)
+    size = np.where(size > 0.0, size, 1.0)
+    translation = np.linalg.norm(ends[..., :3, 3] - given[..., :3, 3], axis=-1).max(axis=-1) / size
+    residual = np.maximum(rotation, translation)
+    refuse(
+        ParameterError,
+        ~(residual <= END_TOL),
+        lambda i: (
+            f"the {motion.what} does not reach its end poses in double precision: its samples at "
+            f"t = 0 and 1 are {value(residual, i):.3g} away from A and B (rotation entries, and "
+            f"translations relative to the larger of |tA|, |tB|), tolerance {END_TOL:g}; a "
+            "parameter is too large for these poses"
+        ),
+        motion.shape,
+    )
+
+
 def _largest_finite(values: np.ndarray) -> float:
     return float(np.max(np.abs(values[np.isfinite(values)]), initial=0.0))
 
