@@ -138,3 +138,34 @@ def _nested(array: np.ndarray):
     if array.ndim == 1:
         return list(array)
     return [_nested(part) for part in array]
+
+
+def unit_scale(values: np.ndarray, axis=-1, extreme_only: bool = False) -> np.ndarray:
+    """``values`` divided by a power of two near their largest magnitude along ``axis``.
+
+    With ``extreme_only``, only rows whose largest magnitude lies outside [2^-300, 2^300] are
+    scaled, so that values of ordinary size (and what is reported of them) stay as given.
+
+    For homogeneous quantities (quaternions, Study parameters, m, weights), where any non-zero
+    multiple means the same: the result's largest entry lies in [0.5, 1), so squares and
+    products neither overflow nor underflow for any finite input (``[1e-200, 0, 0, 0]``,
+    Study parameters of 1e300). A power of two is exact, so every later result is bit for bit
+    what it was for inputs of ordinary size. Zero and non-finite rows are returned as they are.
+    """
+    values = np.asarray(values, dtype=float)
+    with np.errstate(invalid="ignore"):
+        largest = np.max(np.abs(values), axis=axis, keepdims=True)
+    _, exponent = np.frexp(np.where(np.isfinite(largest), largest, 0.0))
+    if extreme_only:
+        exponent = np.where(np.abs(exponent) > 300, exponent, 0)
+    return np.ldexp(values, -exponent)
+
+
+def safe_norm(values: np.ndarray, axis=-1) -> np.ndarray:
+    """Euclidean norms along ``axis`` that overflow or underflow only when the norm itself does."""
+    values = np.asarray(values, dtype=float)
+    with np.errstate(invalid="ignore"):
+        largest = np.max(np.abs(values), axis=axis, keepdims=True)
+    _, exponent = np.frexp(np.where(np.isfinite(largest), largest, 0.0))
+    norm = np.linalg.norm(np.ldexp(values, -exponent), axis=axis, keepdims=True)
+    return np.squeeze(np.ldexp(norm, exponent), axis=axis)

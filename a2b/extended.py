@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .elements import as_numbers, refuse
+from .elements import as_numbers, refuse, unit_scale
 from .errors import ParameterError, PoseError
 from .poses import matrices_from_rot_trans, quaternions_from_rotations
 from .study import kappa, study_from_quat_trans
@@ -46,7 +46,9 @@ for _row, _terms in enumerate(
 
 def check_m(m) -> np.ndarray:
     """Validate parameters ``m ∈ R^4 \\ {0}`` of μ_[m], shape ``(..., 4)``, and return them."""
-    arr = as_numbers(m, "m")
+    arr = unit_scale(
+        as_numbers(m, "m"), extreme_only=True
+    )  # homogeneous: m of 1e-320 or 1e300 works
     if arr.shape[-1:] != (4,):
         raise ParameterError(f"m needs 4 numbers (m0, m1, m2, m3), got shape {arr.shape}")
     shape = arr.shape[:-1]

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .elements import Notes, refuse
+from .elements import Notes, refuse, safe_norm
 from .errors import ParameterError
 from .poses import (
     canonical_sign,
@@ -240,7 +240,7 @@ def _frames(start: np.ndarray, end: np.ndarray) -> tuple[dict, list]:
     axis_point = 0.5 * (t_perp + np.cross(u, t_perp) * (c / np.where(rotating, s, 1.0))[:, None])
 
     # no rotation: the axis along the translation, or parallel to z for B = A
-    norm_t = np.linalg.norm(t_disp, axis=-1)
+    norm_t = safe_norm(t_disp)  # a translation of 1e200 has a length
     moving = norm_t > 0.0
     u_t = np.where(
         moving[:, None], t_disp / np.where(moving, norm_t, 1.0)[:, None], [0.0, 0.0, 1.0]

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .elements import as_numbers
+from .elements import as_numbers, unit_scale
 from .errors import PoseError
 from .study import STUDY_TOL, check_study, kappa, rotation_numerators, study_from_quat_trans
 
@@ -190,6 +190,7 @@ def check_quaternions(quat_wxyz: np.ndarray) -> np.ndarray:
     if q.shape[-1:] != (4,):
         raise PoseError(f"a quaternion needs 4 numbers (w, x, y, z), got shape {q.shape}")
     _finite(q, "the quaternion")
+    q = unit_scale(q)  # homogeneous: [1e-200, 0, 0, 0] is the identity
     norm = np.linalg.norm(q, axis=-1)
     if np.any(norm == 0.0) or np.any(~np.isfinite(norm)):
         raise PoseError(

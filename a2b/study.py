@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .elements import unit_scale
 from .errors import PoseError
 
 #: Relative tolerance of the Study condition ``p·q = 0`` (see :func:`check_study`).
@@ -141,6 +142,9 @@ def check_study(h: np.ndarray, *, tol: float = STUDY_TOL, on_quadric: bool = Tru
         raise PoseError(f"Study parameters need 8 numbers, got shape {h.shape}")
     if not np.all(np.isfinite(h)):
         raise PoseError("Study parameters contain NaN or infinity")
+    h = unit_scale(
+        h, extreme_only=True
+    )  # homogeneous: Study parameters of 1e300 or 1e-300 are poses too
     p, q = h[..., :4], h[..., 4:]
     norm_p = np.linalg.norm(p, axis=-1)
     norm_q = np.linalg.norm(q, axis=-1)

@@ -834,7 +834,7 @@ NON_FINITE_RESULTS = [
     ("interpolate",
      "end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\nparameters: {lam: 1e200}\n",
      "the motion's coefficients overflow float64"),
-    ("describe", "end: {quaternion: [1, 0, 0, 0], translation: [1e308, 1e308, 0]}\n",
+    ("describe", "end: {quaternion: [1, 0, 0, 0], translation: [1.5e308, 1.5e308, 0]}\n",
      "the displacement from start to end overflows float64 (d = inf)"),
     ("describe",
      "end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\nparameters: {lam: 1e200}\n",
@@ -1021,3 +1021,20 @@ def test_output_to_an_empty_name_or_a_read_only_file(poses, tmp_path):
         == f"Error: cannot write {locked}: Permission denied (the file is read-only)\n"
     )
     assert locked.read_text() == "keep\n"
+
+
+@pytest.mark.parametrize(
+    "end, d",
+    [
+        ("{quaternion: [1, 0, 0, 0], translation: [1e308, 1e308, 0]}", 1e308 * 2**0.5),
+        ("{quaternion: [1, 0, 0, 0], translation: [1e200, 0, 0]}", 1e200),
+        ("{quaternion: [1, 0, 0, 0], translation: [3e-200, 4e-200, 0]}", 5e-200),
+    ],
+)
+def test_a_length_that_is_a_double_is_no_overflow(tmp_path, end, d):
+    """Lengths come from overflow-safe norms: only a length beyond a double is refused."""
+    path = tmp_path / "p.yaml"
+    path.write_text(f"start: {{quaternion: [1, 0, 0, 0]}}\nend: {end}\n")
+    result = run_split("describe", path, "--json")
+    assert result.exit_code == 0, result.stderr
+    assert json.loads(result.stdout)["d"] == pytest.approx(d, rel=1e-15)

@@ -357,7 +357,7 @@ def mutated(draw, kind: str):
     path = draw(st.sampled_from(pose_paths))
     bad = draw(st.sampled_from([
         {"quaternion": [0, 0, 0, 0]},
-        {"quaternion": [1e-320, 0, 0, 0]},
+        {"quaternion": [-0.0, 0, 0.0, 0]},
         {"quaternion_xyzw": [0.0, 0.0, 0.0, -0.0]},
         {"matrix": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 2, 0], [0, 0, 0, 1]]},
         {"matrix": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [1, 0, 0, 1]]},

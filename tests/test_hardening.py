@@ -12,7 +12,9 @@
 
 from __future__ import annotations
 
+import io
 import json
+import math
 import os
 import resource
 import signal
@@ -691,3 +693,39 @@ def test_explicitly_tagged_core_scalars_are_read():
     text = POSES_YAML + "samples: !!int 0x1F\nparameters: {delta: !!float 2}\n"
     job = read_poses(io.BytesIO(text.encode()), "p.yaml")
     assert job.samples == 31 and job.parameters == {"delta": 2.0}
+
+
+# -- homogeneous inputs of any scale ----------------------------------------------------------
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-200, 1e-100, 1.0, 1e100, 1e200, 1e300])
+def test_quaternions_study_parameters_m_and_weights_of_any_scale(scale):
+    """Homogeneous inputs are scaled before use: any finite non-zero multiple is the same."""
+    import a2b
+    from a2b.io.readers import read_poses
+    from a2b.motions.bezier import bezier
+
+    def pose(**form):
+        text = json.dumps({"start": {"quaternion": [1, 0, 0, 0]}, "end": form})
+        return read_poses(io.BytesIO(text.encode()), "p.json").end
+
+    identity = np.eye(4)
+    assert np.array_equal(pose(quaternion=[5e-324 if scale < 1 else 1.7e308, 0, 0, 0]), identity)
+    c, s = math.cos(0.4), math.sin(0.4)
+    expected = pose(quaternion=[c, 0, 0, s], translation=[1, 2, 3])
+    got = pose(quaternion=[c * scale, 0, 0, s * scale], translation=[1, 2, 3])
+    np.testing.assert_allclose(got, expected, rtol=0, atol=1e-15)
+    from a2b.poses import study_from_matrices
+
+    study = study_from_matrices(expected) * scale
+    np.testing.assert_allclose(pose(study=study.tolist()), expected, rtol=0, atol=1e-14)
+    start = np.eye(4)
+    m = np.array([1.0, 0.2, -0.3, 0.5])
+    plain = a2b.motion(start, expected, "cubic", m=m).matrices(np.linspace(0, 1, 5))
+    scaled = a2b.motion(start, expected, "cubic", m=m * scale).matrices(np.linspace(0, 1, 5))
+    np.testing.assert_allclose(scaled, plain, rtol=0, atol=1e-13)
+    weights = np.array([1.0, 2.0])
+    plain = bezier([start, expected], 5, weights=weights)
+    np.testing.assert_allclose(
+        bezier([start, expected], 5, weights=weights * scale), plain, atol=1e-13
+    )

@@ -1267,13 +1267,14 @@ def _exact_job(where: tuple) -> Job:
 
 def _poses(scanned: Scanned) -> tuple[np.ndarray, np.ndarray]:
     """The matrices of every slot, quaternion slots first, and which of them are valid."""
+    from ..elements import unit_scale
     from ..poses import rotations_from_quaternions, valid_matrices
 
     q, m = _numbers_of(scanned.q, 7), _numbers_of(scanned.m, 16)
     q_ok, m_ok = q[1], m[1]
     q, m = q[0].reshape(-1, 7), m[0].reshape(-1, 4, 4)
     with np.errstate(all="ignore"):
-        quat = q[:, :4]
+        quat = unit_scale(q[:, :4])
         norm = np.linalg.norm(quat, axis=-1)
         q_ok &= np.isfinite(q).all(axis=1) & (norm != 0.0) & np.isfinite(norm)
         mats = np.zeros((len(q) + len(m), 4, 4))

@@ -71,7 +71,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..elements import as_numbers
+from ..elements import as_numbers, unit_scale
 from ..errors import ParameterError, PoseError, SingularMotionError
 from ..extended import (
     BASES,
@@ -307,7 +307,9 @@ def _per_control(values, k: int, name: str, width: int | None = None) -> np.ndar
 def _check_weights(weights, k: int) -> np.ndarray:
     if weights is None:
         return np.ones(k)
-    w = _per_control(weights, k, "weights")
+    w = unit_scale(
+        _per_control(weights, k, "weights"), extreme_only=True
+    )  # homogeneous: 1e200 each works
     if np.any(w <= 0.0):
         i = int(np.argmax(w <= 0.0))
         raise ParameterError(
