@@ -472,11 +472,23 @@ def _body_points(points, axis_length: float) -> tuple[np.ndarray, list[str], boo
     return pts, names, False
 
 
+#: The largest coordinate drawn: matplotlib squares coordinates in its 3-D transforms.
+DRAWABLE = 1e100
+
+
 def _set_equal_3d(ax, points: np.ndarray, length_label: str) -> tuple[np.ndarray, np.ndarray]:
     """Cube limits around ``points`` and an equal box aspect; returns the cube's corners."""
     lo, hi = points.min(axis=0), points.max(axis=0)
-    centre = (lo + hi) / 2
-    half = max(float((hi - lo).max()) / 2, 1e-9) * 1.08
+    with np.errstate(over="ignore", invalid="ignore"):
+        centre = lo / 2 + hi / 2
+        half = max(float((hi / 2 - lo / 2).max()), 1e-9) * 1.08
+        corners = np.concatenate([centre - half, centre + half])
+    if not (np.isfinite(corners).all() and np.abs(corners).max() <= DRAWABLE):
+        raise ParameterError(
+            f"the drawing reaches coordinates of {float(np.nanmax(np.abs(corners))):.3g}, "
+            f"beyond the {DRAWABLE:g} that matplotlib's transforms can carry; give smaller "
+            "body points or poses"
+        )
     ax.set_xlim(centre[0] - half, centre[0] + half)
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_zlim(centre[2] - half, centre[2] + half)
@@ -694,7 +706,15 @@ def plot_motions(
     styles = ("-", "--", ":", "-.")
     for track in tracks:
         frame_pts += _draw_frames(ax_frames, track, (a, b), float(axis_length), single)
-        world = np.einsum("nij,kj->kni", track.mats[:, :3, :3], body) + track.mats[None, :, :3, 3]
+        with np.errstate(over="ignore", invalid="ignore"):
+            world = np.einsum("nij,kj->kni", track.mats[:, :3, :3], body)
+            world += track.mats[None, :, :3, 3]
+        if not np.isfinite(world).all():
+            k = int(np.argmax(~np.isfinite(world).reshape(len(world), -1).all(axis=1)))
+            raise ParameterError(
+                f"the trajectory of the body point {point_names[k]} overflows double precision; "
+                "give points of a size the poses can carry"
+            )
         for k, path in enumerate(world):
             if single:
                 colour = (

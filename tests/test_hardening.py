@@ -729,3 +729,43 @@ def test_quaternions_study_parameters_m_and_weights_of_any_scale(scale):
     np.testing.assert_allclose(
         bezier([start, expected], 5, weights=weights * scale), plain, atol=1e-13
     )
+
+
+def test_a_non_finite_key_is_named_as_written(tmp_path):
+    path = tmp_path / "k.yaml"
+    path.write_text(POSES_YAML + ".nan: 1\n")
+    done = subprocess.run(a2b_cmd("interpolate", path), capture_output=True, timeout=60)
+    assert done.returncode == 1
+    assert b": .nan: unknown key .nan in a poses file" in done.stderr
+    assert b"object at 0x" not in done.stderr
+
+
+@pytest.mark.parametrize("start_time, samples", [(1e17, 3), (1.7e9, 10_000_000)])
+def test_tum_times_that_a_double_cannot_tell_apart_are_refused(tmp_path, start_time, samples):
+    out = tmp_path / "out.tum"
+    args = ["--format", "tum", "--start-time", start_time, "--samples", samples, "-o", out]
+    done = subprocess.run(a2b_cmd("interpolate", QUARTER, *args), capture_output=True, timeout=60)
+    assert done.returncode == 1
+    assert b"cannot tell apart" in done.stderr and not out.exists()
+
+
+def test_tum_times_of_a_unix_epoch_are_distinct(tmp_path):
+    out = tmp_path / "out.tum"
+    args = ["--format", "tum", "--start-time", 1.7e9, "--samples", 1000, "-o", out]
+    done = subprocess.run(a2b_cmd("interpolate", QUARTER, *args), capture_output=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    times = [float(line.split()[0]) for line in out.read_text().splitlines()[1:]]
+    assert len(set(times)) == 1000 and times == sorted(times)
+
+
+@pytest.mark.parametrize("size", ["1e308", "1e101"])
+def test_body_points_too_large_to_draw_are_one_error(tmp_path, size):
+    pytest.importorskip("matplotlib", reason="a2b plot needs the plot extra")
+    points = ",".join([size] * 3)
+    out = tmp_path / "p.png"
+    done = subprocess.run(
+        a2b_cmd("plot", QUARTER, "--points", points, "-o", out), capture_output=True, timeout=120
+    )
+    assert done.returncode == 1
+    assert done.stderr.startswith(b"Error: the drawing reaches coordinates of")
+    assert not out.exists()

@@ -473,6 +473,8 @@ def check_output(fmt: str, output: str, samples: int, duration: float, start_tim
     import math
     import sys
 
+    import numpy as np
+
     from ..errors import ParameterError
 
     if fmt == "mcap" and str(output) == "-" and sys.stdout.isatty():
@@ -486,6 +488,15 @@ def check_output(fmt: str, output: str, samples: int, duration: float, start_tim
         raise ParameterError(
             f"the time of t = 1, duration + start_time = {duration:g} + {start_time:g}, "
             "overflows a double"
+        )
+    step = duration / max(samples - 1, 1)
+    resolution = float(np.spacing(max(abs(start_time), abs(last))))
+    if fmt == "tum" and not step > resolution:
+        raise ParameterError(
+            f"consecutive TUM times would differ by {step:.3g} s, which a double near "
+            f"{max(abs(start_time), abs(last)):g} s cannot tell apart (its resolution there is "
+            f"{resolution:.3g} s): the time stamps would repeat; give a smaller --start-time or "
+            "fewer samples"
         )
     if fmt != "mcap":
         return

@@ -113,6 +113,11 @@ class _NonFinite:
     def __init__(self, token: str):
         self.token = token
 
+    def __str__(self) -> str:  # where it is a key: the text as written
+        return self.token
+
+    __repr__ = __str__
+
     def message(self) -> str:
         token = self.token.strip()
         if re.fullmatch(r"[-+]?(?:NaN|Infinity|\.(?:inf|Inf|INF|nan|NaN|NAN))", token):
