@@ -421,12 +421,29 @@ def block(v, indent: int = 0) -> str:
 #: YAML that is no number where a number belongs: YAML 1.1 numbers and tags.
 YAML_TOKENS = {
     "1.1 number": ["1:20", "1_000", "0b11", "+.5e", "1,5", "1e", "0x", "08.5.1"],
+    "1.1 type": [
+        "2001-02-30",
+        "2024-01-01",
+        "2001-12-14t21:59:43.10-05:00",
+        "yes",
+        "off",
+        "=",
+        "<<",
+        "~x",
+    ],  # fmt: skip
+    "huge": ["0x" + "F" * 5000, "0o" + "7" * 3000, "9" * 5000, "-0x" + "F" * 300, "1e400"],
     "tag": [
         "!!python/object/apply:os.system ['true']",
         "!!binary aGk=",
         "!!set {a}",
         "!!timestamp 2001-01-01",
         "!custom 1",
+        "!!bool maybe",
+        "!!omap [a: 1]",
+        "!!float abc",
+        "!!int 1.5",
+        "!!str 1",
+        "!!null x",
     ],
 }
 
