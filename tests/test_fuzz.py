@@ -36,7 +36,7 @@ from hypothesis import HealthCheck, Phase, given, seed, settings
 from hypothesis import strategies as st
 
 from a2b.cli import cli
-from a2b.errors import InputFileError
+from a2b.errors import A2bError, InputFileError
 from a2b.io import readers
 
 TOTAL = int(os.environ.get("A2B_FUZZ_EXAMPLES", "10000"))
@@ -820,3 +820,56 @@ def test_total_cases():
     total = sum(COUNTS.values())
     print(f"\nfuzz cases run: {total} ({', '.join(f'{k} {v}' for k, v in COUNTS.items())})")
     assert total >= TOTAL
+
+
+# -- homogeneous inputs at every scale ---------------------------------------------------------
+
+
+@pytest.mark.filterwarnings("ignore::a2b.errors.A2bWarning")  # near-zero rotations: expected
+@settings(max_examples=300, derandomize=True, database=None, deadline=None)
+@given(
+    exponent=st.integers(-300, 300),
+    kind=st.sampled_from(["quaternion", "study", "m", "weights"]),
+    quaternion=st.lists(st.floats(-1, 1), min_size=4, max_size=4).filter(
+        lambda q: 0.1 < math.hypot(*q)
+    ),
+    translation=st.lists(st.floats(-10, 10), min_size=3, max_size=3),
+)
+def test_homogeneous_inputs_at_every_scale(exponent, kind, quaternion, translation):
+    """Quaternions, Study parameters, m and weights times 10^±300 mean what they meant."""
+    import numpy as np
+
+    import a2b
+    from a2b.io.readers import read_poses
+    from a2b.motions.bezier import bezier
+    from a2b.poses import matrices_from_quat_trans, study_from_matrices
+
+    scale = 10.0**exponent
+    end = matrices_from_quat_trans(np.array(quaternion), np.array(translation))
+    start = np.eye(4)
+    if kind in ("quaternion", "study"):
+        form = (
+            {"quaternion": [q * scale for q in quaternion], "translation": translation}
+            if kind == "quaternion"
+            else {"study": (study_from_matrices(end) * scale).tolist()}
+        )
+        text = json.dumps({"start": {"quaternion": [1, 0, 0, 0]}, "end": form})
+        got = read_poses(io.BytesIO(text.encode()), "p.json").end
+        np.testing.assert_allclose(got, end, rtol=0, atol=1e-12 * (1 + np.abs(end).max()))
+        return
+    ts = np.linspace(0.0, 1.0, 5)
+    if kind == "m":
+        m = np.array([1.0, 0.2, -0.3, 0.5])
+        try:
+            plain = a2b.motion(start, end, "cubic", m=m).matrices(ts)
+        except A2bError:
+            return  # no motion for this m and these poses, at any scale
+        scaled = a2b.motion(start, end, "cubic", m=m * scale).matrices(ts)
+    else:
+        weights = np.array([1.0, 3.0])
+        try:
+            plain = bezier([start, end], ts, weights=weights)
+        except A2bError:
+            return
+        scaled = bezier([start, end], ts, weights=weights * scale)
+    np.testing.assert_allclose(scaled, plain, rtol=0, atol=1e-9 * (1 + np.abs(plain).max()))
