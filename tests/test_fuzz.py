@@ -873,3 +873,68 @@ def test_homogeneous_inputs_at_every_scale(exponent, kind, quaternion, translati
             return
         scaled = bezier([start, end], ts, weights=weights * scale)
     np.testing.assert_allclose(scaled, plain, rtol=0, atol=1e-9 * (1 + np.abs(plain).max()))
+
+
+# -- output targets -----------------------------------------------------------------------------
+
+ROOT = Path(__file__).resolve().parent.parent
+
+TARGETS = ["new", "existing", "read-only", "set-id", "link", "dangling-link", "directory",
+           "slash", "missing-parent", "dev-null", "dev-stdout"]  # fmt: skip
+
+
+@settings(max_examples=40, derandomize=True, database=None, deadline=None)
+@given(
+    target=st.sampled_from(TARGETS),
+    fmt=st.sampled_from(["csv", "tum", "mcap", "kitti"]),
+    command=st.sampled_from(["interpolate", "batch"]),
+)
+def test_output_targets(target, fmt, command):
+    """Every kind of -o target: written where it should be, or one error line and nothing lost;
+    never a traceback, never a temporary file left behind."""
+    old = b"old bytes that a refused run must keep\n"
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(tmp)
+        source = ROOT / "samples" / ("jobs.yaml" if command == "batch" else "quarter-turn.yaml")
+        path = work / "out"
+        if target in ("existing", "read-only", "set-id", "link"):
+            real = work / "real"
+            real.write_bytes(old)
+            if target == "read-only":
+                real.chmod(0o444)
+            if target == "set-id":
+                real.chmod(0o6755)
+            if target == "link":
+                path.symlink_to(real)
+            else:
+                real.rename(path)
+        elif target == "dangling-link":
+            path.symlink_to(work / "nowhere")
+        elif target == "directory":
+            path.mkdir()
+        arg = {
+            "slash": f"{path}/",
+            "missing-parent": str(work / "no" / "out"),
+            "dev-null": "/dev/null",
+            "dev-stdout": "/dev/stdout",
+        }.get(target, str(path))
+        if command == "batch" and fmt in ("tum", "kitti") and target in ("new", "directory"):
+            arg = str(path)  # a directory of files, made if missing
+        done = subprocess.run(
+            A2B + [command, str(source), "--format", fmt, "-o", arg],
+            capture_output=True,
+            timeout=120,
+        )
+        err = done.stderr.decode()
+        assert "Traceback" not in err, err
+        assert not [p.name for p in work.rglob("*") if p.name.endswith(".tmp")], target
+        if done.returncode != 0:
+            assert done.returncode in (1, 2) and err.splitlines()[-1].startswith("Error: "), err
+            for p in work.rglob("*"):
+                if p.is_file() and not p.is_symlink() and p.name in ("out", "real"):
+                    assert p.read_bytes() == old, (target, p)
+            return
+        if target == "dev-stdout":
+            assert done.stdout
+        elif target == "set-id":
+            assert path.stat().st_mode & 0o6000 == 0
