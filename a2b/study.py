@@ -24,20 +24,31 @@ from .errors import PoseError
 STUDY_TOL = 1e-9
 
 
+def _components(a: np.ndarray) -> np.ndarray:
+    """The components of vectors ``(..., n)`` as ``n`` contiguous arrays (one copy): arithmetic
+    on them reads memory in order, several times faster than on strided views."""
+    return np.ascontiguousarray(np.moveaxis(a, -1, 0))
+
+
+def _vectors(*components: np.ndarray) -> np.ndarray:
+    """Vectors ``(..., n)`` from ``n`` component arrays (a view of one ``(n, ...)`` array)."""
+    out = np.empty((len(components),) + np.broadcast_shapes(*(c.shape for c in components)))
+    for k, component in enumerate(components):
+        out[k] = component
+    return np.moveaxis(out, 0, -1)
+
+
 def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Hamilton product ``a b`` of quaternions ``(..., 4)``, scalar first."""
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
-    a0, a1, a2, a3 = np.moveaxis(a, -1, 0)
-    b0, b1, b2, b3 = np.moveaxis(b, -1, 0)
-    return np.stack(
-        [
-            a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
-            a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
-            a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
-            a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0,
-        ],
-        axis=-1,
+    a0, a1, a2, a3 = _components(a)
+    b0, b1, b2, b3 = _components(b)
+    return _vectors(
+        a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
+        a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+        a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
+        a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0,
     )
 
 
@@ -78,21 +89,18 @@ def rotation_numerators(p: np.ndarray, r: np.ndarray | None = None) -> np.ndarra
     """
     p = np.asarray(p, dtype=float)
     r = p if r is None else np.asarray(r, dtype=float)
-    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
-    r0, r1, r2, r3 = np.moveaxis(r, -1, 0)
-    return np.stack(
-        [
-            p0 * r0 + p1 * r1 - p2 * r2 - p3 * r3,
-            p1 * r2 + p2 * r1 - p0 * r3 - p3 * r0,
-            p0 * r2 + p2 * r0 + p1 * r3 + p3 * r1,
-            p0 * r3 + p3 * r0 + p1 * r2 + p2 * r1,
-            p0 * r0 - p1 * r1 + p2 * r2 - p3 * r3,
-            p2 * r3 + p3 * r2 - p0 * r1 - p1 * r0,
-            p1 * r3 + p3 * r1 - p0 * r2 - p2 * r0,
-            p0 * r1 + p1 * r0 + p2 * r3 + p3 * r2,
-            p0 * r0 - p1 * r1 - p2 * r2 + p3 * r3,
-        ],
-        axis=-1,
+    p0, p1, p2, p3 = _components(p)
+    r0, r1, r2, r3 = (p0, p1, p2, p3) if r is p else _components(r)
+    return _vectors(
+        p0 * r0 + p1 * r1 - p2 * r2 - p3 * r3,
+        p1 * r2 + p2 * r1 - p0 * r3 - p3 * r0,
+        p0 * r2 + p2 * r0 + p1 * r3 + p3 * r1,
+        p0 * r3 + p3 * r0 + p1 * r2 + p2 * r1,
+        p0 * r0 - p1 * r1 + p2 * r2 - p3 * r3,
+        p2 * r3 + p3 * r2 - p0 * r1 - p1 * r0,
+        p1 * r3 + p3 * r1 - p0 * r2 - p2 * r0,
+        p0 * r1 + p1 * r0 + p2 * r3 + p3 * r2,
+        p0 * r0 - p1 * r1 - p2 * r2 + p3 * r3,
     )
 
 
@@ -112,16 +120,13 @@ def translation_numerators(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """
     p = np.asarray(p, dtype=float)
     q = np.asarray(q, dtype=float)
-    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
-    q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
+    p0, p1, p2, p3 = _components(p)
+    q0, q1, q2, q3 = _components(q)
     # vec(p q̄) with q̄ = (q0, -q1, -q2, -q3)
-    return 2.0 * np.stack(
-        [
-            -p0 * q1 + p1 * q0 - p2 * q3 + p3 * q2,
-            -p0 * q2 + p1 * q3 + p2 * q0 - p3 * q1,
-            -p0 * q3 - p1 * q2 + p2 * q1 + p3 * q0,
-        ],
-        axis=-1,
+    return 2.0 * _vectors(
+        -p0 * q1 + p1 * q0 - p2 * q3 + p3 * q2,
+        -p0 * q2 + p1 * q3 + p2 * q0 - p3 * q1,
+        -p0 * q3 - p1 * q2 + p2 * q1 + p3 * q0,
     )
 
 
