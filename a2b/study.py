@@ -31,11 +31,12 @@ def _components(a: np.ndarray) -> np.ndarray:
 
 
 def _vectors(*components: np.ndarray) -> np.ndarray:
-    """Vectors ``(..., n)`` from ``n`` component arrays (a view of one ``(n, ...)`` array)."""
-    out = np.empty((len(components),) + np.broadcast_shapes(*(c.shape for c in components)))
+    """Vectors ``(..., n)``, C-contiguous, from ``n`` component arrays."""
+    shape = np.broadcast_shapes(*(c.shape for c in components))
+    out = np.empty(shape + (len(components),))
     for k, component in enumerate(components):
-        out[k] = component
-    return np.moveaxis(out, 0, -1)
+        out[..., k] = component
+    return out
 
 
 def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
