@@ -736,7 +736,7 @@ def test_a_non_finite_key_is_named_as_written(tmp_path):
     path.write_text(POSES_YAML + ".nan: 1\n")
     done = subprocess.run(a2b_cmd("interpolate", path), capture_output=True, timeout=60)
     assert done.returncode == 1
-    assert b": .nan: unknown key .nan in a poses file" in done.stderr
+    assert b"k.yaml:3:1: .nan: unknown key .nan in a poses file" in done.stderr
     assert b"object at 0x" not in done.stderr
 
 

@@ -521,14 +521,10 @@ def _yaml_locate(root, path: Path) -> tuple[int, int] | None:
     node, mark = root, root.start_mark if root is not None else None
     for el in path:
         value = getattr(node, "value", None)
-        if (
-            isinstance(el, str)
-            and isinstance(value, list)
-            and value
-            and isinstance(value[0], tuple)
-        ):
+        if isinstance(value, list) and value and isinstance(value[0], tuple):  # a mapping
+            text = el if isinstance(el, str) else str(el)  # a key as written: .nan, 1
             for key_node, value_node in value:
-                if getattr(key_node, "value", None) == el:
+                if getattr(key_node, "value", None) == text:
                     node, mark = value_node, key_node.start_mark
                     break
             else:
