@@ -35,7 +35,7 @@ from typing import IO
 import numpy as np
 
 from ..errors import ParameterError
-from .floatrepr import integer_words, number_words
+from .floatrepr import integer_words, number_words, without_zero_bytes
 from .parallel import in_order
 
 __all__ = ["CHUNK_POSES", "MAGIC", "write_pose_mcap", "write_topic_mcap"]
@@ -207,7 +207,7 @@ def _build_chunk(item, layout: _Layout, row: np.ndarray) -> _Built:
         cells[:, message.nsec : message.nsec + 2] = nsec_cells
         for j, column in enumerate(message.numbers):
             cells[:, column : column + 4] = number_cells[:, j]
-    records = np.frombuffer(cells.tobytes().translate(None, b"\0"), np.uint8).copy()
+    records = np.frombuffer(without_zero_bytes(cells), np.uint8).copy()
     variable = number_length.reshape(n, 7).sum(axis=1) + sec_length + nsec_length
     data_length = np.empty((n, per), np.int64)  # messages in order: pose, tf, pose, tf, …
     for k, message in enumerate(layout.messages):
