@@ -302,9 +302,17 @@ def _batch_pieces(rows: np.ndarray, runs: JobRuns) -> Iterator[tuple]:
         yield rows[lo : lo + taken], leads, counts
 
 
+#: Job names up to this many bytes go before their rows as words of the formatter, in one pass
+#: with the numbers; longer ones are joined to the formatted lines one by one.
+SHORT_NAME = 64
+
+
 def _batch_text(piece: tuple) -> bytes:
     """The text of a piece: each line of the formatted numbers after its job's name."""
     rows, leads, counts = piece
+    width = max(len(lead) for lead in leads)
+    if width <= SHORT_NAME:  # the common case: about 1.3x faster, and it keeps off the GIL
+        return format_rows(rows, prefix=np.repeat(np.array(leads, dtype=f"S{width}"), counts))
     lines = format_rows(rows).split(b"\n")
     out = []
     lo = 0
