@@ -8,6 +8,8 @@ so that ``a2b --help`` stays light.
 
 from __future__ import annotations
 
+import math
+import re
 from dataclasses import dataclass
 
 
@@ -153,3 +155,15 @@ EXCLUSIVE = (
     frozenset({"alpha", "a"}),
     frozenset({"beta", "b"}),
 )
+
+
+#: An angle in degrees, as options and files accept it where radians are asked for: ``45deg``.
+_DEGREES = re.compile(
+    r"\s*([-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?)\s*deg\s*", re.ASCII
+)
+
+
+def degrees(text: str) -> float | None:
+    """The radians of an angle written in degrees (``"45deg"``, ``"-90 deg"``), else None."""
+    match = _DEGREES.fullmatch(text)
+    return None if match is None else math.radians(float(match.group(1)))

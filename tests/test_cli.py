@@ -1038,3 +1038,32 @@ def test_a_length_that_is_a_double_is_no_overflow(tmp_path, end, d):
     result = run_split("describe", path, "--json")
     assert result.exit_code == 0, result.stderr
     assert json.loads(result.stdout)["d"] == pytest.approx(d, rel=1e-15)
+
+
+EIGHTH_TURN = (
+    "start: {quaternion: [1, 0, 0, 0]}\n"
+    "end: {quaternion: [0.9238795325112867, 0, 0, 0.3826834323650898], "
+    "translation: [0, 0, 1]}\n"
+)
+ANGLES = [("45deg", math.pi / 4), ("-90 deg", -math.pi / 2), ("0.5", 0.5)]
+
+
+@pytest.mark.parametrize("spelling, radians", ANGLES)
+def test_an_angle_takes_degrees_with_a_deg_suffix(tmp_path, spelling, radians):
+    """--kappa 45deg means π/4; a number alone is radians, as the help says."""
+    path = tmp_path / "p.yaml"
+    path.write_text(EIGHTH_TURN)
+    from_option = run_split("describe", path, "--json", "--kappa", spelling)
+    path.write_text(EIGHTH_TURN + f"parameters: {{kappa: {spelling}}}\n")
+    from_file = run_split("describe", path, "--json")
+    for result in (from_option, from_file):
+        if result.exit_code == 0:
+            assert json.loads(result.stdout)["kappa"] == pytest.approx(radians, abs=1e-12)
+        else:
+            assert "κ is in radians; write 45deg for degrees" in result.stderr
+
+
+def test_an_unreachable_kappa_says_radians():
+    result = run_split("describe", SAMPLES / "canonical.yaml", "--kappa", "45")
+    assert result.exit_code == 1
+    assert "κ is in radians; write 45deg for degrees" in result.stderr

@@ -51,6 +51,21 @@ class FiniteFloat(click.ParamType):
         return number
 
 
+class Angle(FiniteFloat):
+    """An angle: radians (a decimal number), or degrees with a ``deg`` suffix (``45deg``)."""
+
+    name = "ANGLE"
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str):
+            from ..parameters import degrees
+
+            radians = degrees(value)
+            if radians is not None:
+                return radians
+        return super().convert(value, param, ctx)
+
+
 class Count(click.IntRange):
     """A whole number of ASCII digits (:data:`INTEGER`) within a range."""
 
@@ -191,6 +206,9 @@ def _motion_option(parameter):
         "pose": INPUT,
         "frame": click.Choice(FRAMES),
     }
+    if parameter.unit == "radian":
+        kinds["number"] = Angle()
+        help_ += " Degrees with a deg suffix: 45deg."
     kind = kinds.get(parameter.kind) or Vector(parameter.size, parameter.components)
     metavar = "POSEFILE" if parameter.kind == "pose" else None
     return click.option(flag, parameter.name, type=kind, metavar=metavar, help=help_)

@@ -51,6 +51,7 @@ import numpy as np
 
 from ..errors import A2bError, InputFileError
 from ..names import FRAMES, MAX_SAMPLES, MIN_SAMPLES, MODES
+from ..parameters import BY_NAME, degrees
 from .jobscan import JOB_KEYS, PARAMETER_KINDS, POSES_KEYS, Scanned, scan_blocks, sniff
 from .jobscan import NUMBER_TYPES as _NUMBER_TYPES
 from .jobscan import decode as _decode
@@ -780,7 +781,10 @@ def _parameters(doc: _Document, path: Path, v) -> dict:
         if value is None:
             continue
         if kind == "number":
-            out[key] = _number(doc, here, value)
+            angle = (
+                degrees(value) if isinstance(value, str) and BY_NAME[key].unit == "radian" else None
+            )
+            out[key] = angle if angle is not None else _number(doc, here, value)
         elif isinstance(kind, int):
             out[key] = tuple(_numbers(doc, here, value, kind, ""))
         elif kind == "branch":

@@ -69,7 +69,7 @@ def delta_from_kappa(kappa, phi, d, shape: tuple = ()) -> np.ndarray:
         ParameterError,
         np.abs(cos_t) < 1e-12,
         lambda i: (
-            f"κ = {value(kappa, i):.6g} ≡ −φ/2 ± π/2 requires d = 0 (here d = "
+            f"κ = {value(kappa, i):.6g} rad ≡ −φ/2 ± π/2 requires d = 0 (here d = "
             f"{value(d, i):.6g}); no Darboux interpolant has it"
         ),
         shape,
@@ -78,9 +78,9 @@ def delta_from_kappa(kappa, phi, d, shape: tuple = ()) -> np.ndarray:
         ParameterError,
         cos_t * d < 0,
         lambda i: (
-            f"no Darboux interpolant of these poses has phase κ = {value(kappa, i):.6g} with "
-            f"λ ≥ 0; κ + π = {float(_wrap(value(kappa, i) + math.pi)):.6g} describes the "
-            "mirrored sine and is reachable"
+            f"no Darboux interpolant of these poses has phase κ = {value(kappa, i):.6g} rad "
+            f"with λ ≥ 0; κ + π = {float(_wrap(value(kappa, i) + math.pi)):.6g} rad describes "
+            "the mirrored sine and is reachable (κ is in radians; write 45deg for degrees)"
         ),
         shape,
     )
