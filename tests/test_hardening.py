@@ -769,3 +769,29 @@ def test_body_points_too_large_to_draw_are_one_error(tmp_path, size):
     assert done.returncode == 1
     assert done.stderr.startswith(b"Error: the drawing reaches coordinates of")
     assert not out.exists()
+
+
+def test_fiber_with_an_m_of_1e78_is_one_error_line():
+    done = subprocess.run(
+        a2b_cmd("fiber", SAMPLES / "pose.yaml", "--map", "mu", "--m", "1,1e78,1,1"),
+        capture_output=True,
+        timeout=60,
+    )
+    assert done.returncode in (0, 1), done.stderr
+    assert b"Traceback" not in done.stderr
+    if done.returncode == 1:
+        assert done.stderr.count(b"\n") == 1 and done.stderr.startswith(b"Error: ")
+
+
+def test_1100_bezier_controls_need_no_recursion():
+    """1,100 controls gave RecursionError; the singularity search is a loop now."""
+    import a2b
+    from a2b.poses import matrices_from_quat_trans
+
+    rng = np.random.default_rng(3)
+    quats = np.array([1.0, 0, 0, 0]) + 0.3 * rng.normal(size=(1100, 4))
+    poses = matrices_from_quat_trans(quats, rng.normal(size=(1100, 3)))
+    samples = a2b.bezier(poses, 50, space="study")
+    assert samples.shape == (50, 4, 4) and np.isfinite(samples).all()
+    np.testing.assert_allclose(samples[0], poses[0], atol=1e-12)
+    np.testing.assert_allclose(samples[-1], poses[-1], atol=1e-12)
