@@ -272,17 +272,3 @@ def mu_fiber_points(matrix, m, alphas, basis: str = "paper") -> np.ndarray:
     out[..., :10] += alphas @ base
     out[..., 10:] = out[..., :1] * mat[:3, 3]
     return out
-
-
-def psi_from_alpha(m, alpha, basis: str = "paper") -> float:
-    """The homogenising coordinate ``ψ = 1 + Σ α_l f_l[0]`` of a fiber point (``docs/math.md``).
-
-    ``Σ α_l f_l[0]`` is the paper's ``a`` (for α) or ``b`` (for β), section 5.
-    """
-    alpha = np.asarray(alpha, dtype=float)
-    if alpha.shape != (6,):
-        raise ParameterError(f"alpha and beta need 6 numbers, got shape {alpha.shape}")
-    if not np.all(np.isfinite(alpha)):
-        raise ParameterError("alpha or beta contains NaN or infinity")
-    base, _ = kernel_basis(m, basis)
-    return 1.0 + float(alpha @ base[:, 0])

@@ -67,11 +67,6 @@ def _record(opcode: int, *fields: bytes) -> bytes:
     return struct.pack("<BQ", opcode, len(body)) + body
 
 
-def _string(text: str | bytes) -> bytes:
-    data = text.encode() if isinstance(text, str) else text
-    return struct.pack("<I", len(data)) + data
-
-
 def _words(text: bytes) -> np.ndarray:
     """``text`` padded with zero bytes to whole little-endian 64-bit words."""
     return np.frombuffer(text.ljust(-(-len(text) // 8) * 8, b"\0"), "<u8")

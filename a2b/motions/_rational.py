@@ -15,12 +15,9 @@ over blocks only. The last bits of a sample may depend on how many samples are t
 
 from __future__ import annotations
 
-import warnings
 from math import comb
 
 import numpy as np
-
-from ..errors import A2bWarning, SingularMotionError
 
 EPS = float(np.finfo(float).eps)
 #: ``|p(t)|² / max|p|²`` at or below which a motion is refused as passing through ``p = 0``.
@@ -145,18 +142,6 @@ def bern_elevate(a: np.ndarray, degree: int) -> np.ndarray:
         padded_hi = np.concatenate([a, np.zeros_like(a[:1])])
         a = k * padded_lo + (1 - k) * padded_hi
     return a
-
-
-def bern_to_monomial(a: np.ndarray) -> np.ndarray:
-    """Monomial coefficients (lowest first) of a scalar Bernstein-form polynomial ``(n+1,)``."""
-    a = np.asarray(a, dtype=float)
-    n = a.shape[0] - 1
-    out = np.zeros(n + 1)
-    for i in range(n + 1):
-        # C(n,i) t^i (1-t)^(n-i) = C(n,i) Σ_j C(n-i, j) (-1)^j t^(i+j)
-        for j in range(n - i + 1):
-            out[i + j] += a[i] * comb(n, i) * comb(n - i, j) * (-1) ** j
-    return out
 
 
 def make_table(rot, rot_den, trans, trans_den) -> np.ndarray:
@@ -328,55 +313,3 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
                 np.swapaxes(part, 1, 2), coefficients[first:last], out=out[first:last, start:stop]
             )
     return bool(np.isfinite(total))
-
-
-def linear_root(v0: float, v1: float) -> float | None:
-    """The root of ``(1−t) v0 + t v1`` or None if it is constant non-zero."""
-    if v0 == v1:
-        return None if v0 != 0.0 else 0.0
-    return v0 / (v0 - v1) + 0.0  # + 0.0 turns −0 into 0
-
-
-def quaternion_path_minimum(
-    pa: np.ndarray, pb: np.ndarray, lo: float, hi: float
-) -> tuple[float, float]:
-    """Where ``|p(t)|²`` of ``p(t) = (1−t) pa + t pb`` is smallest on ``[lo, hi]``, and how small.
-
-    Returns ``(t_min, ratio)`` with ``ratio = |p(t_min)|² / max(|pa|², |pb|²)``.
-    """
-    diff = pb - pa
-    dd = float(diff @ diff)
-    t_min = 0.0 if dd == 0.0 else float(np.clip(-(pa @ diff) / dd, lo, hi))
-    p_min = pa + t_min * diff
-    scale = max(float(pa @ pa), float(pb @ pb))
-    return t_min, float(p_min @ p_min) / scale
-
-
-def check_quaternion_path(
-    pa: np.ndarray, pb: np.ndarray, lo: float, hi: float, what: str, warn=None
-) -> float:
-    """Raise if ``p(t) = (1−t) pa + t pb`` (nearly) vanishes for some ``t ∈ [lo, hi]``.
-
-    ``|p(t)|²`` is a quadratic in t; its minimum on the interval, relative to
-    ``max(|pa|², |pb|²)``, must exceed ``SINGULAR_TOL = 1e-12``. Between that and
-    ``SENSITIVE_TOL = 1e-7`` the motion is defined but amplifies rounding of the input by about
-    ``ε / ratio``: ``warn(message)`` is called (default: an :class:`a2b.errors.A2bWarning`).
-    Returns the ratio.
-    """
-    t_min, ratio = quaternion_path_minimum(pa, pb, lo, hi)
-    if ratio <= SINGULAR_TOL:
-        raise SingularMotionError(
-            f"the {what} passes through p(t) = 0 (no rotation defined) at t = {t_min:.6g}: "
-            f"|p(t)|² / |p|²_max = {ratio:.3g}, tolerance {SINGULAR_TOL:g}"
-        )
-    if ratio <= SENSITIVE_TOL:
-        message = (
-            f"the {what} passes close to p(t) = 0 at t = {t_min:.6g} (|p(t)|² / |p|²_max = "
-            f"{ratio:.3g}): its poses near there change by about {EPS / ratio:.1g} of the "
-            "motion's size under rounding of the input"
-        )
-        if warn is None:
-            warnings.warn(A2bWarning(message), stacklevel=2)
-        else:
-            warn(message)
-    return ratio
