@@ -795,3 +795,16 @@ def test_1100_bezier_controls_need_no_recursion():
     assert samples.shape == (50, 4, 4) and np.isfinite(samples).all()
     np.testing.assert_allclose(samples[0], poses[0], atol=1e-12)
     np.testing.assert_allclose(samples[-1], poses[-1], atol=1e-12)
+
+
+@pytest.mark.parametrize("suffix", ["json", "jsonl"])
+def test_a_json_job_name_of_true_is_no_name(tmp_path, suffix):
+    """JSON `true` would become the name "True", which is not the text as written."""
+    job = (
+        '{"name": true, "start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}'
+    )
+    path = tmp_path / f"jobs.{suffix}"
+    path.write_text(f"[{job}]\n" if suffix == "json" else job + "\n")
+    done = subprocess.run(a2b_cmd("batch", path), capture_output=True, timeout=60)
+    assert done.returncode == 1
+    assert b"name: expected a string, got the boolean true" in done.stderr

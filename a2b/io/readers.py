@@ -833,7 +833,7 @@ def _job(doc: _Document, path: Path, v, allowed: tuple) -> Job:
         )
     samples = _samples(doc, path, job.get("samples"))
     name = job.get("name")
-    if name is not None and not isinstance(name, (str, int)):
+    if name is not None and (isinstance(name, bool) or not isinstance(name, (str, int))):
         raise doc.error(path + ("name",), f"expected a string, got {_describe(name)}")
     if isinstance(name, str):
         _check_name(doc, path + ("name",), name)
