@@ -268,16 +268,17 @@ def write_batch_csv(stream: IO, chunks: Iterable[Chunk], fmt: str = "csv") -> No
     def pieces():
         for chunk in chunks:
             if len(chunk.t):
-                yield from _batch_pieces(_rows(fmt, chunk), JobRuns.of(chunk.job))
+                yield from _batch_pieces(_rows(fmt, chunk), JobRuns(*_runs(chunk)))
 
     for text in in_order(_batch_text, pieces()):  # noqa: FURB122 - each piece as it is done
         stream.write(text)
 
 
 def _batch_pieces(rows: np.ndarray, runs: JobRuns) -> Iterator[tuple]:
-    """``(rows, leads, counts)`` pieces of a batch chunk, bounded in numbers and name bytes."""
-    if sum(runs.counts) != len(rows):
-        raise ValueError(f"a job column of {len(runs)} rows for {len(rows)} samples")
+    """``(rows, leads, counts)`` pieces of a batch chunk, bounded in numbers and name bytes.
+
+    ``runs`` covers ``rows`` exactly (:func:`_runs` checks it).
+    """
     most_rows = max(1, TASK // max(rows.shape[1], 1))
     leads: list = []
     counts: list = []
@@ -398,6 +399,7 @@ def write_batch_files(
 
 
 def _runs(chunk: Chunk) -> tuple[list, list]:
+    """The job names and row counts of a batch chunk, which must cover its rows exactly."""
     runs = JobRuns.of(chunk.job)
     if sum(runs.counts) != len(chunk.t):
         raise ValueError(f"a job column of {len(runs)} rows for {len(chunk.t)} samples")
