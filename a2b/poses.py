@@ -50,6 +50,13 @@ def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndar
         raise PoseError(
             f"the rotation block is not orthogonal: max |R Rᵀ − I| = {residual:.3g} "
             f"exceeds tolerance {tol:g}"
+            + (
+                f"; if it is a rotation rounded to a few digits, --orthonormalize (or "
+                f"a2b.poses.orthonormalize) projects it onto the nearest rotation, up to "
+                f"{REPAIR_TOL:g}"
+                if residual <= REPAIR_TOL
+                else ""
+            )
         )
     det = determinants(r)
     if np.any(det < 0):
@@ -63,6 +70,51 @@ def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndar
             f"the rotation block has |det R − 1| = {det_residual:.3g}, exceeding tolerance {tol:g}"
         )
     return r
+
+
+#: How far from orthogonal a rotation block may be for :func:`orthonormalize` to repair it:
+#: six significant digits (KITTI's ``%e``) leave about 1e-6.
+REPAIR_TOL = 1e-4
+
+
+def orthogonality_residuals(rotations: np.ndarray) -> np.ndarray:
+    """``max |R Rᵀ − I|`` of each rotation block ``(..., 3, 3)``: shape ``...``."""
+    r = np.asarray(rotations, dtype=float)
+    with np.errstate(all="ignore"):
+        return np.abs(_gram(r) - np.eye(3)).max(axis=(-2, -1))
+
+
+def orthonormalize(poses, *, tol: float = REPAIR_TOL) -> np.ndarray:
+    """Project nearly orthogonal rotation blocks onto the nearest rotations (an explicit repair).
+
+    ``poses`` is rotation blocks ``(..., 3, 3)`` or robotics matrices ``(..., 4, 4)``, whose
+    translations are kept. Each block ``R = U Σ Vᵀ`` becomes ``U Vᵀ``, the rotation nearest
+    to it in the Frobenius norm: what a matrix typed or stored with a few digits stood for.
+
+    Raises
+    ------
+    PoseError
+        If a block is not finite, is farther than ``tol`` from orthogonal
+        (``max |R Rᵀ − I| > tol``: no longer a rounded rotation), or is a reflection.
+    """
+    m = as_numbers(poses, "a pose matrix", PoseError)
+    if m.shape[-2:] not in ((3, 3), (4, 4)):
+        raise PoseError(f"expected 3x3 rotation blocks or 4x4 poses, got shape {m.shape}")
+    _finite(m, "the pose matrix")
+    r = m[..., :3, :3]
+    residual = orthogonality_residuals(r)
+    if np.any(residual > tol):
+        worst = float(residual.max())
+        raise PoseError(
+            f"the rotation block is too far from orthogonal to repair: max |R Rᵀ − I| = "
+            f"{worst:.3g} exceeds the repair tolerance {tol:g}"
+        )
+    if np.any(determinants(r) < 0):
+        raise PoseError("the rotation block is a reflection (det R < 0): no rotation is near it")
+    u, _, vt = np.linalg.svd(r)
+    out = m.copy()
+    out[..., :3, :3] = u @ vt
+    return out
 
 
 def _gram(r: np.ndarray) -> np.ndarray:

@@ -13,7 +13,7 @@ from mcap.reader import make_reader
 
 import a2b
 from a2b.cli import cli
-from a2b.io import readers
+from a2b.io import readers, trajectories
 
 from .conftest import random_pose
 
@@ -70,7 +70,7 @@ def test_tum_writes_a_file_per_job(tmp_path, jobs_file):
     assert sorted(p.name for p in out.iterdir()) == sorted(f"{n}.tum" for n in names(jobs))
     for name, job in zip(names(jobs), jobs):
         with open(out / f"{name}.tum", "rb") as f:
-            times, quat_wxyz, trans = readers.read_tum(f)
+            times, quat_wxyz, trans = trajectories.read_tum(f)
         ts, (quat, expected) = alone(job, "quat_trans")
         np.testing.assert_array_equal(times, ts * 2.5 + 10)
         np.testing.assert_allclose(trans, expected, rtol=0, atol=1e-15 * np.abs(expected).max())
@@ -87,7 +87,7 @@ def test_kitti_writes_a_file_per_job(tmp_path, jobs_file):
     assert (out / "notes.txt").read_text() == "kept"
     for name, job in zip(names(jobs), jobs):
         with open(out / f"{name}.kitti", "rb") as f:
-            matrices = readers.read_kitti(f)
+            matrices = trajectories.read_kitti(f)
         _, expected = alone(job, "matrices")
         np.testing.assert_allclose(matrices, expected, rtol=0, atol=1e-15 * np.abs(expected).max())
 
@@ -122,7 +122,7 @@ def test_mcap_has_a_topic_per_job_read_by_the_mcap_reader(tmp_path, jobs_file):
             np.testing.assert_allclose(got_x, x, rtol=0, atol=1e-15 * max(1, np.abs(x).max()))
             np.testing.assert_allclose(got_q, q, rtol=0, atol=1e-15)
         with open(out, "rb") as f:  # a2b's own reader, by topic
-            t_read, trans_read, _ = readers.read_mcap(f, topic=f"/a2b/{name}/pose")
+            t_read, trans_read, _ = trajectories.read_mcap(f, topic=f"/a2b/{name}/pose")
         assert len(t_read) == job["samples"]
 
 

@@ -511,7 +511,7 @@ def test_cli_help_has_an_example(command):
 
 
 def read_matrix_output(text):
-    from a2b.io.readers import read_matrix_csv
+    from a2b.io.trajectories import read_matrix_csv
 
     return read_matrix_csv(io.StringIO(text))
 

@@ -16,7 +16,7 @@ from click.testing import CliRunner
 
 import a2b
 from a2b.cli import COMMANDS, cli
-from a2b.io import readers
+from a2b.io import readers, trajectories
 from a2b.poses import matrices_from_quat_trans, quat_trans_from_matrices
 
 from .conftest import random_pose
@@ -100,7 +100,7 @@ def test_csv_round_trip(poses, tmp_path, mode):
     result = run("interpolate", path, "--mode", mode, "--samples", 33, "-o", out)
     assert result.exit_code == 0, result.output
     with open(out, "rb") as f:
-        t, quat, trans = readers.read_csv(f)
+        t, quat, trans = trajectories.read_csv(f)
     ts = np.linspace(0, 1, 33)
     want_quat, want_trans = a2b.motion(a, b, mode).quat_trans(ts)
     assert np.array_equal(t, ts)
@@ -128,7 +128,7 @@ def test_matrix_round_trip(poses, tmp_path):
     assert run("interpolate", path, "--format", "matrix", "--samples", 17, "-o", out).exit_code == 0
     assert out.read_text().splitlines()[0] == "t,r11,r12,r13,tx,r21,r22,r23,ty,r31,r32,r33,tz"
     with open(out, "rb") as f:
-        t, mats = readers.read_matrix_csv(f)
+        t, mats = trajectories.read_matrix_csv(f)
     assert np.array_equal(t, np.linspace(0, 1, 17))
     assert np.array_equal(mats, a2b.interpolate(a, b, t))
 
@@ -143,7 +143,7 @@ def test_study_round_trip(poses, tmp_path):
         == 0
     )
     with open(out, "rb") as f:
-        t, study = readers.read_study_csv(f)
+        t, study = trajectories.read_study_csv(f)
     assert np.array_equal(study, a2b.motion(a, b, delta=0.3).study(t))
 
 
@@ -158,7 +158,7 @@ def test_tum_round_trip(poses, tmp_path):
     assert text[0].startswith("#")
     assert len(text[1].split(" ")) == 8
     with open(out, "rb") as f:
-        time, quat, trans = readers.read_tum(f)
+        time, quat, trans = trajectories.read_tum(f)
     ts = np.linspace(0, 1, 11)
     want_quat, want_trans = a2b.motion(a, b).quat_trans(ts)
     assert np.array_equal(time, ts * 2.5 + 100)
@@ -173,7 +173,7 @@ def test_kitti_round_trip(poses, tmp_path):
     lines = out.read_text().splitlines()
     assert len(lines) == 12 and all(len(line.split(" ")) == 12 for line in lines)
     with open(out, "rb") as f:
-        mats = readers.read_kitti(f)
+        mats = trajectories.read_kitti(f)
     assert np.array_equal(mats, a2b.interpolate(a, b, np.linspace(0, 1, 12)))
 
 
@@ -188,7 +188,7 @@ def test_mcap_round_trip(poses, tmp_path):
     want_quat, want_trans = a2b.motion(a, b).quat_trans(ts)
     for topic in ("/a2b/pose", "/tf"):
         with open(out, "rb") as f:
-            time, quat, trans = readers.read_mcap(f, topic)
+            time, quat, trans = trajectories.read_mcap(f, topic)
         assert np.allclose(time, ts * 3 + 5, atol=1e-9, rtol=0)
         assert np.array_equal(quat, want_quat)
         assert np.array_equal(trans, want_trans)
@@ -250,7 +250,7 @@ def test_parameters_from_file_and_command_line(tmp_path, rng):
 
     def matrices():
         with open(out, "rb") as f:
-            _, mats = readers.read_matrix_csv(f)
+            _, mats = trajectories.read_matrix_csv(f)
         return mats
 
     assert run("interpolate", path, "--samples", 5, "--format", "matrix", "-o", out).exit_code == 0
@@ -310,7 +310,7 @@ def test_cubic_vector_options(poses, tmp_path):
         pytest.skip(result.output)
     assert result.exit_code == 0, result.output
     with open(out, "rb") as f:
-        t, mats = readers.read_matrix_csv(f)
+        t, mats = trajectories.read_matrix_csv(f)
     assert np.array_equal(
         mats, a2b.interpolate(a, b, t, "cubic", m=m, a=0.1, b=-0.2, frame="canonical")
     )
@@ -342,7 +342,7 @@ def test_through_option_reads_a_pose_file(tmp_path):
         == 0
     )
     with open(out, "rb") as f:
-        t, mats = readers.read_matrix_csv(f)
+        t, mats = trajectories.read_matrix_csv(f)
     assert np.allclose(mats, a2b.interpolate(a, b, t, delta=0.25), atol=1e-9)
 
 

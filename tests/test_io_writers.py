@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from a2b.errors import ParameterError
-from a2b.io import parallel, readers, writers
+from a2b.io import parallel, readers, trajectories, writers
 from a2b.io.floatrepr import format_rows, integer_words, number_words, text_words
-from a2b.poses import rotations_from_quaternions
+from a2b.poses import matrices_from_quat_trans, rotations_from_quaternions, study_from_matrices
 
 from .conftest import NonSeekableStream
 
@@ -138,10 +138,8 @@ def _chunks(rng, n, size):
     quat = rng.normal(size=(n, 4))
     quat /= np.linalg.norm(quat, axis=1, keepdims=True)
     trans = rng.normal(size=(n, 3))
-    mats = np.zeros((n, 4, 4))
-    mats[:, :3, :] = rng.normal(size=(n, 3, 4))
-    mats[:, 3, 3] = 1.0
-    study = rng.normal(size=(n, 8))
+    mats = matrices_from_quat_trans(quat, rng.normal(size=(n, 3)))  # valid poses: read back
+    study = study_from_matrices(mats) * rng.uniform(0.5, 2.0, size=(n, 1))
     t = np.linspace(0, 1, n)
     return [
         writers.Chunk(
@@ -162,26 +160,26 @@ def test_writer_reader_pairs(rng, fmt):
     writers.write_samples(stream, fmt, chunks, duration=2.0, start_time=3.0)
     stream.seek(0)
     if fmt == "csv":
-        got_t, got_q, got_tr = readers.read_csv(stream)
+        got_t, got_q, got_tr = trajectories.read_csv(stream)
         assert (
             np.array_equal(got_t, t)
             and np.array_equal(got_q, quat)
             and np.array_equal(got_tr, trans)
         )
     elif fmt == "matrix":
-        got_t, got_m = readers.read_matrix_csv(stream)
+        got_t, got_m = trajectories.read_matrix_csv(stream)
         assert np.array_equal(got_t, t) and np.array_equal(got_m, mats)
     elif fmt == "study":
-        got_t, got_s = readers.read_study_csv(stream)
+        got_t, got_s = trajectories.read_study_csv(stream)
         assert np.array_equal(got_t, t) and np.array_equal(got_s, study)
     elif fmt == "tum":
-        got_time, got_q, got_tr = readers.read_tum(stream)
+        got_time, got_q, got_tr = trajectories.read_tum(stream)
         assert np.array_equal(got_time, 2.0 * t + 3.0)
         assert np.array_equal(got_q, quat) and np.array_equal(got_tr, trans)
     elif fmt == "kitti":
-        assert np.array_equal(readers.read_kitti(stream), mats)
+        assert np.array_equal(trajectories.read_kitti(stream), mats)
     else:
-        got_time, got_q, got_tr = readers.read_mcap(stream)
+        got_time, got_q, got_tr = trajectories.read_mcap(stream)
         assert np.allclose(got_time, 2.0 * t + 3.0, atol=1e-9, rtol=0)
         assert np.array_equal(got_q, quat) and np.array_equal(got_tr, trans)
 
@@ -201,7 +199,7 @@ def test_mcap_writer_needs_no_seek(rng):
     pipe = NonSeekableStream()
     chunks, _ = _chunks(rng, 10, 4)
     writers.write_mcap(pipe, chunks)
-    got_time, _, _ = readers.read_mcap(io.BytesIO(bytes(pipe.data)))
+    got_time, _, _ = trajectories.read_mcap(io.BytesIO(bytes(pipe.data)))
     assert len(got_time) == 10
 
 
@@ -213,7 +211,7 @@ def test_many_blocks_in_order_with_helpers(rng, monkeypatch, workers):
     stream = io.BytesIO()
     writers.write_csv(stream, chunks)
     stream.seek(0)
-    got_t, got_q, got_tr = readers.read_csv(stream)
+    got_t, got_q, got_tr = trajectories.read_csv(stream)
     assert (
         np.array_equal(got_t, t) and np.array_equal(got_q, quat) and np.array_equal(got_tr, trans)
     )

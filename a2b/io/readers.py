@@ -25,11 +25,8 @@ Every structural error is an :class:`a2b.errors.InputFileError` whose message st
 ``FILE:LINE:COLUMN:`` (where the parser gives a position) and names the key, as in
 ``poses.yaml:4:3: start.quaternion: expected 4 numbers (w, x, y, z), got 3``.
 
-Trajectory files
-----------------
-``read_csv``, ``read_matrix_csv``, ``read_study_csv``, ``read_tum``, ``read_kitti``,
-``read_mcap`` and ``read_batch_csv`` read what the ``write_*`` function of the same name in
-:mod:`a2b.io.writers` writes, bit for bit.
+Trajectory files are read by :mod:`a2b.io.trajectories`; ``read_batch_csv`` reads what
+``write_batch_csv`` of :mod:`a2b.io.writers` writes.
 """
 
 from __future__ import annotations
@@ -66,17 +63,11 @@ __all__ = [
     "PoseList",
     "job_blocks",
     "read_batch_csv",
-    "read_csv",
     "read_jobs",
-    "read_kitti",
-    "read_matrix_csv",
-    "read_mcap",
     "read_motion_file",
     "read_pose",
     "read_pose_list",
     "read_poses",
-    "read_study_csv",
-    "read_tum",
 ]
 
 POSE_FORMS = ("matrix", "quaternion", "quaternion_xyzw", "study")
@@ -1350,75 +1341,13 @@ def _numbers_of(values: list, width: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 # --------------------------------------------------------------------------------------------
-# Trajectory readers: the pairs of the writers
+# The batch CSV of the writers (the trajectory formats are read by :mod:`a2b.io.trajectories`)
 
 
 def _text_stream(stream: IO):
     if isinstance(stream, io.TextIOBase):
         return stream
     return io.TextIOWrapper(stream, encoding="utf-8", newline="")
-
-
-def _read_table(stream: IO, header: str | None, sep: str, ncols: int, what: str) -> np.ndarray:
-    text = _text_stream(stream).read()
-    lines = text.splitlines()
-    if header is not None:
-        if not lines or lines[0] != header:
-            raise InputFileError(f"{what}: expected the header {header!r}")
-        lines = lines[1:]
-    if not lines:
-        return np.empty((0, ncols))
-    table = np.loadtxt(lines, delimiter=sep if sep != " " else None, ndmin=2)
-    if table.shape[1] != ncols:
-        raise InputFileError(f"{what}: expected {ncols} columns, got {table.shape[1]}")
-    return table
-
-
-CSV_HEADER = "t,tx,ty,tz,qw,qx,qy,qz"
-MATRIX_HEADER = "t,r11,r12,r13,tx,r21,r22,r23,ty,r31,r32,r33,tz"
-STUDY_HEADER = "t,p0,p1,p2,p3,q0,q1,q2,q3"
-
-
-def read_csv(stream: IO) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Read ``csv`` output: ``t (N,)``, ``quat_wxyz (N, 4)``, ``translations (N, 3)``."""
-    table = _read_table(stream, CSV_HEADER, ",", 8, "csv")
-    return table[:, 0], table[:, 4:8], table[:, 1:4]
-
-
-def read_matrix_csv(stream: IO) -> tuple[np.ndarray, np.ndarray]:
-    """Read ``matrix`` output: ``t (N,)`` and robotics matrices ``(N, 4, 4)``."""
-    table = _read_table(stream, MATRIX_HEADER, ",", 13, "matrix")
-    return table[:, 0], _matrices_from_rows(table[:, 1:])
-
-
-def read_study_csv(stream: IO) -> tuple[np.ndarray, np.ndarray]:
-    """Read ``study`` output: ``t (N,)`` and Study parameters ``(N, 8)``."""
-    table = _read_table(stream, STUDY_HEADER, ",", 9, "study")
-    return table[:, 0], table[:, 1:]
-
-
-def read_tum(stream: IO) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Read TUM ``time tx ty tz qx qy qz qw``: ``time``, ``quat_wxyz`` (rolled from xyzw here)
-    and ``translations``. Lines starting with ``#`` are comments."""
-    text = _text_stream(stream).read()
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    table = np.loadtxt(lines, ndmin=2) if lines else np.empty((0, 8))
-    return table[:, 0], table[:, [7, 4, 5, 6]], table[:, 1:4]
-
-
-def read_kitti(stream: IO) -> np.ndarray:
-    """Read KITTI poses (12 numbers per line, ``[R | t]`` row by row): matrices ``(N, 4, 4)``."""
-    text = _text_stream(stream).read()
-    lines = [ln for ln in text.splitlines() if ln.strip()]
-    table = np.loadtxt(lines, ndmin=2) if lines else np.empty((0, 12))
-    return _matrices_from_rows(table)
-
-
-def _matrices_from_rows(rows: np.ndarray) -> np.ndarray:
-    out = np.zeros((rows.shape[0], 4, 4))
-    out[:, :3, :] = rows.reshape(-1, 3, 4)
-    out[:, 3, 3] = 1.0
-    return out
 
 
 def read_batch_csv(stream: IO) -> tuple[list[str], np.ndarray]:
@@ -1434,26 +1363,3 @@ def read_batch_csv(stream: IO) -> tuple[list[str], np.ndarray]:
         jobs.append(row[0])
         values.append([float(x) for x in row[1:]])
     return jobs, np.array(values, dtype=float).reshape(len(values), len(header) - 1)
-
-
-def read_mcap(stream: IO, topic: str = "/a2b/pose") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Read the poses of ``write_mcap`` back: ``time`` (s), ``quat_wxyz``, ``translations``.
-
-    ``topic`` is ``/a2b/pose`` (``foxglove.PoseInFrame``) or ``/tf``
-    (``foxglove.FrameTransform``).
-    """
-    from mcap.reader import make_reader
-
-    reader = make_reader(stream)
-    times, quats, trans = [], [], []
-    for _schema, _channel, message in reader.iter_messages(topics=[topic]):
-        msg = json.loads(message.data)
-        stamp = msg["timestamp"]
-        times.append(stamp["sec"] + stamp["nsec"] * 1e-9)
-        if "pose" in msg:
-            pos, ori = msg["pose"]["position"], msg["pose"]["orientation"]
-        else:
-            pos, ori = msg["translation"], msg["rotation"]
-        quats.append([ori["w"], ori["x"], ori["y"], ori["z"]])
-        trans.append([pos["x"], pos["y"], pos["z"]])
-    return np.array(times), np.array(quats).reshape(-1, 4), np.array(trans).reshape(-1, 3)

@@ -5,7 +5,7 @@ never sit in memory at once), writes, and never closes the stream. Numbers are w
 Python's ``repr`` (the shortest text that reads back bit for bit), formatted in bulk by
 :mod:`a2b.io.floatrepr`, on a second thread (:mod:`a2b.io.parallel`); MCAP is built a chunk
 at a time by :mod:`a2b.io.mcapwriter`. Each ``write_x`` has a ``read_x`` in
-:mod:`a2b.io.readers`.
+:mod:`a2b.io.trajectories`.
 
 =========  ===========================================================================
 format     layout
@@ -35,7 +35,7 @@ import numpy as np
 from ..errors import ParameterError
 from .floatrepr import BLOCK, format_rows
 from .parallel import in_order
-from .readers import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER
+from .trajectories import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER
 
 __all__ = [
     "FORMATS",

@@ -109,9 +109,9 @@ def evenly_spaced(samples: int, size: int):
 
 def linear_path(ts: np.ndarray, ends: np.ndarray) -> np.ndarray:
     """``(1−t) ends[..., 0, :] + t ends[..., 1, :]``: shape ``S + (N, 4)`` for ends ``S + (2,
-    4)``."""
-    u = (1.0 - ts)[:, None]
-    return u * ends[..., None, 0, :] + ts[:, None] * ends[..., None, 1, :]
+    4)`` and ``ts`` of shape ``(N,)`` or ``S + (N,)``."""
+    u = (1.0 - ts)[..., None]
+    return u * ends[..., None, 0, :] + ts[..., None] * ends[..., None, 1, :]
 
 
 def path_minimum(ends: np.ndarray, lo: float, hi: float) -> tuple[np.ndarray, np.ndarray]:
@@ -263,21 +263,29 @@ class Motion:
 
     # -- sampling ------------------------------------------------------------------------------
     def _prepare(self, ts) -> np.ndarray:
-        arr = check_ts(ts)
+        """``ts`` checked: a count, ``(N,)`` shared by every motion, or ``S + (N,)``, one row of
+        parameters per motion (``S = ()``: 1-D only)."""
+        arr = check_ts(ts, one_dimensional=False)
+        if arr.ndim == 0 or (arr.ndim > 1 and arr.shape[:-1] != self.shape):
+            raise ParameterError(
+                f"ts must be a count, a 1-D array shared by every motion or an array of shape "
+                f"{self.shape + ('N',)} (one row per motion), got shape {arr.shape}"
+            )
         if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
             self._check_interval(min(0.0, float(arr.min())), max(1.0, float(arr.max())))
         return arr
 
     def _check_finite(self, ts: np.ndarray, values: np.ndarray) -> None:
         """Raise if extrapolating to far-away ``t`` overflowed (values ``S + (N, ...)``)."""
-        n = len(ts)
+        n = ts.shape[-1]
         bad = ~np.isfinite(values.reshape(self.shape + (n, -1))).all(axis=-1)
         first = np.argmax(bad, axis=-1)
+        rows = np.broadcast_to(ts, bad.shape).reshape(-1, n)
         self._refuse(
             ParameterError,
             bad.any(axis=-1),
             lambda i: (
-                f"the motion overflows float64 at t = {float(ts[np.ravel(first)[i]]):.6g}: "
+                f"the motion overflows float64 at t = {float(rows[i, np.ravel(first)[i]]):.6g}: "
                 "extrapolate less far"
             ),
         )
@@ -285,7 +293,8 @@ class Motion:
     def matrices(self, ts) -> np.ndarray:
         """Sample the motions: robotics matrices ``S + (N, 4, 4)``.
 
-        ``ts`` is a 1-D array of ``N`` parameters or a count ``N`` (evenly spaced in [0, 1]).
+        ``ts`` is a 1-D array of ``N`` parameters, a count ``N`` (evenly spaced in [0, 1]), or
+        an array ``S + (N,)`` that gives each motion parameters of its own.
         Where ``p(t)`` comes close to 0 (``|p|²/max|p|² < 1e-2``), the rotation block is taken
         from the normalised ``p(t)`` instead of the coefficient table, so that every sample
         stays rigid to rounding.
@@ -299,7 +308,8 @@ class Motion:
                 if not self.shape and fragile:
                     out[..., :3, :3] = rotations_from_quaternions(self._quats(arr))
                 elif self.shape and fragile.any():
-                    rotations = rotations_from_quaternions(self[fragile]._quats(arr))
+                    own = arr if arr.ndim == 1 else arr[fragile]
+                    rotations = rotations_from_quaternions(self[fragile]._quats(own))
                     out[fragile, :, :3, :3] = rotations
         if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
             self._check_finite(arr, out[..., :3, :])

@@ -69,7 +69,7 @@ class ScrewMotion(Motion):
         phi = np.asarray(self.frame.phi)
         t = np.asarray(ts, dtype=float)
         if phi.ndim:
-            t = np.broadcast_to(t, phi.shape + t.shape)
+            t = np.broadcast_to(t, phi.shape + t.shape[-1:])
             phi = phi[..., None]
         out = np.empty((4,) + t.shape)
         out[0] = 1.0
@@ -98,7 +98,7 @@ class ScrewMotion(Motion):
         # exp(tφ/2 u) pA = cos(tφ/2) pA + sin(tφ/2) (u pA): (N, 2) @ (2, 4) per motion
         phi = np.asarray(self.frame.phi)
         t = np.asarray(ts, dtype=float)
-        angle = np.multiply.outer(0.5 * phi, t)
+        angle = (0.5 * phi)[..., None] * t
         half = np.stack([np.cos(angle), np.sin(angle)], axis=-1)
         return half @ self.quat_ends
 

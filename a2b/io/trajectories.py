@@ -1,0 +1,458 @@
+"""Trajectories in: the pose sequences users store, read as times and poses.
+
+=======  ================================================================  ======================
+format   layout                                                            times
+=======  ================================================================  ======================
+tum      ``time tx ty tz qx qy qz qw``, space-separated, ``#`` comments    seconds
+kitti    12 numbers of ``[R | t]`` row by row per line                     none: the line index,
+                                                                           or ``rate`` Hz
+euroc    ``#timestamp [ns],p_x,p_y,p_z,q_w,q_x,q_y,q_z[,more]``            nanoseconds (integers)
+csv      a2b's ``t,tx,ty,tz,qw,qx,qy,qz``                                  the ``t`` column
+matrix   a2b's ``t,r11,r12,r13,tx,r21,…,tz``                               the ``t`` column
+study    a2b's ``t,p0,p1,p2,p3,q0,q1,q2,q3``                               the ``t`` column
+mcap     ``foxglove.PoseInFrame`` or ``foxglove.FrameTransform`` (JSON)    the message stamps
+=======  ================================================================  ======================
+
+The format comes from the caller, else the file's suffix (``.tum``, ``.kitti``, ``.mcap``),
+else the content: an MCAP magic, one of a2b's CSV headers, a EuRoC ``#timestamp`` header, or
+lines of 8 (TUM) or 12 (KITTI) numbers. Every pose is checked as in a pose file; times must
+increase. A problem is one :class:`InputFileError` that starts ``FILE:LINE:COLUMN:``.
+
+What a writer of :mod:`a2b.io.writers` wrote reads back bit for bit: ``quat_wxyz``, ``study``
+and the matrices' entries are the numbers of the file as they stand (quaternions are not
+normalised here; the matrices of a quaternion file are built from the normalised ones).
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import re
+from dataclasses import dataclass
+from typing import IO
+
+import numpy as np
+
+from ..errors import A2bError, InputFileError
+
+__all__ = [
+    "CSV_HEADER",
+    "MATRIX_HEADER",
+    "STUDY_HEADER",
+    "TRAJECTORY_FORMATS",
+    "Trajectory",
+    "read_csv",
+    "read_kitti",
+    "read_matrix_csv",
+    "read_mcap",
+    "read_study_csv",
+    "read_trajectory",
+    "read_tum",
+]
+
+TRAJECTORY_FORMATS = ("tum", "kitti", "euroc", "csv", "matrix", "study", "mcap")
+CSV_HEADER = "t,tx,ty,tz,qw,qx,qy,qz"
+MATRIX_HEADER = "t,r11,r12,r13,tx,r21,r22,r23,ty,r31,r32,r33,tz"
+STUDY_HEADER = "t,p0,p1,p2,p3,q0,q1,q2,q3"
+_HEADERS = {"csv": CSV_HEADER, "matrix": MATRIX_HEADER, "study": STUDY_HEADER}
+#: Columns of the poses in each text format (after the time, where there is one).
+_COLUMNS = {"tum": 8, "kitti": 12, "euroc": 8, "csv": 8, "matrix": 13, "study": 9}
+_SUFFIXES = {".tum": "tum", ".kitti": "kitti", ".mcap": "mcap"}
+MCAP_MAGIC = b"\x89MCAP0\r\n"
+POSE_SCHEMAS = ("foxglove.PoseInFrame", "foxglove.FrameTransform")
+
+
+@dataclass
+class Trajectory:
+    """Poses in time: ``times (N,)`` increasing seconds (for KITTI without a rate, the indices),
+    robotics ``matrices (N, 4, 4)``, and the numbers as the file holds them: ``quat_wxyz (N, 4)``
+    for quaternion formats, ``study (N, 8)`` for study, else ``None``."""
+
+    times: np.ndarray
+    matrices: np.ndarray
+    quat_wxyz: np.ndarray | None = None
+    study: np.ndarray | None = None
+    name: str = "<trajectory>"
+    fmt: str = ""
+    #: With ``orthonormalize``: the largest ``max |R Rᵀ − I|`` repaired.
+    repaired: float | None = None
+
+    @property
+    def translations(self) -> np.ndarray:
+        return self.matrices[:, :3, 3]
+
+    def __len__(self) -> int:
+        return len(self.times)
+
+
+def read_trajectory(
+    stream: IO,
+    name: str | None = None,
+    fmt: str | None = None,
+    *,
+    rate: float | None = None,
+    topic: str | None = None,
+    orthonormalize: bool = False,
+    minimum: int = 1,
+) -> Trajectory:
+    """Read a trajectory file (see the module's table) from a binary ``stream``.
+
+    ``rate`` gives KITTI poses the times ``i / rate``; ``topic`` picks the MCAP topic when the
+    file has several; ``orthonormalize`` repairs rotation blocks that are orthogonal only to a
+    few digits (:func:`a2b.poses.orthonormalize`); ``minimum`` is the fewest poses accepted.
+    """
+    name = name or getattr(stream, "name", None) or "<stdin>"
+    name = "<stdin>" if name == "-" else str(name)
+    data = stream.read()
+    if isinstance(data, str):
+        data = data.encode()
+    fmt = fmt or _SUFFIXES.get(os.path.splitext(name)[1].lower()) or _sniff(data, name)
+    if fmt not in TRAJECTORY_FORMATS:
+        raise InputFileError(f"{name}: unknown trajectory format {fmt!r}")
+    if fmt == "mcap":
+        times, quat, trans = _mcap(data, name, topic)
+        lines = None
+        trajectory = _from_quaternions(times, quat, trans, name, fmt, lines, rows=None)
+    else:
+        table, lines = _table(data, name, fmt)
+        trajectory = _from_table(table, lines, name, fmt, rate, orthonormalize)
+    if len(trajectory) < minimum:
+        raise InputFileError(
+            f"{name}: expected at least {minimum} pose{'s' * (minimum != 1)}, got {len(trajectory)}"
+        )
+    _check_times(trajectory.times, name, lines)
+    return trajectory
+
+
+def _sniff(data: bytes, name: str) -> str:
+    if data.startswith(MCAP_MAGIC):
+        return "mcap"
+    head = data[:4096].decode("utf-8", "replace").splitlines()
+    first = head[0].strip() if head else ""
+    for fmt, header in _HEADERS.items():
+        if first == header:
+            return fmt
+    if first.startswith("#") and "," in first and "timestamp" in first.lower():
+        return "euroc"
+    for line in head:
+        if line.strip() and not line.lstrip().startswith("#"):
+            count = len(line.replace(",", " ").split())
+            if count == 8 and "," not in line:
+                return "tum"
+            if count == 12:
+                return "kitti"
+            break
+    raise InputFileError(
+        f"{name}: cannot tell the trajectory format (expected TUM, KITTI, EuRoC, a2b's csv, "
+        "matrix or study, or MCAP); give it with --input-format"
+    )
+
+
+# -- text formats ------------------------------------------------------------------------------
+
+
+def _table(data: bytes, name: str, fmt: str) -> tuple[np.ndarray, np.ndarray]:
+    """The numbers of a text trajectory ``(N, columns)`` and the line number of each row."""
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        raise InputFileError(f"{name}:{line}: the file is not UTF-8 text") from None
+    lines = text.splitlines()
+    first = 0
+    if fmt in _HEADERS:
+        if not lines or lines[0].strip() != _HEADERS[fmt]:
+            got = repr(lines[0][:80]) if lines else "an empty file"
+            raise InputFileError(
+                f"{name}:1:1: expected the {fmt} header {_HEADERS[fmt]!r}, got {got}"
+            )
+        first = 1
+    elif fmt == "euroc":
+        if not lines or not lines[0].startswith("#"):
+            raise InputFileError(f"{name}:1:1: expected EuRoC's '#timestamp [ns],…' header line")
+        first = 1
+    sep = "," if fmt in _HEADERS or fmt == "euroc" else None
+    numbers = [
+        (i + 1, line)
+        for i, line in enumerate(lines[first:], first)
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
+    width = _COLUMNS[fmt]
+    if fmt == "euroc":
+        return _euroc(numbers, name)
+    rows = np.empty((len(numbers), width))
+    try:
+        if numbers:
+            parsed = np.loadtxt([line for _, line in numbers], delimiter=sep, ndmin=2)
+            if parsed.shape[1] != width:
+                raise ValueError
+            rows = parsed
+    except ValueError:
+        _locate_bad_number(numbers, sep, width, name, fmt)
+        raise  # pragma: no cover - _locate_bad_number raises
+    line_numbers = np.array([n for n, _ in numbers], dtype=np.int64)
+    bad = ~np.isfinite(rows).all(axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        column = int(np.argmax(~np.isfinite(rows[i])))
+        _raise_at(numbers[i], sep, column, name, "expected a finite number")
+    return rows, line_numbers
+
+
+def _fields(line: str, sep: str | None) -> list[tuple[int, str]]:
+    """The fields of a line, each with the 1-based column where it starts."""
+    if sep is None:
+        return [(m.start() + 1, m.group()) for m in re.finditer(r"\S+", line)]
+    out, pos = [], 0
+    for part in line.split(sep):
+        out.append((pos + len(part) - len(part.lstrip()) + 1, part.strip()))
+        pos += len(part) + len(sep)
+    return out
+
+
+def _raise_at(numbered: tuple[int, str], sep, column: int, name: str, message: str) -> None:
+    number, line = numbered
+    fields = _fields(line, sep)
+    col, token = fields[column] if column < len(fields) else (len(line) + 1, "")
+    shown = token if len(token) <= 40 else token[:37] + "..."
+    raise InputFileError(f"{name}:{number}:{col}: {message}, got {shown!r}")
+
+
+def _locate_bad_number(numbers: list, sep, width: int, name: str, fmt: str) -> None:
+    """Raise for the first line that is not ``width`` finite numbers."""
+    for numbered in numbers:
+        fields = _fields(numbered[1], sep)
+        if len(fields) != width:
+            raise InputFileError(
+                f"{name}:{numbered[0]}:1: expected {width} numbers per line ({fmt}), got "
+                f"{len(fields)}"
+            )
+        for column, (_, token) in enumerate(fields):
+            try:
+                float(token)
+            except ValueError:
+                _raise_at(numbered, sep, column, name, "expected a number")
+    raise InputFileError(f"{name}: cannot read the numbers of this {fmt} file")
+
+
+def _euroc(numbers: list, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """EuRoC rows: nanosecond stamps read as integers (they exceed 2**53), then 7 numbers."""
+    rows = np.empty((len(numbers), 8))
+    for i, numbered in enumerate(numbers):
+        fields = _fields(numbered[1], ",")
+        if len(fields) < 8:
+            raise InputFileError(
+                f"{name}:{numbered[0]}:1: expected at least 8 fields (timestamp [ns], p_x, p_y, "
+                f"p_z, q_w, q_x, q_y, q_z), got {len(fields)}"
+            )
+        try:
+            stamp = int(fields[0][1])
+        except ValueError:
+            _raise_at(numbered, ",", 0, name, "expected a whole number of nanoseconds")
+        seconds, nanoseconds = divmod(stamp, 10**9)
+        rows[i, 0] = seconds + nanoseconds * 1e-9
+        for column in range(1, 8):
+            try:
+                rows[i, column] = float(fields[column][1])
+            except ValueError:
+                _raise_at(numbered, ",", column, name, "expected a number")
+        if not np.isfinite(rows[i]).all():
+            column = int(np.argmax(~np.isfinite(rows[i])))
+            _raise_at(numbered, ",", column, name, "expected a finite number")
+    return rows, np.array([n for n, _ in numbers], dtype=np.int64)
+
+
+def _from_table(table, lines, name, fmt, rate, orthonormalize) -> Trajectory:
+    if fmt == "kitti":
+        times = np.arange(len(table), dtype=float)
+        if rate is not None:
+            times /= rate
+        return _from_matrices(times, table, lines, name, fmt, orthonormalize)
+    times = table[:, 0]
+    if fmt == "tum":
+        return _from_quaternions(times, table[:, [7, 4, 5, 6]], table[:, 1:4], name, fmt, lines)
+    if fmt in ("csv", "euroc"):
+        return _from_quaternions(times, table[:, 4:8], table[:, 1:4], name, fmt, lines)
+    if fmt == "matrix":
+        return _from_matrices(times, table[:, 1:], lines, name, fmt, orthonormalize)
+    from ..poses import matrices_from_study
+
+    study = table[:, 1:]
+    try:
+        matrices = matrices_from_study(study)
+    except A2bError:
+        for i in range(len(study)):  # the first failing row, for its line
+            try:
+                matrices_from_study(study[i])
+            except A2bError as e:
+                raise InputFileError(f"{name}:{lines[i]}:1: {e}") from None
+        raise
+    return Trajectory(times, matrices, study=study, name=name, fmt=fmt)
+
+
+def _from_quaternions(times, quat, trans, name, fmt, lines, rows=True) -> Trajectory:
+    from ..poses import matrices_from_quat_trans
+
+    norms = np.sqrt(np.einsum("ij,ij->i", quat, quat))
+    bad = ~(norms > 0.0)
+    if bad.any():
+        i = int(np.argmax(bad))
+        where = f"{name}:{lines[i]}:1" if lines is not None else f"{name}: message {i + 1}"
+        raise InputFileError(f"{where}: the quaternion is zero; a rotation needs a non-zero one")
+    matrices = matrices_from_quat_trans(quat / norms[:, None], trans)
+    return Trajectory(times, matrices, quat_wxyz=quat, name=name, fmt=fmt)
+
+
+def _from_matrices(times, rows, lines, name, fmt, orthonormalize) -> Trajectory:
+    from ..poses import ORTHO_TOL, REPAIR_TOL, determinants, orthogonality_residuals
+    from ..poses import orthonormalize as project
+
+    matrices = np.zeros((len(rows), 4, 4))
+    matrices[:, :3, :] = rows.reshape(-1, 3, 4)
+    matrices[:, 3, 3] = 1.0
+    rotations = matrices[:, :3, :3]
+    residual = orthogonality_residuals(rotations)
+    tol = REPAIR_TOL if orthonormalize else ORTHO_TOL
+    bad = ~(residual <= tol) | (determinants(rotations) < 0)
+    if bad.any():
+        i = int(np.argmax(bad))
+        if determinants(rotations[i]) < 0:
+            message = "the rotation block is a reflection (det R < 0), not a rotation"
+        else:
+            message = (
+                f"the rotation block is not orthogonal: max |R Rᵀ − I| = {residual[i]:.3g} "
+                f"exceeds tolerance {tol:g}"
+            )
+            if not orthonormalize and residual[i] <= REPAIR_TOL:
+                message += (
+                    "; if the file rounds its rotations to a few digits, --orthonormalize "
+                    f"projects each onto the nearest rotation (up to {REPAIR_TOL:g})"
+                )
+        raise InputFileError(f"{name}:{lines[i]}:1: {message}")
+    trajectory = Trajectory(times, matrices, name=name, fmt=fmt)
+    if orthonormalize:
+        trajectory.repaired = float(residual.max(initial=0.0))
+        trajectory.matrices = project(matrices)
+    return trajectory
+
+
+def _check_times(times: np.ndarray, name: str, lines) -> None:
+    steps = np.diff(times)
+    bad = ~(steps > 0.0)
+    if bad.any():
+        i = int(np.argmax(bad)) + 1
+        what = "repeats" if steps[i - 1] == 0.0 else "goes back from"
+        where = f"{name}:{lines[i]}:1" if lines is not None else f"{name}: message {i + 1}"
+        raise InputFileError(
+            f"{where}: the time {times[i]!r} {what} the previous one, {times[i - 1]!r}; "
+            "times must increase (sort the file, or drop the repeated pose)"
+        )
+
+
+# -- MCAP --------------------------------------------------------------------------------------
+
+
+def _mcap(data: bytes, name: str, topic: str | None):
+    """Times (s), quaternions and translations of the pose messages of one MCAP topic."""
+    from mcap.exceptions import McapError
+    from mcap.reader import make_reader
+
+    try:
+        reader = make_reader(io.BytesIO(data))
+        summary = reader.get_summary()
+        channels = summary.channels if summary is not None else None
+        if channels is None:
+            channels = {}
+            for _schema, channel, _message in reader.iter_messages():
+                channels.setdefault(channel.id, channel)
+            reader = make_reader(io.BytesIO(data))
+            schemas = None
+        else:
+            schemas = summary.schemas
+    except (McapError, ValueError, EOFError) as e:
+        raise InputFileError(f"{name}: not a readable MCAP file ({e})") from None
+    topics = sorted({c.topic for c in channels.values()})
+    if topic is None:
+        candidates = []
+        for channel in channels.values():
+            schema = schemas.get(channel.schema_id) if schemas else None
+            if schema is None or schema.name in POSE_SCHEMAS:
+                candidates.append(channel.topic)
+        candidates = sorted(set(candidates))
+        if "/a2b/pose" in candidates:
+            candidates = ["/a2b/pose"]
+        if len(candidates) != 1:
+            raise InputFileError(
+                f"{name}: {'several' if candidates else 'no'} pose topics "
+                f"({', '.join(candidates or topics) or 'none'}); choose one with --topic"
+            )
+        topic = candidates[0]
+    elif topic not in topics:
+        raise InputFileError(
+            f"{name}: no topic {topic!r}; the file has {', '.join(topics) or 'none'}"
+        )
+    times, quats, trans = [], [], []
+    for schema, channel, message in reader.iter_messages(topics=[topic]):
+        where = f"{name}: {topic} message {len(times) + 1}"
+        if channel.message_encoding != "json":
+            raise InputFileError(
+                f"{where}: encoding {channel.message_encoding!r}; a2b reads JSON-encoded "
+                "foxglove.PoseInFrame and foxglove.FrameTransform"
+            )
+        try:
+            msg = json.loads(message.data)
+            stamp = msg["timestamp"]
+            times.append(int(stamp["sec"]) + int(stamp["nsec"]) * 1e-9)
+            if "pose" in msg:
+                position, orientation = msg["pose"]["position"], msg["pose"]["orientation"]
+            else:
+                position, orientation = msg["translation"], msg["rotation"]
+            quats.append([float(orientation[k]) for k in "wxyz"])
+            trans.append([float(position[k]) for k in "xyz"])
+        except (ValueError, KeyError, TypeError) as e:
+            raise InputFileError(
+                f"{where}: not a PoseInFrame or FrameTransform message ({e!r})"
+            ) from None
+    quat, translation = np.array(quats).reshape(-1, 4), np.array(trans).reshape(-1, 3)
+    if not (np.isfinite(quat).all() and np.isfinite(translation).all()):
+        raise InputFileError(f"{name}: {topic}: a pose is not finite")
+    return np.array(times), quat, translation
+
+
+# -- the layouts of the writers, for tests and scripts ------------------------------------------
+
+
+def read_csv(stream: IO) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Read ``csv`` output: ``t (N,)``, ``quat_wxyz (N, 4)``, ``translations (N, 3)``."""
+    tr = read_trajectory(stream, fmt="csv", minimum=0)
+    return tr.times, tr.quat_wxyz, tr.translations
+
+
+def read_matrix_csv(stream: IO) -> tuple[np.ndarray, np.ndarray]:
+    """Read ``matrix`` output: ``t (N,)`` and robotics matrices ``(N, 4, 4)``."""
+    tr = read_trajectory(stream, fmt="matrix", minimum=0)
+    return tr.times, tr.matrices
+
+
+def read_study_csv(stream: IO) -> tuple[np.ndarray, np.ndarray]:
+    """Read ``study`` output: ``t (N,)`` and Study parameters ``(N, 8)``."""
+    tr = read_trajectory(stream, fmt="study", minimum=0)
+    return tr.times, tr.study
+
+
+def read_tum(stream: IO) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Read TUM: ``time``, ``quat_wxyz`` (rolled from xyzw here) and ``translations``."""
+    tr = read_trajectory(stream, fmt="tum", minimum=0)
+    return tr.times, tr.quat_wxyz, tr.translations
+
+
+def read_kitti(stream: IO) -> np.ndarray:
+    """Read KITTI poses: matrices ``(N, 4, 4)``."""
+    return read_trajectory(stream, fmt="kitti", minimum=0).matrices
+
+
+def read_mcap(stream: IO, topic: str = "/a2b/pose") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Read the poses of an MCAP topic: ``time`` (s), ``quat_wxyz``, ``translations``."""
+    tr = read_trajectory(stream, fmt="mcap", topic=topic, minimum=0)
+    return tr.times, tr.quat_wxyz, tr.translations
