@@ -20,7 +20,7 @@ LAYERS = [
               "a2b.poses", "a2b.extended", "a2b.frames", "a2b.fibers"]),
     ("motions", ["a2b.motions"]),
     ("api", ["a2b.api"]),
-    ("jobs", ["a2b.jobs"]),
+    ("jobs", ["a2b.jobs", "a2b.resample"]),
     ("io", ["a2b.io"]),
     ("plot", ["a2b.plot"]),
     ("cli", ["a2b.cli", "a2b.__main__"]),

@@ -24,7 +24,7 @@ def run(*args):
 
 def pose(matrix):
     quat, trans = a2b.poses.quat_trans_from_matrices(matrix)
-    return {"quaternion": quat.tolist(), "translation": trans.tolist()}
+    return {"quaternion_wxyz": quat.tolist(), "translation": trans.tolist()}
 
 
 def make_jobs(rng, n=7):

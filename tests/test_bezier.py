@@ -571,8 +571,8 @@ def test_cli_spline_hits_every_key_pose(space, tmp_path):
 
 
 def test_cli_reads_stdin_and_file_parameters():
-    text = """{"controls": [{"quaternion": [1, 0, 0, 0]},
-                            {"quaternion": [0, 0, 0, 1], "translation": [1, 0, 0]}],
+    text = """{"controls": [{"quaternion_wxyz": [1, 0, 0, 0]},
+                            {"quaternion_wxyz": [0, 0, 0, 1], "translation": [1, 0, 0]}],
                "space": "study", "samples": 3, "parameters": {"offsets": [0, 0.5]}}"""
     result = run("bezier", "-", "--format", "matrix", input=text)
     assert result.exit_code == 0, result.output
@@ -613,14 +613,16 @@ def test_cli_errors_are_one_line_with_file_position_or_t():
     assert result.exit_code == 1
     assert "weights needs one number per control pose, shape (4,)" in result.output
     result = run(
-        "bezier", "-", input="controls:\n  - quaternion: [1, 0, 0, 0]\n  - quaternion: [1, 0, 0]\n"
+        "bezier",
+        "-",
+        input="controls:\n  - quaternion_wxyz: [1, 0, 0, 0]\n  - quaternion_wxyz: [1, 0, 0]\n",
     )
     assert result.exit_code == 1
     assert (
-        "<stdin>:3:5: controls[1].quaternion: expected 4 numbers (w, x, y, z), got 3"
+        "<stdin>:3:5: controls[1].quaternion_wxyz: expected 4 numbers (w, x, y, z), got 3"
         in result.output
     )
-    result = run("spline", "-", input="poses:\n  - quaternion: [1, 0, 0, 0]\n")
+    result = run("spline", "-", input="poses:\n  - quaternion_wxyz: [1, 0, 0, 0]\n")
     assert result.exit_code == 1
     assert "<stdin>:1:1: poses: expected a list of at least two poses, got 1" in result.output
     result = run("spline", "-", input="controls: []\n")
@@ -635,8 +637,8 @@ def test_cli_errors_are_one_line_with_file_position_or_t():
 
 def test_read_pose_list_checks_per_control_parameters():
     text = b"""controls:
-  - quaternion: [1, 0, 0, 0]
-  - quaternion: [1, 0, 0, 0]
+  - quaternion_wxyz: [1, 0, 0, 0]
+  - quaternion_wxyz: [1, 0, 0, 0]
 parameters:
   alphas: [[0, 0, 0, 0, 0, 0]]
 """

@@ -33,7 +33,7 @@ def run(*args, input=None):
 def pose_json(matrix):
     """A pose mapping in quaternion form, with repr-exact numbers."""
     quat, trans = quat_trans_from_matrices(matrix)
-    return {"quaternion": quat.tolist(), "translation": trans.tolist()}
+    return {"quaternion_wxyz": quat.tolist(), "translation": trans.tolist()}
 
 
 def write_poses(path, start, end, **extra):
@@ -356,7 +356,8 @@ def test_stdin(poses):
 def test_a2b_error_is_one_line_exit_1(tmp_path):
     path = tmp_path / "p.yaml"
     path.write_text(
-        "start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [1, 0, 0, 0], translation: [0, 0, "
+        "start: {quaternion_wxyz: [1, 0, 0, 0]}\nend: "
+        "{quaternion_wxyz: [1, 0, 0, 0], translation: [0, 0, "
         "1]}\n"
     )
     out = tmp_path / "o.csv"
@@ -413,8 +414,9 @@ def test_describe_json_has_the_keys_of_a2b_describe(poses):
 def test_describe_human(tmp_path):
     path = tmp_path / "p.yaml"
     path.write_text(
-        "start: {quaternion: [1, 0, 0, 0]}\n"
-        "end: {quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [0, 0, "
+        "start: {quaternion_wxyz: [1, 0, 0, 0]}\n"
+        "end: "
+        "{quaternion_wxyz: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [0, 0, "
         "1]}\n"
     )
     result = run("describe", path, "--lam", 1.5, "--branch", -1)
@@ -629,7 +631,8 @@ def run_split(*args, input=None):
 
 
 HALF_TURN_TRANSLATION = (
-    "start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\n"
+    "start: {quaternion_wxyz: [1, 0, 0, 0]}\nend: "
+    "{quaternion_wxyz: [0, 0, 0, 1], translation: [0, 0, 1]}\n"
 )
 
 
@@ -655,7 +658,8 @@ def test_verbose_states_every_choice_on_stderr(tmp_path):
 def test_verbose_names_the_axis_of_a_pure_translation_and_the_default_m(tmp_path):
     path = tmp_path / "p.yaml"
     path.write_text(
-        "start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [1, 0, 0, 0], translation: [1, 2, "
+        "start: {quaternion_wxyz: [1, 0, 0, 0]}\nend: "
+        "{quaternion_wxyz: [1, 0, 0, 0], translation: [1, 2, "
         "3]}\n"
     )
     err = run_split("interpolate", path, "--mode", "cubic", "-o", tmp_path / "o.mcap", "-v").stderr
@@ -668,7 +672,8 @@ def test_verbose_names_the_axis_of_a_pure_translation_and_the_default_m(tmp_path
     assert "mode" not in err  # given on the command line
     c, s = math.cos(math.radians(85)), math.sin(math.radians(85))  # turns of +170° and −170°
     path.write_text(
-        f"start: {{quaternion: [{c}, 0, 0, {s}]}}\nend: {{quaternion: [{c}, 0, 0, {-s}]}}\n"
+        f"start: {{quaternion_wxyz: [{c}, 0, 0, {s}]}}\nend: {{quaternion_wxyz: [{c}, 0, 0, "
+        f"{-s}]}}\n"
     )
     err = run_split("interpolate", path, "-v", "--samples", 2).stderr
     assert "flipped the sign of B's quaternion so that pA·pB ≥ 0 (the short way round)" in err
@@ -832,12 +837,12 @@ def test_a_pipe_gets_no_mcap_header_for_a_refused_request(poses):
 
 NON_FINITE_RESULTS = [
     ("interpolate",
-     "end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\nparameters: {lam: 1e200}\n",
+     "end: {quaternion_wxyz: [0, 0, 0, 1], translation: [0, 0, 1]}\nparameters: {lam: 1e200}\n",
      "the motion's coefficients overflow float64"),
-    ("describe", "end: {quaternion: [1, 0, 0, 0], translation: [1.5e308, 1.5e308, 0]}\n",
+    ("describe", "end: {quaternion_wxyz: [1, 0, 0, 0], translation: [1.5e308, 1.5e308, 0]}\n",
      "the displacement from start to end overflows float64 (d = inf)"),
     ("describe",
-     "end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\nparameters: {lam: 1e200}\n",
+     "end: {quaternion_wxyz: [0, 0, 0, 1], translation: [0, 0, 1]}\nparameters: {lam: 1e200}\n",
      "the motion's coefficients overflow float64"),
 ]  # fmt: skip
 
@@ -845,7 +850,7 @@ NON_FINITE_RESULTS = [
 @pytest.mark.parametrize("command, end, message", NON_FINITE_RESULTS)
 def test_results_that_overflow_are_refused(tmp_path, command, end, message):
     path = tmp_path / "p.yaml"
-    path.write_text("start: {quaternion: [1, 0, 0, 0]}\n" + end)
+    path.write_text("start: {quaternion_wxyz: [1, 0, 0, 0]}\n" + end)
     args = ["-o", tmp_path / "o.csv"] if command == "interpolate" else ["--json"]
     result = run_split(command, path, *args)
     assert result.exit_code == 1
@@ -857,9 +862,10 @@ def test_results_that_overflow_are_refused(tmp_path, command, end, message):
 def test_batch_names_the_job_whose_samples_overflow(tmp_path):
     path = tmp_path / "jobs.yaml"
     path.write_text(
-        "- {name: fine, start: {quaternion: [1, 0, 0, 0]}, end: {quaternion: [1, 0, 0, 0]}, "
-        "samples: 2}\n"
-        "- {name: huge, start: {quaternion: [1, 0, 0, 0]}, end: {quaternion: [0, 0, 0, 1], "
+        "- {name: fine, start: {quaternion_wxyz: [1, 0, 0, 0]}, "
+        "end: {quaternion_wxyz: [1, 0, 0, 0]}, samples: 2}\n"
+        "- "
+        "{name: huge, start: {quaternion_wxyz: [1, 0, 0, 0]}, end: {quaternion_wxyz: [0, 0, 0, 1], "
         "translation: [0, 0, 1]}, "
         "parameters: {lam: 1e200}}\n"
     )
@@ -968,8 +974,9 @@ def test_a_sensitive_result_is_one_warning_line_and_the_run_goes_on(tmp_path):
     half = 0.5e-4  # a turn of 1e-4 rad, taken the long way round: p(½) nearly vanishes
     path = tmp_path / "p.yaml"
     path.write_text(
-        "start: {quaternion: [1, 0, 0, 0]}\n"
-        f"end: {{quaternion: [{math.cos(half)!r}, 0, 0, {math.sin(half)!r}], translation: [1, 0, "
+        "start: {quaternion_wxyz: [1, 0, 0, 0]}\n"
+        f"end: {{quaternion_wxyz: [{math.cos(half)!r}, 0, 0, {math.sin(half)!r}], translation: [1, "
+        f"0, "
         f"0]}}\n"
         "parameters: {long_way: true}\n"
     )
@@ -985,8 +992,9 @@ def test_a_sensitive_result_is_one_warning_line_and_the_run_goes_on(tmp_path):
 def test_batch_warnings_name_their_job(tmp_path):
     half = 0.5e-4
     job = (
-        "  start: {quaternion: [1, 0, 0, 0]}\n"
-        f"  end: {{quaternion: [{math.cos(half)!r}, 0, 0, {math.sin(half)!r}], translation: [1, "
+        "  start: {quaternion_wxyz: [1, 0, 0, 0]}\n"
+        f"  end: {{quaternion_wxyz: [{math.cos(half)!r}, 0, 0, {math.sin(half)!r}], translation: "
+        f"[1, "
         f"0, 0]}}\n"
         "  parameters: {long_way: true}\n"
     )
@@ -1026,23 +1034,23 @@ def test_output_to_an_empty_name_or_a_read_only_file(poses, tmp_path):
 @pytest.mark.parametrize(
     "end, d",
     [
-        ("{quaternion: [1, 0, 0, 0], translation: [1e308, 1e308, 0]}", 1e308 * 2**0.5),
-        ("{quaternion: [1, 0, 0, 0], translation: [1e200, 0, 0]}", 1e200),
-        ("{quaternion: [1, 0, 0, 0], translation: [3e-200, 4e-200, 0]}", 5e-200),
+        ("{quaternion_wxyz: [1, 0, 0, 0], translation: [1e308, 1e308, 0]}", 1e308 * 2**0.5),
+        ("{quaternion_wxyz: [1, 0, 0, 0], translation: [1e200, 0, 0]}", 1e200),
+        ("{quaternion_wxyz: [1, 0, 0, 0], translation: [3e-200, 4e-200, 0]}", 5e-200),
     ],
 )
 def test_a_length_that_is_a_double_is_no_overflow(tmp_path, end, d):
     """Lengths come from overflow-safe norms: only a length beyond a double is refused."""
     path = tmp_path / "p.yaml"
-    path.write_text(f"start: {{quaternion: [1, 0, 0, 0]}}\nend: {end}\n")
+    path.write_text(f"start: {{quaternion_wxyz: [1, 0, 0, 0]}}\nend: {end}\n")
     result = run_split("describe", path, "--json")
     assert result.exit_code == 0, result.stderr
     assert json.loads(result.stdout)["d"] == pytest.approx(d, rel=1e-15)
 
 
 EIGHTH_TURN = (
-    "start: {quaternion: [1, 0, 0, 0]}\n"
-    "end: {quaternion: [0.9238795325112867, 0, 0, 0.3826834323650898], "
+    "start: {quaternion_wxyz: [1, 0, 0, 0]}\n"
+    "end: {quaternion_wxyz: [0.9238795325112867, 0, 0, 0.3826834323650898], "
     "translation: [0, 0, 1]}\n"
 )
 ANGLES = [("45deg", math.pi / 4), ("-90 deg", -math.pi / 2), ("0.5", 0.5)]

@@ -124,14 +124,14 @@ def test_every_terminating_signal_leaves_no_file(tmp_path, name):
 
 def test_error_exit_codes_in_a_real_process(tmp_path):
     bad = tmp_path / "bad.yaml"
-    bad.write_text("start: {quaternion: [1, 0, 0]}\nend: {quaternion: [1, 0, 0, 0]}\n")
+    bad.write_text("start: {quaternion_wxyz: [1, 0, 0]}\nend: {quaternion_wxyz: [1, 0, 0, 0]}\n")
     result = subprocess.run(
         a2b_cmd("interpolate", bad), capture_output=True, timeout=60, check=False
     )
     assert result.returncode == 1
     assert result.stdout == b""
     assert result.stderr.decode().splitlines() == [
-        f"Error: {bad}:1:9: start.quaternion: expected 4 numbers (w, x, y, z), got 3"
+        f"Error: {bad}:1:9: start.quaternion_wxyz: expected 4 numbers (w, x, y, z), got 3"
     ]
     result = subprocess.run(
         a2b_cmd("interpolate", bad, "--format", "png"), capture_output=True, timeout=60, check=False
@@ -212,8 +212,9 @@ def test_shell_completion_of_commands_and_formats():
 
 def _job_line(i, quaternion="[1, 0, 0, 0]"):
     return (
-        f'{{"name": "j{i}", "start": {{"quaternion": {quaternion}, "translation": [{i}, 0, 0]}}, '
-        f'"end": {{"quaternion": [0, 0, 0, 1], "translation": [0, {i}, 1]}}}}\n'
+        f'{{"name": "j{i}", "start": {{"quaternion_wxyz": {quaternion}, "translation": [{i}, 0, '
+        f"0]}}, "
+        f'"end": {{"quaternion_wxyz": [0, 0, 0, 1], "translation": [0, {i}, 1]}}}}\n'
     )
 
 

@@ -104,8 +104,11 @@ def items(node):
     return list(node) if isinstance(node, Pairs) else list(node.items())
 
 
-IDENTITY = {"quaternion": [1, 0, 0, 0]}
-QUARTER = {"quaternion": [0.7071067811865476, 0, 0, 0.7071067811865476], "translation": [1, 1, 0.5]}
+IDENTITY = {"quaternion_wxyz": [1, 0, 0, 0]}
+QUARTER = {
+    "quaternion_wxyz": [0.7071067811865476, 0, 0, 0.7071067811865476],
+    "translation": [1, 1, 0.5],
+}
 POSES = [
     IDENTITY,
     QUARTER,
@@ -130,7 +133,7 @@ PARAMETERS = [
     {"alpha": [0, 0, 0, 0, 0, 0.1], "frame": "given"},
 ]
 MODE_OF = {"m": "cubic", "alpha": "cubic"}
-POSE_FORMS = ("matrix", "quaternion", "quaternion_xyzw", "study")
+POSE_FORMS = ("matrix", "quaternion", "quaternion_wxyz", "quaternion_xyzw", "study")
 #: Keys whose value is an enumeration, and what they allow.
 ENUMS = {
     "mode": ("darboux", "cubic", "screw"),
@@ -142,7 +145,7 @@ ENUMS = {
 BOOLS = ("kappa", "long_way")
 #: Lists of a fixed length: key -> length (matrix rows too).
 LENGTHS = {
-    "quaternion": 4,
+    "quaternion_wxyz": 4,
     "quaternion_xyzw": 4,
     "translation": 3,
     "study": 8,
@@ -271,7 +274,9 @@ def mutated(draw, kind: str):
     if how in ("unknown key", "duplicate key") and mappings:
         path = draw(st.sampled_from(mappings))
         node = get(tree, path)
-        if how == "unknown key" and not (path and path[-1] in ("quaternion", "translation")):
+        if how == "unknown key" and not (
+            path and path[-1] in ("quaternion", "quaternion_wxyz", "translation")
+        ):
             allowed = {"start", "end", "mode", "samples", "parameters", "name", "controls", "poses",
                        "space", *POSE_KEYS, *readers.PARAMETER_KINDS, "weights", "alphas", "basis",
                        "offsets", "x", "y", "z", "w"}  # fmt: skip
@@ -356,17 +361,17 @@ def mutated(draw, kind: str):
     pose_paths = [p for p, v in nodes if isinstance(v, dict) and any(k in v for k in POSE_FORMS)]
     path = draw(st.sampled_from(pose_paths))
     bad = draw(st.sampled_from([
-        {"quaternion": [0, 0, 0, 0]},
-        {"quaternion": [-0.0, 0, 0.0, 0]},
+        {"quaternion_wxyz": [0, 0, 0, 0]},
+        {"quaternion_wxyz": [-0.0, 0, 0.0, 0]},
         {"quaternion_xyzw": [0.0, 0.0, 0.0, -0.0]},
         {"matrix": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 2, 0], [0, 0, 0, 1]]},
         {"matrix": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [1, 0, 0, 1]]},
         {"matrix": [[0, 1, 0, 0], [1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]},  # a reflection
         {"study": [1, 0, 0, 0, 1, 0, 0, 0]},
         {"study": [0, 0, 0, 0, 1, 0, 0, 0], "kappa": True},
-        {"quaternion": [1, 0, 0, 0], "study": [1, 0, 0, 0, 0, 0, 0, 0]},
+        {"quaternion_wxyz": [1, 0, 0, 0], "study": [1, 0, 0, 0, 0, 0, 0, 0]},
         {"translation": [1, 2, 3]},
-        {"quaternion": [1, 0, 0, 0], "kappa": True},
+        {"quaternion_wxyz": [1, 0, 0, 0], "kappa": True},
     ]))  # fmt: skip
     return replace(tree, path, bad), "bad pose"
 
@@ -668,10 +673,11 @@ def test_fuzz_command(workdir, command, kind):
 
 
 GOOD_POSES = (
-    b"start: {quaternion: [1, 0, 0, 0]}\n"
-    b"end: {quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [1, 1, 0.5]}\n"
+    b"start: {quaternion_wxyz: [1, 0, 0, 0]}\n"
+    b"end: "
+    b"{quaternion_wxyz: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [1, 1, 0.5]}\n"
 )
-GOOD_POSE = b"quaternion: [0.5, 0.5, -0.5, 0.5]\ntranslation: [1, 2, 3]\n"
+GOOD_POSE = b"quaternion_wxyz: [0.5, 0.5, -0.5, 0.5]\ntranslation: [1, 2, 3]\n"
 GOOD_JOBS = b"- " + GOOD_POSES.replace(b"\nend", b"\n  end")
 
 NOT_A_NUMBER = st.one_of(
@@ -784,16 +790,16 @@ PROCESS_CASES = [
     (
         "interpolate",
         "huge.json",
-        b'{"start": {"quaternion": [1'
+        b'{"start": {"quaternion_wxyz": [1'
         + b"0" * 5000
-        + b', 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}',
+        + b', 0, 0, 0]}, "end": {"quaternion_wxyz": [1, 0, 0, 0]}}',
     ),
     ("interpolate", "nul.yaml", GOOD_POSES.replace(b"end", b"e\x00nd")),
     (
         "batch",
         "latin1.jsonl",
-        b'{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}, "name": '
-        b'"caf\xe9"}\n',
+        b'{"start": {"quaternion_wxyz": [1, 0, 0, 0]}, '
+        b'"end": {"quaternion_wxyz": [1, 0, 0, 0]}, "name": "caf\xe9"}\n',
     ),
 ]
 
@@ -849,11 +855,11 @@ def test_homogeneous_inputs_at_every_scale(exponent, kind, quaternion, translati
     start = np.eye(4)
     if kind in ("quaternion", "study"):
         form = (
-            {"quaternion": [q * scale for q in quaternion], "translation": translation}
+            {"quaternion_wxyz": [q * scale for q in quaternion], "translation": translation}
             if kind == "quaternion"
             else {"study": (study_from_matrices(end) * scale).tolist()}
         )
-        text = json.dumps({"start": {"quaternion": [1, 0, 0, 0]}, "end": form})
+        text = json.dumps({"start": {"quaternion_wxyz": [1, 0, 0, 0]}, "end": form})
         got = read_poses(io.BytesIO(text.encode()), "p.json").end
         np.testing.assert_allclose(got, end, rtol=0, atol=1e-12 * (1 + np.abs(end).max()))
         return

@@ -50,8 +50,9 @@ def big_jobs(path: Path, samples: int) -> Path:
     path.write_text(
         "- name: big\n"
         f"  samples: {samples}\n"
-        "  start: {quaternion: [1, 0, 0, 0]}\n"
-        "  end: {quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [1, 1, "
+        "  start: {quaternion_wxyz: [1, 0, 0, 0]}\n"
+        "  end: "
+        "{quaternion_wxyz: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [1, 1, "
         "0.5]}\n"
     )
     return path
@@ -254,8 +255,8 @@ def test_failed_run_in_a_real_process_keeps_the_old_file(tmp_path):
     """A job that fails after others were written: status 1, old file intact."""
     jobs = tmp_path / "jobs.yaml"
     good = (
-        "  start: {quaternion: [1, 0, 0, 0]}\n"
-        "  end: {quaternion: [0, 0, 0, 1], translation: [0, 0, 1]}\n"
+        "  start: {quaternion_wxyz: [1, 0, 0, 0]}\n"
+        "  end: {quaternion_wxyz: [0, 0, 0, 1], translation: [0, 0, 1]}\n"
     )
     jobs.write_text(f"- samples: 300000\n{good}- samples: 3\n  parameters: {{lam: 0.1}}\n{good}")
     out = tmp_path / "out.csv"
@@ -383,8 +384,8 @@ def test_a_100_kb_job_name_keeps_batch_memory_bounded(tmp_path):
                 json.dumps(
                     {
                         "name": name,
-                        "start": {"quaternion": [1, 0, 0, 0]},
-                        "end": {"quaternion": [0, 0, 0, 1], "translation": [1, 2, i]},
+                        "start": {"quaternion_wxyz": [1, 0, 0, 0]},
+                        "end": {"quaternion_wxyz": [0, 0, 0, 1], "translation": [1, 2, i]},
                     }
                 )
                 + "\n"
@@ -415,8 +416,8 @@ HOSTILE = [
 def test_a_job_name_reaches_stderr_escaped(tmp_path, name):
     job = {
         "name": name,
-        "start": {"quaternion": [1, 0, 0, 0]},
-        "end": {"quaternion": [0, 0, 0, 1], "translation": [0, 0, 1]},
+        "start": {"quaternion_wxyz": [1, 0, 0, 0]},
+        "end": {"quaternion_wxyz": [0, 0, 0, 1], "translation": [0, 0, 1]},
         "parameters": {"lam": 1e-6},
     }
     path = tmp_path / "jobs.json"
@@ -492,8 +493,8 @@ def _jobs_with_a_long_name(path: Path) -> Path:
         for i in range(20):
             job = {
                 "name": MEGABYTE_NAME if i == 10 else f"job{i}",
-                "start": {"quaternion": [1, 0, 0, 0]},
-                "end": {"quaternion": [0, 0, 0, 1], "translation": [1, 2, i]},
+                "start": {"quaternion_wxyz": [1, 0, 0, 0]},
+                "end": {"quaternion_wxyz": [0, 0, 0, 1], "translation": [1, 2, i]},
             }
             f.write(json.dumps(job) + "\n")
     return path
@@ -567,7 +568,7 @@ def test_200_bezier_controls_stay_under_the_memory_cap(tmp_path):
     for _ in range(200):
         quaternion = np.array([1.0, 0, 0, 0]) + 0.3 * rng.normal(size=4)
         controls.append(
-            {"quaternion": quaternion.tolist(), "translation": rng.normal(size=3).tolist()}
+            {"quaternion_wxyz": quaternion.tolist(), "translation": rng.normal(size=3).tolist()}
         )
     path = tmp_path / "controls.json"
     path.write_text(json.dumps({"controls": controls}))
@@ -578,7 +579,7 @@ def test_200_bezier_controls_stay_under_the_memory_cap(tmp_path):
     rows = out.read_text().splitlines()
     assert len(rows) == 100_001
     first = np.array(rows[1].split(","), dtype=float)
-    quat, trans = controls[0]["quaternion"], controls[0]["translation"]
+    quat, trans = controls[0]["quaternion_wxyz"], controls[0]["translation"]
     np.testing.assert_allclose(first[1:4], trans, atol=1e-12)
     np.testing.assert_allclose(np.abs(first[4:] @ quat) / np.linalg.norm(quat), 1, atol=1e-12)
 
@@ -632,7 +633,7 @@ def test_a_read_error_is_one_error_line():
 
 # -- YAML 1.2 core schema, exactly ------------------------------------------------------------
 
-POSES_YAML = "start: {quaternion: [1, 0, 0, 0]}\nend: {quaternion: [0, 0, 0, 1]}\n"
+POSES_YAML = "start: {quaternion_wxyz: [1, 0, 0, 0]}\nend: {quaternion_wxyz: [0, 0, 0, 1]}\n"
 
 
 @pytest.mark.parametrize(
@@ -706,14 +707,16 @@ def test_quaternions_study_parameters_m_and_weights_of_any_scale(scale):
     from a2b.motions.bezier import bezier
 
     def pose(**form):
-        text = json.dumps({"start": {"quaternion": [1, 0, 0, 0]}, "end": form})
+        text = json.dumps({"start": {"quaternion_wxyz": [1, 0, 0, 0]}, "end": form})
         return read_poses(io.BytesIO(text.encode()), "p.json").end
 
     identity = np.eye(4)
-    assert np.array_equal(pose(quaternion=[5e-324 if scale < 1 else 1.7e308, 0, 0, 0]), identity)
+    assert np.array_equal(
+        pose(quaternion_wxyz=[5e-324 if scale < 1 else 1.7e308, 0, 0, 0]), identity
+    )
     c, s = math.cos(0.4), math.sin(0.4)
-    expected = pose(quaternion=[c, 0, 0, s], translation=[1, 2, 3])
-    got = pose(quaternion=[c * scale, 0, 0, s * scale], translation=[1, 2, 3])
+    expected = pose(quaternion_wxyz=[c, 0, 0, s], translation=[1, 2, 3])
+    got = pose(quaternion_wxyz=[c * scale, 0, 0, s * scale], translation=[1, 2, 3])
     np.testing.assert_allclose(got, expected, rtol=0, atol=1e-15)
     from a2b.poses import study_from_matrices
 
@@ -801,7 +804,8 @@ def test_1100_bezier_controls_need_no_recursion():
 def test_a_json_job_name_of_true_is_no_name(tmp_path, suffix):
     """JSON `true` would become the name "True", which is not the text as written."""
     job = (
-        '{"name": true, "start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}'
+        '{"name": true, "start": {"quaternion_wxyz": [1, 0, 0, 0]}, '
+        '"end": {"quaternion_wxyz": [1, 0, 0, 0]}}'
     )
     path = tmp_path / f"jobs.{suffix}"
     path.write_text(f"[{job}]\n" if suffix == "json" else job + "\n")

@@ -18,8 +18,10 @@ from a2b.cli import cli
 from a2b.errors import InputFileError
 from a2b.io import readers
 
-IDENTITY = "{quaternion: [1, 0, 0, 0]}"
-QUARTER = "{quaternion: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [1, 0, 0.5]}"
+IDENTITY = "{quaternion_wxyz: [1, 0, 0, 0]}"
+QUARTER = (
+    "{quaternion_wxyz: [0.7071067811865476, 0, 0, 0.7071067811865476], translation: [1, 0, 0.5]}"
+)
 
 # (file name, content, expected fragments of the message: file:line:col, key, problem)
 MALFORMED = [
@@ -30,9 +32,9 @@ MALFORMED = [
     ),
     (
         "dup.json",
-        '{"start": {"quaternion": [1, 0, 0, 0]},\n  "end": {"quaternion": [1, 0, 0, 0],\n   '
-        '"quaternion": [1, 0, 0, 0]}}',
-        ["dup.json:3:4", "duplicate key 'quaternion'"],
+        '{"start": {"quaternion_wxyz": [1, 0, 0, 0]},\n  '
+        '"end": {"quaternion_wxyz": [1, 0, 0, 0],\n   "quaternion_wxyz": [1, 0, 0, 0]}}',
+        ["dup.json:3:4", "duplicate key 'quaternion_wxyz'"],
     ),
     (
         "unknown.yaml",
@@ -41,12 +43,12 @@ MALFORMED = [
     ),
     (
         "unknown-pose.yaml",
-        f"start: {{quaternion: [1, 0, 0, 0], translaton: [0, 0, 0]}}\nend: {QUARTER}\n",
-        ["unknown-pose.yaml:1:35", "start.translaton", "unknown key"],
+        f"start: {{quaternion_wxyz: [1, 0, 0, 0], translaton: [0, 0, 0]}}\nend: {QUARTER}\n",
+        ["unknown-pose.yaml:1:40", "start.translaton", "unknown key"],
     ),
     (
         "length.yaml",
-        f"start: {IDENTITY}\nend:\n  quaternion: [1, 0, 0]\n",
+        f"start: {IDENTITY}\nend:\n  quaternion_wxyz: [1, 0, 0]\n",
         ["length.yaml:3:3", "end.quaternion", "expected 4 numbers (w, x, y, z), got 3"],
     ),
     (
@@ -62,24 +64,24 @@ MALFORMED = [
     ),
     (
         "string.yaml",
-        f"start: {IDENTITY}\nend: {{quaternion: [1, 0, zero, 0]}}\n",
-        ["string.yaml:2:26", "end.quaternion[2]", "expected a number, got the string 'zero'"],
+        f"start: {IDENTITY}\nend: {{quaternion_wxyz: [1, 0, zero, 0]}}\n",
+        ["string.yaml:2:31", "end.quaternion_wxyz[2]", "expected a number, got the string 'zero'"],
     ),
     (
         "bool.json",
-        '{"start": {"quaternion": [1, 0, 0, 0]},\n "end": {"quaternion": {"w": 1, "x": 0, "y": '
-        'true, "z": 0}}}',
+        '{"start": {"quaternion_wxyz": [1, 0, 0, 0]},\n '
+        '"end": {"quaternion": {"w": 1, "x": 0, "y": true, "z": 0}}}',
         ["bool.json:2:", "end.quaternion.y", "got the boolean true"],
     ),
     (
         "nan.json",
-        '{"start": {"quaternion": [1, 0, 0, 0]},\n "end": {"quaternion": [1, 0, 0, 0], '
+        '{"start": {"quaternion_wxyz": [1, 0, 0, 0]},\n "end": {"quaternion_wxyz": [1, 0, 0, 0], '
         '"translation": [0, NaN, 0]}}',
         ["nan.json:2:", "end.translation[1]", "NaN is not allowed"],
     ),
     (
         "inf.yaml",
-        f"start: {IDENTITY}\nend: {{quaternion: [1, 0, 0, 0], translation: [.inf, 0, 0]}}\n",
+        f"start: {IDENTITY}\nend: {{quaternion_wxyz: [1, 0, 0, 0], translation: [.inf, 0, 0]}}\n",
         ["inf.yaml:2:", "end.translation[0]", "must be finite"],
     ),
     (
@@ -88,10 +90,15 @@ MALFORMED = [
         ["nan-param.yaml:4:3", "parameters.delta", "must be finite"],
     ),
     ("nostart.yaml", f"end: {QUARTER}\n", ["nostart.yaml:1:1", "missing 'start'"]),
-    ("noend.json", '{"start": {"quaternion": [1, 0, 0, 0]}}', ["noend.json:1:1", "missing 'end'"]),
+    (
+        "noend.json",
+        '{"start": {"quaternion_wxyz": [1, 0, 0, 0]}}',
+        ["noend.json:1:1", "missing 'end'"],
+    ),
     (
         "twoforms.yaml",
-        f"start: {{quaternion: [1, 0, 0, 0], study: [1, 0, 0, 0, 0, 0, 0, 0]}}\nend: {QUARTER}\n",
+        f"start: {{quaternion_wxyz: [1, 0, 0, 0], study: [1, 0, 0, 0, 0, 0, 0, 0]}}\nend: "
+        f"{QUARTER}\n",
         ["twoforms.yaml:1:1", "start", "exactly one of"],
     ),
     (
@@ -128,8 +135,8 @@ MALFORMED = [
     ("syntax.yaml", "start: [1, 0\nend: {}\n", ["syntax.yaml:", "invalid YAML"]),
     (
         "syntax.json",
-        '{"start": {"quaternion": [1, 0, 0, 0]},, "end": 1}',
-        ["syntax.json:1:40", "invalid JSON"],
+        '{"start": {"quaternion_wxyz": [1, 0, 0, 0]},, "end": 1}',
+        ["syntax.json:1:45", "invalid JSON"],
     ),
     ("empty.yaml", "", ["empty.yaml: the file is empty"]),
     (
@@ -167,7 +174,7 @@ def test_every_pose_form_reads_the_same_pose():
     q = [0.5, 0.5, -0.5, 0.5]
     t = [1.0, -2.0, 0.25]
     forms = [
-        {"quaternion": q, "translation": t},
+        {"quaternion_wxyz": q, "translation": t},
         {"quaternion": dict(zip("wxyz", q)), "translation": dict(zip("xyz", t))},
         {"quaternion_xyzw": q[1:] + q[:1], "translation": t},
     ]
@@ -198,37 +205,38 @@ def test_every_pose_form_reads_the_same_pose():
 
 
 def test_yaml_reads_exponents_and_json_reads_tabs():
-    text = "quaternion: [1e0, 0, 0, 0]\ntranslation: [1e-3, 2E+2, -.5e1]\n"
+    text = "quaternion_wxyz: [1e0, 0, 0, 0]\ntranslation: [1e-3, 2E+2, -.5e1]\n"
     m = readers.read_pose(io.BytesIO(text.encode()), "p.yaml")
     assert m[:3, 3].tolist() == [0.001, 200.0, -5.0]
-    text = '{\n\t"quaternion": [1, 0, 0, 0],\n\t"translation": [1, 2, 3]\n}'
+    text = '{\n\t"quaternion_wxyz": [1, 0, 0, 0],\n\t"translation": [1, 2, 3]\n}'
     m = readers.read_pose(io.BytesIO(text.encode()), "p.json")
     assert m[:3, 3].tolist() == [1.0, 2.0, 3.0]
 
 
 def test_content_detection_without_suffix():
-    yaml_text = b"quaternion: [1, 0, 0, 0]\n"
-    json_text = b'{"quaternion": [1, 0, 0, 0], "translation": [0, 0, 1]}'
-    flow_yaml = b"{quaternion: [1, 0, 0, 0], translation: [0, 0, 2]}"
+    yaml_text = b"quaternion_wxyz: [1, 0, 0, 0]\n"
+    json_text = b'{"quaternion_wxyz": [1, 0, 0, 0], "translation": [0, 0, 1]}'
+    flow_yaml = b"{quaternion_wxyz: [1, 0, 0, 0], translation: [0, 0, 2]}"
     assert readers.read_pose(io.BytesIO(yaml_text), "<stdin>")[2, 3] == 0.0
     assert readers.read_pose(io.BytesIO(json_text), "<stdin>")[2, 3] == 1.0
     assert readers.read_pose(io.BytesIO(flow_yaml), "<stdin>")[2, 3] == 2.0
 
 
 def test_jobs_errors_name_the_job_and_line(tmp_path):
-    good = {"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}
-    bad = {"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0]}}
+    good = {"start": {"quaternion_wxyz": [1, 0, 0, 0]}, "end": {"quaternion_wxyz": [1, 0, 0, 0]}}
+    bad = {"start": {"quaternion_wxyz": [1, 0, 0, 0]}, "end": {"quaternion_wxyz": [1, 0, 0]}}
     text = "\n".join(json.dumps(j) for j in (good, good, bad)) + "\n"
     jobs = readers.read_jobs(io.BytesIO(text.encode()), "jobs.jsonl")
     assert jobs.count is None
     it = iter(jobs)
     next(it), next(it)
     with pytest.raises(
-        InputFileError, match=r"^jobs\.jsonl:3:49: job 2: end\.quaternion: expected 4 numbers"
+        InputFileError, match=r"^jobs\.jsonl:3:54: job 2: end\.quaternion_wxyz: expected 4 numbers"
     ):
         next(it)
     yaml_text = (
-        "- start: {quaternion: [1, 0, 0, 0]}\n  end: {quaternion: [1, 0, 0, 0]}\n- start: {}\n"
+        "- start: {quaternion_wxyz: [1, 0, 0, 0]}\n  end: {quaternion_wxyz: [1, 0, 0, 0]}\n- "
+        "start: {}\n"
     )
     jobs = readers.read_jobs(io.BytesIO(yaml_text.encode()), "jobs.yaml")
     assert jobs.count == 2
@@ -256,37 +264,39 @@ def test_a_poses_file_where_one_pose_belongs_and_back(tmp_path):
 # -- numbers, text and nesting that a hand or another program may produce --------------------
 
 EXACT_ERRORS = [
-    ("big.json", b'{"quaternion": [1' + b"0" * 400 + b", 0, 0, 0]}",
-     "big.json:1:17: quaternion[0]: 100000000000…000000 (401 digits) is too large for a double; "
+    ("big.json", b'{"quaternion_wxyz": [1' + b"0" * 400 + b", 0, 0, 0]}",
+     "big.json:1:22: quaternion_wxyz[0]: 100000000000…000000 (401 digits) is too large for a "
+     "double; "
      "numbers must be finite (|x| < 1.8e308)"),
-    ("digits.yaml", b"quaternion: [1" + b"0" * 5000 + b", 0, 0, 0]\n",
-     "digits.yaml:1:14: quaternion[0]: 100000000000…000000 (5001 digits) is too large for a "
+    ("digits.yaml", b"quaternion_wxyz: [1" + b"0" * 5000 + b", 0, 0, 0]\n",
+     "digits.yaml:1:19: quaternion_wxyz[0]: 100000000000…000000 (5001 digits) is too large for a "
      "double; numbers must be finite (|x| < 1.8e308)"),
-    ("exp.json", b'{"quaternion": [1e999, 0, 0, 0]}',
-     "exp.json:1:17: quaternion[0]: 1e999 is too large for a double; numbers must be finite "
+    ("exp.json", b'{"quaternion_wxyz": [1e999, 0, 0, 0]}',
+     "exp.json:1:22: quaternion_wxyz[0]: 1e999 is too large for a double; numbers must be finite "
      "(|x| < 1.8e308)"),
-    ("exp.yaml", b"quaternion: [1, 0, 0, -1.5e+400]\n",
-     "exp.yaml:1:23: quaternion[3]: -1.5e+400 is too large for a double; numbers must be finite "
+    ("exp.yaml", b"quaternion_wxyz: [1, 0, 0, -1.5e+400]\n",
+     "exp.yaml:1:28: quaternion_wxyz[3]: -1.5e+400 is too large for a double; numbers must be "
+     "finite "
      "(|x| < 1.8e308)"),
-    ("inf.yaml", b"quaternion: [1, 0, 0, 0]\ntranslation: [-.Inf, 0, 0]\n",
+    ("inf.yaml", b"quaternion_wxyz: [1, 0, 0, 0]\ntranslation: [-.Inf, 0, 0]\n",
      "inf.yaml:2:15: translation[0]: -.Inf is not allowed; numbers must be finite"),
-    ("sexagesimal.yaml", b"quaternion: [1:20, 0, 0, 0]\n",
-     "sexagesimal.yaml:1:14: quaternion[0]: expected a number, got the string '1:20'"),
-    ("underscore.yaml", b"quaternion: [1_000, 0, 0, 0]\n",
-     "underscore.yaml:1:14: quaternion[0]: expected a number, got the string '1_000'"),
+    ("sexagesimal.yaml", b"quaternion_wxyz: [1:20, 0, 0, 0]\n",
+     "sexagesimal.yaml:1:19: quaternion_wxyz[0]: expected a number, got the string '1:20'"),
+    ("underscore.yaml", b"quaternion_wxyz: [1_000, 0, 0, 0]\n",
+     "underscore.yaml:1:19: quaternion_wxyz[0]: expected a number, got the string '1_000'"),
     ("yes.yaml", b"study: [1, 0, 0, 0, 0, 0, 0, 0]\nkappa: yes\n",
      "yes.yaml:2:1: kappa: expected true or false, got the string 'yes'"),
-    ("latin1.yaml", b"quaternion: [1, 0, 0, 0]\n# caf\xe9\n",
+    ("latin1.yaml", b"quaternion_wxyz: [1, 0, 0, 0]\n# caf\xe9\n",
      "latin1.yaml:2:6: not UTF-8 text (byte 0xe9)"),
-    ("control.yaml", b"quaternion: [1, 0,\x07 0, 0]\n",
-     "control.yaml:1:19: invalid YAML: control characters are not allowed (#x0007)"),
+    ("control.yaml", b"quaternion_wxyz: [1, 0,\x07 0, 0]\n",
+     "control.yaml:1:24: invalid YAML: control characters are not allowed (#x0007)"),
     ("deep.yaml", b"[" * 50_000 + b"]" * 50_000,
      "deep.yaml:1:101: nested too deeply (a2b reads at most 100 levels)"),
     ("deep.json", b"[" * 50_000 + b"]" * 50_000,
      "deep.json: invalid JSON: nested too deeply to read"),
-    ("key.json", b'{"quaternion": [1, 0, 0, 0], "a\\nb": 1}',
-     "key.json:1:30: 'a\\nb': unknown key 'a\\nb' in a pose (expected matrix, quaternion, "
-     "quaternion_xyzw, study, layout, translation, kappa)"),
+    ("key.json", b'{"quaternion_wxyz": [1, 0, 0, 0], "a\\nb": 1}',
+     "key.json:1:35: 'a\\nb': unknown key 'a\\nb' in a pose (expected matrix, quaternion, "
+     "quaternion_wxyz, quaternion_xyzw, study, layout, translation, kappa)"),
 ]  # fmt: skip
 
 
@@ -298,7 +308,7 @@ def test_exact_messages_for_what_is_no_number_or_no_text(name, data, message):
 
 
 def test_yaml_1_2_numbers_are_numbers():
-    text = b"quaternion: [0x1, 0o0, -0, +0.0]\ntranslation: [1e3, .5, -2.]\n"
+    text = b"quaternion_wxyz: [0x1, 0o0, -0, +0.0]\ntranslation: [1e3, .5, -2.]\n"
     m = readers.read_pose(io.BytesIO(text), "p.yaml")
     assert m[:3, 3].tolist() == [1000.0, 0.5, -2.0]
 
@@ -331,8 +341,8 @@ def test_an_empty_jobs_file_is_an_error():
         list(
             readers.read_jobs(
                 io.BytesIO(
-                    b'{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, '
-                    b"0]}}\n\xff\n"
+                    b'{"start": {"quaternion_wxyz": [1, 0, 0, 0]}, '
+                    b'"end": {"quaternion_wxyz": [1, 0, 0, 0]}}\n\xff\n'
                 ),
                 "jobs.jsonl",
             )
@@ -341,8 +351,8 @@ def test_an_empty_jobs_file_is_an_error():
 
 def test_read_pose_list_and_read_motion_file():
     text = (
-        b"controls:\n  - quaternion: [1, 0, 0, 0]\n"
-        b"  - {quaternion: [0, 0, 0, 1], translation: [1, 0, 0]}\n"
+        b"controls:\n  - quaternion_wxyz: [1, 0, 0, 0]\n"
+        b"  - {quaternion_wxyz: [0, 0, 0, 1], translation: [1, 0, 0]}\n"
         b"space: study\nparameters: {weights: [1, 2]}\n"
     )
     curve = readers.read_pose_list(io.BytesIO(text), "controls", "c.yaml")
@@ -375,7 +385,7 @@ def test_read_pose_list_and_read_motion_file():
         InputFileError, match=r"^c.yaml:1:1: controls: expected a list of at least two poses, got 1"
     ):
         readers.read_pose_list(
-            io.BytesIO(b"controls:\n  - quaternion: [1, 0, 0, 0]\n"), "controls", "c.yaml"
+            io.BytesIO(b"controls:\n  - quaternion_wxyz: [1, 0, 0, 0]\n"), "controls", "c.yaml"
         )
 
 
@@ -390,10 +400,10 @@ def test_read_pose_list_and_read_motion_file():
 def test_a_job_name_a2b_cannot_write_is_an_input_error(name_json, problem, suffix):
     """A name goes into the job column: a NUL or a lone surrogate (which JSON can escape, and
     UTF-8 cannot write) is an error at the name, not a failure when the CSV is written."""
-    good = '{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}'
+    good = '{"start": {"quaternion_wxyz": [1, 0, 0, 0]}, "end": {"quaternion_wxyz": [1, 0, 0, 0]}}'
     bad = (
-        f'{{"name": {name_json}, "start": {{"quaternion": [1, 0, 0, 0]}}, '
-        '"end": {"quaternion": [1, 0, 0, 0]}}'
+        f'{{"name": {name_json}, "start": {{"quaternion_wxyz": [1, 0, 0, 0]}}, '
+        '"end": {"quaternion_wxyz": [1, 0, 0, 0]}}'
     )
     text = f"{good}\n{bad}\n" if suffix == "jsonl" else f"[{good},\n{bad}]\n"
     where = "2:2"  # at the key
@@ -405,7 +415,7 @@ def test_a_job_name_a2b_cannot_write_is_an_input_error(name_json, problem, suffi
 def test_invalid_json_lines_are_placed_on_their_own_line():
     """A line cut short is reported at its end, not at the start of the next line; json's
     message for a control character loses its dangling "at"."""
-    good = '{"start": {"quaternion": [1, 0, 0, 0]}, "end": {"quaternion": [1, 0, 0, 0]}}'
+    good = '{"start": {"quaternion_wxyz": [1, 0, 0, 0]}, "end": {"quaternion_wxyz": [1, 0, 0, 0]}}'
     for ending in ("\n", "\r\n"):
         text = ending.join([good, good[:-1], good]) + ending
         with pytest.raises(

@@ -19,9 +19,11 @@ def _jobs_text(n: int, bad_at: int | None = None) -> bytes:
     lines = []
     for i in range(n):
         w = 1.0 + i / 7
-        end = '{"quaternion": [1, 0, 0, 0]}' if i != bad_at else '{"quaternion": [1, 0, 0]}'
+        end = (
+            '{"quaternion_wxyz": [1, 0, 0, 0]}' if i != bad_at else '{"quaternion_wxyz": [1, 0, 0]}'
+        )
         lines.append(
-            f'{{"name": "j{i}", "start": {{"quaternion": [{w!r}, 0.5, 0, 0], '
+            f'{{"name": "j{i}", "start": {{"quaternion_wxyz": [{w!r}, 0.5, 0, 0], '
             f'"translation": [{i}, 2.5, -1]}}, "end": {end}}}'
         )
     return ("\n".join(lines) + "\n").encode()
@@ -99,8 +101,8 @@ def test_names_beyond_ascii_stay_on_the_fast_path():
         return readers.json_line_job(*args)
 
     lines = [
-        f'{{"name": "{name}", "start": {{"quaternion": [1, 0, 0, 0]}}, '
-        '"end": {"quaternion": [0, 1, 0, 0]}}'
+        f'{{"name": "{name}", "start": {{"quaternion_wxyz": [1, 0, 0, 0]}}, '
+        '"end": {"quaternion_wxyz": [0, 1, 0, 0]}}'
         for name in ("Gelenk-ä", "関節", "ok", "\\udcff")
     ]
     stream = io.BytesIO(("\n".join(lines) + "\n").encode())

@@ -43,6 +43,10 @@ COMMANDS = {
     ),
     "bezier": ("a2b.cli.bezier", "Sample the Bézier motion of control poses (μ_[m] or κ)."),
     "spline": ("a2b.cli.spline", "Sample a C¹ spline through many key poses."),
+    "resample": (
+        "a2b.cli.resample",
+        "Sample a trajectory (TUM, KITTI, EuRoC, CSV, MCAP) at new times.",
+    ),
 }
 
 #: numpy's floating-point RuntimeWarnings, e.g. "overflow encountered in multiply".

@@ -532,6 +532,71 @@ def check_output(fmt: str, output: str, samples: int, duration: float, start_tim
         )
 
 
+def trajectory_input_options(f):
+    """``--input-format``, ``--topic``, ``--input-rate`` and ``--orthonormalize`` for a
+    trajectory file read by :func:`read_trajectory_option`."""
+    from ..io.trajectories import TRAJECTORY_FORMATS
+
+    for option in reversed(
+        [
+            click.option(
+                "--input-format",
+                type=click.Choice(TRAJECTORY_FORMATS),
+                help="The trajectory's format  [default: from the suffix (.tum, .kitti, .mcap), "
+                "else from the content]",
+            ),
+            click.option("--topic", help="mcap input: the topic of the poses, if several."),
+            click.option(
+                "--input-rate",
+                type=PositiveFloat(),
+                metavar="HZ",
+                help="kitti input: the poses are 1/HZ s apart  [default: times are the line "
+                "indices 0, 1, 2, …]",
+            ),
+            click.option(
+                "--orthonormalize",
+                is_flag=True,
+                help="Project rotation blocks that are orthogonal only to a few digits "
+                "(max |R Rᵀ − I| ≤ 1e-4) onto the nearest rotations; -v states the residual.",
+            ),
+        ]
+    ):
+        f = option(f)
+    return f
+
+
+def read_trajectory_option(
+    stream, fmt, topic, rate, orthonormalize: bool, choices: list, minimum: int = 1
+):
+    """Read a trajectory file with the options of :func:`trajectory_input_options`, stating
+    in ``choices`` what a2b decided (the format, KITTI's times, a repair)."""
+    from ..io.trajectories import read_trajectory
+
+    path = read_trajectory(
+        stream, fmt=fmt, rate=rate, topic=topic, orthonormalize=orthonormalize, minimum=minimum
+    )
+    if fmt is None:
+        choices.append(f"input format {path.fmt}: from the file (--input-format to change)")
+    if path.fmt == "kitti" and rate is None:
+        choices.append("kitti times: the line indices 0, 1, 2, … (--input-rate to change)")
+    if path.repaired is not None:
+        choices.append(
+            f"orthonormalized {len(path)} rotation blocks: largest max |R Rᵀ − I| was "
+            f"{path.repaired:.3g}"
+        )
+    return path
+
+
+def write_chunks(chunks, fmt: str, output: str, **options) -> None:
+    """Write sample chunks in format ``fmt`` to ``output`` through
+    :func:`a2b.io.atomic.atomic_output`: a failure leaves no partial file."""
+    from ..io.atomic import atomic_output
+    from ..io.writers import write_samples
+
+    with atomic_output(output) as stream:
+        write_samples(stream, fmt, chunks, **options)
+
+
 def write_motion(
     motion,
     samples: int,
@@ -549,17 +614,15 @@ def write_motion(
     into :func:`a2b.io.atomic.atomic_output`, so memory stays bounded for any count and a
     failure leaves no partial file. Used by ``interpolate``, ``bezier`` and ``spline``.
     """
-    from ..io.atomic import atomic_output
-    from ..io.writers import REPRESENTATION, write_samples
+    from ..io.writers import REPRESENTATION
 
     check_output(fmt, output, samples, duration, start_time)
-    with atomic_output(output) as stream:
-        write_samples(
-            stream,
-            fmt,
-            motion_chunks(motion, samples, REPRESENTATION[fmt]),
-            duration=duration,
-            start_time=start_time,
-            frame_id=frame_id,
-            child_frame_id=child_frame_id,
-        )
+    write_chunks(
+        motion_chunks(motion, samples, REPRESENTATION[fmt]),
+        fmt,
+        output,
+        duration=duration,
+        start_time=start_time,
+        frame_id=frame_id,
+        child_frame_id=child_frame_id,
+    )

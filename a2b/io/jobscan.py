@@ -153,7 +153,11 @@ def _fast_pose(v, q: list, m: list) -> int:
     size = len(v)
     if size > 2:
         return -1
-    quat = v.get("quaternion")
+    quat = v.get("quaternion_wxyz")
+    if quat is None:
+        quat = v.get("quaternion")
+        if type(quat) is list:  # the bare list is refused by the exact reading
+            return -1
     if quat is not None:
         if type(quat) is list and len(quat) == 4:
             q += quat
@@ -288,7 +292,7 @@ class Scanned:
             slots = []
             for pose in (v.get("start"), v.get("end")):
                 if type(pose) is dict and len(pose) == 2:  # the commonest form, inline
-                    quat, t = pose.get("quaternion"), pose.get("translation")
+                    quat, t = pose.get("quaternion_wxyz"), pose.get("translation")
                     if type(quat) is list and len(quat) == 4 and type(t) is list and len(t) == 3:
                         slots.append(len(q) // 7)
                         q += quat

@@ -5,8 +5,12 @@ Pose files
 A pose is a mapping with exactly one of these forms::
 
     {matrix: [[r11, r12, r13, t1], ..., [0, 0, 0, 1]], layout: robotics | paper}
-    {quaternion: {w: .., x: .., y: .., z: ..} | [w, x, y, z], translation: [x, y, z] | {x, y, z}}
+    {quaternion: {w: .., x: .., y: .., z: ..}, translation: [x, y, z] | {x, y, z}}
+    {quaternion_wxyz: [w, x, y, z], translation: ...}
     {quaternion_xyzw: [x, y, z, w], translation: ...}      # ROS order, read at this edge only
+
+A bare list under ``quaternion`` is an error: its order is the one thing a reader of the file
+cannot tell, and reading ROS's x, y, z, w as w, x, y, z turns the identity into a half turn.
     {study: [p0, p1, p2, p3, q0, q1, q2, q3], kappa: false | true}
 
 ``translation`` defaults to zero. ``kappa: true`` reads a Study vector off the Study quadric
@@ -70,7 +74,7 @@ __all__ = [
     "read_poses",
 ]
 
-POSE_FORMS = ("matrix", "quaternion", "quaternion_xyzw", "study")
+POSE_FORMS = ("matrix", "quaternion", "quaternion_wxyz", "quaternion_xyzw", "study")
 POSE_KEYS = POSE_FORMS + ("layout", "translation", "kappa")
 Path = tuple  # keys (str) and list indexes (int) from the document root
 
@@ -662,7 +666,12 @@ def _pose(doc: _Document, path: Path, v) -> np.ndarray:
     """Validate one pose mapping and return its robotics 4x4 matrix."""
     from ..poses import check_matrices, matrices_from_quat_trans, matrices_from_study
 
-    pose = _mapping(doc, path, v, "a pose mapping (matrix, quaternion, quaternion_xyzw or study)")
+    pose = _mapping(
+        doc,
+        path,
+        v,
+        "a pose mapping (matrix, quaternion, quaternion_wxyz, quaternion_xyzw or study)",
+    )
     if "start" in pose or "end" in pose:
         raise doc.error(
             path,
@@ -719,6 +728,13 @@ def _pose(doc: _Document, path: Path, v) -> np.ndarray:
                 raise doc.error(path + (form,), f"the quaternion lacks {', '.join(missing)}")
             wxyz = [_number(doc, path + (form, k), q[k]) for k in "wxyz"]
         elif form == "quaternion":
+            raise doc.error(
+                path + (form,),
+                "a bare list is ambiguous: a2b once read it as w, x, y, z, ROS writes x, y, z, "
+                "w; write quaternion_wxyz: [w, x, y, z] or quaternion_xyzw: [x, y, z, w], or "
+                "quaternion: {w: .., x: .., y: .., z: ..}",
+            )
+        elif form == "quaternion_wxyz":
             wxyz = _numbers(doc, path + (form,), q, 4, "(w, x, y, z)")
         else:
             x, y, z, w = _numbers(doc, path + (form,), q, 4, "(x, y, z, w)")

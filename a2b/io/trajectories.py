@@ -160,9 +160,10 @@ def _table(data: bytes, name: str, fmt: str) -> tuple[np.ndarray, np.ndarray]:
         line = data.count(b"\n", 0, e.start) + 1
         raise InputFileError(f"{name}:{line}: the file is not UTF-8 text") from None
     lines = text.splitlines()
-    first = 0
+    first, marked = 0, False
     if fmt in _HEADERS:
-        if not lines or lines[0].strip() != _HEADERS[fmt]:
+        marked = bool(lines) and lines[0].strip() == _HEADERS[fmt] + ",original"
+        if not lines or (lines[0].strip() != _HEADERS[fmt] and not marked):
             got = repr(lines[0][:80]) if lines else "an empty file"
             raise InputFileError(
                 f"{name}:1:1: expected the {fmt} header {_HEADERS[fmt]!r}, got {got}"
@@ -178,7 +179,7 @@ def _table(data: bytes, name: str, fmt: str) -> tuple[np.ndarray, np.ndarray]:
         for i, line in enumerate(lines[first:], first)
         if line.strip() and not line.lstrip().startswith("#")
     ]
-    width = _COLUMNS[fmt]
+    width = _COLUMNS[fmt] + (fmt in _HEADERS and marked)  # a2b resample's original column
     if fmt == "euroc":
         return _euroc(numbers, name)
     rows = np.empty((len(numbers), width))
@@ -275,10 +276,10 @@ def _from_table(table, lines, name, fmt, rate, orthonormalize) -> Trajectory:
     if fmt in ("csv", "euroc"):
         return _from_quaternions(times, table[:, 4:8], table[:, 1:4], name, fmt, lines)
     if fmt == "matrix":
-        return _from_matrices(times, table[:, 1:], lines, name, fmt, orthonormalize)
+        return _from_matrices(times, table[:, 1:13], lines, name, fmt, orthonormalize)
     from ..poses import matrices_from_study
 
-    study = table[:, 1:]
+    study = table[:, 1:9]
     try:
         matrices = matrices_from_study(study)
     except A2bError:
@@ -345,7 +346,8 @@ def _check_times(times: np.ndarray, name: str, lines) -> None:
         what = "repeats" if steps[i - 1] == 0.0 else "goes back from"
         where = f"{name}:{lines[i]}:1" if lines is not None else f"{name}: message {i + 1}"
         raise InputFileError(
-            f"{where}: the time {times[i]!r} {what} the previous one, {times[i - 1]!r}; "
+            f"{where}: the time {float(times[i])!r} {what} the previous one, "
+            f"{float(times[i - 1])!r}; "
             "times must increase (sort the file, or drop the repeated pose)"
         )
 

@@ -27,7 +27,7 @@ import os
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from functools import partial
-from itertools import groupby, repeat
+from itertools import chain, groupby, repeat
 from typing import IO
 
 import numpy as np
@@ -64,7 +64,9 @@ class Chunk:
     """Consecutive samples of one motion. Only the fields a format needs are filled.
 
     ``t (n,)``; ``quat_wxyz (n, 4)`` unit, continuous in t; ``trans (n, 3)``;
-    ``matrices (n, 4, 4)`` robotics layout; ``study (n, 8)``; ``job`` names each row (batch).
+    ``matrices (n, 4, 4)`` robotics layout; ``study (n, 8)``; ``job`` names each row (batch);
+    ``original (n,)`` marks the rows that are poses of a resampled trajectory (written as a
+    last column ``original``, 1 or 0, by the CSV layouts when given).
     """
 
     t: np.ndarray
@@ -73,6 +75,7 @@ class Chunk:
     matrices: np.ndarray | None = None
     study: np.ndarray | None = None
     job: list[str] | JobRuns | None = None
+    original: np.ndarray | None = None
 
 
 class JobRuns:
@@ -159,13 +162,14 @@ def _rows(fmt: str, chunk: Chunk, time: bool = True) -> np.ndarray:
     without ``t`` if not ``time``)."""
     n = len(chunk.t)
     t = [chunk.t] if time else []
+    mark = [] if chunk.original is None or fmt == "kitti" else [chunk.original]
     if fmt == "csv":
-        return np.column_stack([*t, chunk.trans, chunk.quat_wxyz])
+        return np.column_stack([*t, chunk.trans, chunk.quat_wxyz, *mark])
     if fmt in ("matrix", "kitti"):
         flat = chunk.matrices[:, :3, :].reshape(n, 12)
-        return flat if fmt == "kitti" or not time else np.column_stack([*t, flat])
+        return flat if fmt == "kitti" or not (time or mark) else np.column_stack([*t, flat, *mark])
     if fmt == "study":
-        return np.column_stack([*t, chunk.study])
+        return np.column_stack([*t, chunk.study, *mark])
     raise ValueError(f"no table layout for {fmt!r}")
 
 
@@ -190,9 +194,13 @@ def _write_rows(stream: IO, tables: Iterable[np.ndarray], sep: str = ",") -> Non
 def _write_table(
     stream: IO, fmt: str, header: str | None, chunks: Iterable[Chunk], sep: str = ","
 ) -> None:
+    chunks = iter(chunks)
+    first = next(chunks, None)
     if header is not None:
-        stream.write(header.encode() + b"\n")
-    _write_rows(stream, (_rows(fmt, chunk) for chunk in chunks), sep)
+        mark = first is not None and first.original is not None
+        stream.write(header.encode() + b",original" * mark + b"\n")
+    if first is not None:
+        _write_rows(stream, (_rows(fmt, chunk) for chunk in chain([first], chunks)), sep)
 
 
 def write_csv(stream: IO, chunks: Iterable[Chunk]) -> None:

@@ -1,0 +1,225 @@
+"""``a2b resample``: a whole trajectory at new times, one motion per segment (or a spline)."""
+
+from __future__ import annotations
+
+import click
+
+from . import CONTEXT_SETTINGS, options
+
+#: New times per block: the segments of a block are built together.
+BLOCK_TIMES = 65536
+
+
+@click.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("trajectory", type=options.INPUT)
+@options.trajectory_input_options
+@click.option(
+    "--rate",
+    type=options.PositiveFloat(),
+    help="New times every 1/HZ s from the first pose's time.",
+    metavar="HZ",
+)
+@click.option(
+    "--at",
+    "reference",
+    type=options.INPUT,
+    metavar="REFERENCE",
+    help="New times: the stamps of another trajectory file (any input format).",
+)
+@click.option(
+    "--times",
+    "times_file",
+    type=options.INPUT,
+    metavar="FILE",
+    help="New times: a text file with one time (s) per line; # starts a comment.",
+)
+@click.option(
+    "--mode",
+    type=click.Choice(("screw", "darboux", "cubic", "spline")),
+    help="screw (ScLERP, default), darboux or cubic per segment with the mode's "
+    "defaults, or spline: the C¹ spline through all poses (unit Study vectors).",
+)
+@click.option(
+    "--clip",
+    is_flag=True,
+    help="Drop new times outside the trajectory (and count them) instead of failing.",
+)
+@click.option(
+    "--max-gap",
+    type=options.PositiveFloat(),
+    metavar="S",
+    help="Do not bridge segments longer than S seconds: drop the new times inside them (and "
+    "count them).",
+)
+@click.option(
+    "--mark",
+    is_flag=True,
+    help="csv, matrix, study: add a last column 'original', 1 where the row is a pose of "
+    "TRAJECTORY, 0 where it is interpolated.",
+)
+@options.output_option
+@options.format_option
+@options.frame_options
+@options.verbose_option
+def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, reference,
+            times_file, mode, clip, max_gap, mark, output, fmt, frame_id, child_frame_id,
+            verbose):  # fmt: skip
+    """Sample TRAJECTORY (a file, or - for stdin) at new times.
+
+    TRAJECTORY is TUM, KITTI, EuRoC, a2b's csv, matrix or study output, or MCAP with
+    foxglove.PoseInFrame or FrameTransform (JSON); the format comes from --input-format, the
+    suffix or the content. Its times must increase.
+
+    The new times come from exactly one of --rate, --at and --times. A time in the segment
+    between two neighbouring poses is the pose of that segment's motion, at the fraction of
+    the segment's duration that has passed; a time equal to a stamp gives that pose exactly,
+    as the file holds it. Times outside the trajectory are an error (a2b does not
+    extrapolate) unless --clip drops them. Output formats as for `a2b interpolate`; the
+    `t` column and the TUM and MCAP stamps are the new times in seconds. Everything is
+    written as it is computed, in bounded memory.
+
+    \b
+    Example:
+      a2b resample samples/estimate.tum --at samples/reference.tum --clip -o estimate.tum
+      a2b resample samples/walk.kitti --orthonormalize --input-rate 5 --rate 30 --format tum
+      a2b resample samples/reference.tum --times samples/stamps.txt --mode spline --mark
+      a2b resample samples/reference.tum --rate 100 --max-gap 0.5 -o reference-100hz.mcap
+    """
+    from ..resample import Resampler
+
+    sources = (("--rate", rate), ("--at", reference), ("--times", times_file))
+    given = [name for name, value in sources if value is not None]
+    if len(given) != 1:
+        raise click.UsageError(
+            "give the new times with exactly one of --rate, --at and --times"
+            + (f" (got {' and '.join(given)})" if given else "")
+        )
+    choices: list[str] = []
+    path = options.read_trajectory_option(
+        trajectory, input_format, topic, input_rate, orthonormalize, choices, minimum=2
+    )
+    if mode is None:
+        mode = "screw"
+        choices.append("mode screw: the default of resample, ScLERP per segment (--mode to change)")
+    fmt = options.format_from(fmt, output, choices)
+    if mark and fmt not in ("csv", "matrix", "study"):
+        raise click.UsageError(f"--mark adds a column to csv, matrix and study, not to {fmt}")
+    resampler = Resampler(
+        path.times, path.matrices, mode, max_gap=max_gap, quat_wxyz=path.quat_wxyz,
+        study=path.study,
+    )  # fmt: skip
+    new_times = _new_times(path, rate, reference, times_file, choices)
+    counts = {"outside": 0, "gap": 0, "written": 0}
+    options.check_output(fmt, output, 2, 1.0, 0.0)
+
+    def chunks():
+        from ..io.writers import REPRESENTATION, Chunk
+
+        representation = REPRESENTATION[fmt]
+        for block in new_times:
+            located = resampler.locate(block, clip)
+            counts["outside"] += located.outside
+            counts["gap"] += located.gap
+            counts["written"] += len(located.times)
+            values = resampler.sample(located, representation)
+            chunk = Chunk(located.times)
+            if representation == "quat_trans":
+                chunk.quat_wxyz, chunk.trans = values
+            else:
+                setattr(chunk, representation, values)
+            if mark:
+                chunk.original = (located.pose >= 0).astype(float)
+            yield chunk
+
+    options.state_choices(choices, verbose)
+    options.write_chunks(chunks(), fmt, output, frame_id=frame_id, child_frame_id=child_frame_id)
+    _report(counts, resampler, clip, max_gap, verbose)
+
+
+def _new_times(path, rate, reference, times_file, choices):
+    """The new times, in blocks of :data:`BLOCK_TIMES`, increasing."""
+    import numpy as np
+
+    from ..errors import InputFileError
+
+    if rate is not None:
+        first, last = float(path.times[0]), float(path.times[-1])
+        count = int(np.floor((last - first) * rate)) + 1
+        while count > 1 and first + (count - 1) / rate > last:
+            count -= 1
+        choices.append(f"new times: {count} from {first!r} s every 1/{rate:g} s")
+
+        def generate():
+            for lo in range(0, count, BLOCK_TIMES):
+                yield first + np.arange(lo, min(lo + BLOCK_TIMES, count)) / rate
+
+        return generate()
+    if reference is not None:
+        from ..io.trajectories import read_trajectory
+
+        path = read_trajectory(reference, orthonormalize=True)  # only its stamps are used
+        if path.fmt == "kitti":
+            raise click.UsageError(
+                "--at needs a reference with time stamps; KITTI files have none (use --rate)"
+            )
+        times = path.times
+        if not len(times):
+            raise InputFileError(f"{reference.name}: the reference has no poses")
+    else:
+        times = _read_times(times_file)
+    choices.append(f"new times: {len(times)} from {(reference or times_file).name}")
+    return (times[lo : lo + BLOCK_TIMES] for lo in range(0, len(times), BLOCK_TIMES))
+
+
+def _read_times(stream):
+    """One finite time per line, increasing; ``#`` starts a comment."""
+    import numpy as np
+
+    from ..errors import InputFileError
+
+    name = "<stdin>" if stream.name == "-" else stream.name
+    times, lines = [], []
+    for number, raw in enumerate(stream.read().decode("utf-8", "replace").splitlines(), 1):
+        text = raw.split("#", 1)[0].strip()
+        if not text:
+            continue
+        try:
+            value = float(text)
+        except ValueError:
+            value = float("nan")
+        if not np.isfinite(value) or not options.DECIMAL.fullmatch(text):
+            raise InputFileError(f"{name}:{number}:1: expected one time in seconds, got {text!r}")
+        if times and not value > times[-1]:
+            raise InputFileError(
+                f"{name}:{number}:1: the time {value!r} does not come after the previous one, "
+                f"{times[-1]!r}; the new times must increase"
+            )
+        times.append(value)
+        lines.append(number)
+    if not times:
+        raise InputFileError(f"{name}: no times")
+    return np.array(times)
+
+
+def _report(counts, resampler, clip, max_gap, verbose) -> None:
+    """Say what was dropped (always: data was left out) and, with -v, what was built."""
+    if counts["outside"]:
+        click.echo(
+            f"Dropped {_times(counts['outside'])} outside the trajectory (--clip).", err=True
+        )
+    if counts["gap"]:
+        click.echo(
+            f"Dropped {_times(counts['gap'])} inside segments longer than --max-gap {max_gap:g} s.",
+            err=True,
+        )
+    if verbose:
+        click.echo(
+            f"Wrote {counts['written']} poses; built {resampler.segments_built} segment motions.",
+            err=True,
+        )
+        for choice, count in resampler.choices.most_common(20):
+            click.echo(f"  • {count} segment(s): {choice}", err=True)
+
+
+def _times(count: int) -> str:
+    return f"{count} time{'s' * (count != 1)}"

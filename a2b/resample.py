@@ -1,0 +1,251 @@
+"""A trajectory at new times: one motion per segment between neighbouring poses, or a spline.
+
+A trajectory is poses ``P_0 … P_{n−1}`` at increasing times ``T_0 < … < T_{n−1}``. A time
+``τ`` in ``[T_k, T_{k+1}]`` is the parameter ``u = (τ − T_k) / (T_{k+1} − T_k)`` of segment
+``k``: the two-pose motion of the chosen mode from ``P_k`` to ``P_{k+1}`` (``screw``, the
+default, is ScLERP), or the C¹ spline through all poses (``spline``: Catmull–Rom in the space of
+unit Study vectors, pose ``j`` at spline parameter ``j / (n − 1)``, each segment mapped linearly
+onto its time interval). A time equal to a stamp returns that pose exactly, as it was read.
+
+The segments a block of new times needs are built together, as one batch of the vectorised
+core, so a million segments cost one call per block.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections import Counter
+from dataclasses import dataclass
+
+import numpy as np
+
+from .elements import as_numbers
+from .errors import A2bError, A2bWarning, ParameterError
+from .names import MODES
+
+__all__ = ["RESAMPLE_MODES", "Located", "Resampler", "resample"]
+
+RESAMPLE_MODES = MODES + ("spline",)
+
+
+@dataclass
+class Located:
+    """Where new times fall: the kept ``times (M,)``, their ``segment`` ``k`` and parameter
+    ``u`` in it, ``pose`` (the index of the stamp a time equals, else −1), and how many times
+    were dropped ``outside`` the trajectory (with ``clip``) or inside a ``gap``."""
+
+    times: np.ndarray
+    segment: np.ndarray
+    u: np.ndarray
+    pose: np.ndarray
+    outside: int = 0
+    gap: int = 0
+
+
+class Resampler:
+    """Sample a trajectory (``times (n,)`` increasing, robotics ``poses (n, 4, 4)``) at new times.
+
+    ``quat_wxyz`` and ``study``, when given, are the poses as the file holds them: a time
+    equal to a stamp returns them bit for bit, and the quaternions of a segment take the sign
+    of the one at its start. ``max_gap``: segments longer than this many seconds are not
+    bridged; times strictly inside them are dropped. ``parameters`` go to every segment's
+    motion (:func:`a2b.motion`) or, for ``spline``, to :func:`a2b.motions.bezier.spline_motion`
+    (``space``, default ``study``, and ``m``).
+    """
+
+    def __init__(
+        self,
+        times,
+        poses,
+        mode: str = "screw",
+        *,
+        max_gap: float | None = None,
+        quat_wxyz=None,
+        study=None,
+        **parameters,
+    ):
+        from .poses import check_matrices
+
+        if mode not in RESAMPLE_MODES:
+            raise ParameterError(
+                f"unknown mode {mode!r}; expected one of {', '.join(RESAMPLE_MODES)}"
+            )
+        self.times = as_numbers(times, "times")
+        self.poses = check_matrices(poses)
+        n = len(self.times)
+        if self.times.ndim != 1 or self.poses.shape != (n, 4, 4):
+            raise ParameterError(
+                f"times {self.times.shape} and poses {self.poses.shape} need shapes (n,) and "
+                "(n, 4, 4)"
+            )
+        if n < 2:
+            raise ParameterError(f"a trajectory to resample needs at least 2 poses, got {n}")
+        steps = np.diff(self.times)
+        if not (np.isfinite(self.times).all() and (steps > 0).all()):
+            i = int(np.argmax(~(steps > 0))) + 1 if not (steps > 0).all() else 0
+            raise ParameterError(
+                f"the trajectory's times must be finite and increase; time {i} is "
+                f"{float(self.times[i])!r} after {float(self.times[max(i - 1, 0)])!r}"
+            )
+        if max_gap is not None and not max_gap > 0:
+            raise ParameterError(f"max_gap must be greater than 0, got {max_gap!r}")
+        self.mode = mode
+        self.max_gap = max_gap
+        self.quat_wxyz = None if quat_wxyz is None else np.asarray(quat_wxyz, dtype=float)
+        self.study = None if study is None else np.asarray(study, dtype=float)
+        self.parameters = parameters
+        self.choices: Counter = Counter()
+        self.segments_built = 0
+        self.spline = None
+        if mode == "spline":
+            from .motions.bezier import spline_motion
+
+            space = parameters.pop("space", "study")
+            self.spline = spline_motion(self.poses, space, **parameters)
+            self.choices.update(self.spline.choices)
+
+    # -- where the new times fall ------------------------------------------------------------
+    def locate(self, new_times, clip: bool = False) -> Located:
+        """The segment and parameter of each new time (finite, any order).
+
+        Times outside ``[T_0, T_{n−1}]`` are an error, or with ``clip`` dropped and counted;
+        times inside a segment longer than ``max_gap`` are dropped and counted.
+        """
+        t = self.times
+        new = as_numbers(new_times, "new times")
+        if new.ndim != 1 or not np.isfinite(new).all():
+            raise ParameterError("the new times must be a 1-D array of finite numbers")
+        inside = (new >= t[0]) & (new <= t[-1])
+        outside = int(new.size - np.count_nonzero(inside))
+        if outside and not clip:
+            first = float(new[np.argmax(~inside)])
+            raise ParameterError(
+                f"the time {first!r} is outside the trajectory, which runs from {float(t[0])!r} "
+                f"to {float(t[-1])!r}; a2b does not extrapolate (--clip drops such times and "
+                "counts them)"
+            )
+        new = new[inside]
+        k = np.clip(np.searchsorted(t, new, side="right") - 1, 0, len(t) - 2)
+        pose = np.where(new == t[k], k, np.where(new == t[k + 1], k + 1, -1))
+        gap = 0
+        if self.max_gap is not None:
+            long = (t[k + 1] - t[k] > self.max_gap) & (pose < 0)
+            gap = int(np.count_nonzero(long))
+            keep = ~long
+            new, k, pose = new[keep], k[keep], pose[keep]
+        u = (new - t[k]) / (t[k + 1] - t[k])
+        u = np.where(pose == k + 1, 1.0, np.where(pose == k, 0.0, u))
+        return Located(new, k, u, pose, outside, gap)
+
+    # -- the poses ---------------------------------------------------------------------------
+    def sample(self, located: Located, representation: str = "matrices") -> np.ndarray | tuple:
+        """The poses at located times: robotics ``matrices (M, 4, 4)``, ``quat_trans``
+        (``(M, 4)`` w, x, y, z and ``(M, 3)``) or unit ``study (M, 8)``."""
+        k, u, pose = located.segment, located.u, located.pose
+        between = pose < 0
+        own = pose[~between]
+        values = self._evaluate(k[between], u[between], representation) if between.any() else None
+        if representation == "matrices":
+            out = np.empty((len(k), 4, 4))
+            out[~between] = self.poses[own]
+        elif representation == "study":
+            out = np.empty((len(k), 8))
+            out[~between] = self._own_study(own)
+        else:
+            quat, trans = np.empty((len(k), 4)), np.empty((len(k), 3))
+            quat[~between], trans[~between] = self._own_quat_trans(own)
+            if values is not None:
+                q, trans[between] = values
+                start, _ = self._own_quat_trans(k[between])
+                q[np.einsum("ij,ij->i", q, start) < 0] *= -1.0  # the sign at the segment's start
+                quat[between] = q
+            return quat, trans
+        if values is not None:
+            out[between] = values
+        return out
+
+    def _evaluate(self, k: np.ndarray, u: np.ndarray, representation: str):
+        if self.spline is not None:
+            return getattr(self.spline, representation)((k + u) / (len(self.times) - 1))
+        out = getattr(self._segments(k), representation)(u[:, None])  # one t per motion
+        return tuple(o[:, 0] for o in out) if isinstance(out, tuple) else out[:, 0]
+
+    def _own_quat_trans(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        from .poses import quat_trans_from_matrices
+
+        if self.quat_wxyz is not None:
+            return self.quat_wxyz[index], self.poses[index, :3, 3]
+        return quat_trans_from_matrices(self.poses[index])
+
+    def _own_study(self, index: np.ndarray) -> np.ndarray:
+        from .poses import study_from_matrices
+
+        if self.study is not None:
+            return self.study[index]
+        return study_from_matrices(self.poses[index])
+
+    def _segments(self, k: np.ndarray):
+        """The motions of segments ``k`` (sorted or not), one per entry, built once each."""
+        import a2b
+
+        first, inverse = np.unique(k, return_inverse=True)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", A2bWarning)
+            try:
+                motion = a2b.motion(
+                    self.poses[first], self.poses[first + 1], self.mode, **self.parameters
+                )
+            except A2bError as e:
+                if getattr(e, "index", None) is None:
+                    raise
+                raise type(e)(f"{self._segment(first[e.index])}: {e.reason}") from None
+        for w in caught:  # say which segment, not which element of this block
+            index = getattr(w.message, "index", None)
+            if index is not None:
+                warnings.warn(
+                    A2bWarning(f"{self._segment(first[index])}: {w.message.reason}"),
+                    stacklevel=3,
+                )
+            else:
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        self.segments_built += len(first)
+        for choices in motion.choices:
+            self.choices.update(choices)
+        return motion[inverse]
+
+    def _segment(self, k: int) -> str:
+        t = self.times
+        return (
+            f"the segment from pose {k} (time {float(t[k])!r}) to pose {k + 1} "
+            f"(time {float(t[k + 1])!r})"
+        )
+
+
+def resample(
+    times,
+    poses,
+    new_times,
+    mode: str = "screw",
+    *,
+    clip: bool = False,
+    max_gap: float | None = None,
+    **parameters,
+) -> tuple[np.ndarray, np.ndarray]:
+    """A trajectory's poses at new times: ``(kept times (M,), robotics matrices (M, 4, 4))``.
+
+    ``times (n,)`` increase; ``poses (n, 4, 4)`` are robotics matrices. ``mode`` is a
+    two-pose mode per segment (``screw``, the default, ``darboux``, ``cubic``) or ``spline``.
+    A time equal to a stamp gives that pose exactly. Times outside the trajectory raise
+    :class:`ParameterError` unless ``clip`` drops them; times inside a segment longer than
+    ``max_gap`` seconds are dropped. See :class:`Resampler`.
+
+    >>> import numpy as np, a2b
+    >>> from a2b.resample import resample
+    >>> poses = np.stack([np.eye(4), np.eye(4)]); poses[1, 0, 3] = 2.0
+    >>> kept, out = resample([0.0, 1.0], poses, [0.0, 0.25, 1.0])
+    >>> out[:, 0, 3].tolist()
+    [0.0, 0.5, 2.0]
+    """
+    resampler = Resampler(times, poses, mode, max_gap=max_gap, **parameters)
+    located = resampler.locate(new_times, clip)
+    return located.times, resampler.sample(located)

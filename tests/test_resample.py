@@ -1,0 +1,354 @@
+"""Trajectories in and ``a2b resample``: readers, the resampling core, the command, and evo.
+
+The screw mode is checked against pytransform3d's ScLERP of each segment, and evo (installed
+into a venv of its own, as a user would) associates every pose of an estimate resampled with
+``--at`` and reports the error an independent computation gives.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import shutil
+import subprocess
+import venv
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import a2b
+from a2b.cli import cli
+from a2b.errors import A2bError, InputFileError, PoseError
+from a2b.io.trajectories import read_trajectory
+from a2b.poses import matrices_from_quat_trans, orthonormalize
+from a2b.resample import Resampler, resample
+
+ROOT = Path(__file__).resolve().parent.parent
+SAMPLES = ROOT / "samples"
+
+
+def random_trajectory(rng, n: int, start: float = 0.0):
+    quat = rng.normal(size=(n, 4))
+    quat /= np.linalg.norm(quat, axis=1, keepdims=True)
+    poses = matrices_from_quat_trans(quat, rng.normal(size=(n, 3)))
+    times = start + np.cumsum(rng.uniform(0.05, 1.0, n))
+    return times, poses
+
+
+def run(*args, input=None):
+    return CliRunner().invoke(cli, list(map(str, args)), input=input)
+
+
+# -- readers -----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("fmt", ["csv", "matrix", "study", "tum", "kitti", "mcap"])
+def test_every_output_reads_back_as_a_trajectory_bit_for_bit(tmp_path, fmt):
+    out = tmp_path / f"turn.{fmt}"
+    result = run("interpolate", SAMPLES / "half-turn.yaml", "--format", fmt, "-o", out,
+                 "--samples", 37, "--duration", 3, "--start-time", 5)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    motion = a2b.motion(*_poses("half-turn.yaml"))
+    ts = np.linspace(0, 1, 37)
+    with open(out, "rb") as f:
+        path = read_trajectory(f)  # the format from the suffix or the content
+    assert path.fmt == fmt
+    quat, trans = motion.quat_trans(ts)
+    if fmt in ("csv", "tum", "mcap"):
+        assert np.array_equal(path.quat_wxyz, quat) and np.array_equal(path.translations, trans)
+    elif fmt == "study":
+        assert np.array_equal(path.study, motion.study(ts))
+    else:
+        assert np.array_equal(path.matrices, motion.matrices(ts))
+    expected = {"csv": ts, "matrix": ts, "study": ts, "kitti": np.arange(37.0)}
+    if fmt in expected:
+        assert np.array_equal(path.times, expected[fmt])
+    elif fmt == "tum":
+        assert np.array_equal(path.times, ts * 3 + 5)
+    else:  # MCAP stores integer nanoseconds
+        assert np.allclose(path.times, ts * 3 + 5, rtol=0, atol=1e-9)
+
+
+def _poses(sample: str):
+    from a2b.io.readers import read_poses
+
+    with open(SAMPLES / sample, "rb") as f:
+        job = read_poses(f)
+    return job.start, job.end
+
+
+def test_euroc_stamps_are_whole_nanoseconds_and_qw_comes_first():
+    text = (
+        "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],"
+        "q_RS_z [],v_RS_R_x [m s^-1]\n"
+        "1403636579758555392,4.688,-1.786,0.783,0.534,-0.153,-0.827,-0.082,0.1\n"
+        "1403636579763555584,4.688,-1.786,0.787,0.534,-0.153,-0.827,-0.082,0.1\n"
+    )
+    path = read_trajectory(io.BytesIO(text.encode()), "data.csv")
+    assert path.fmt == "euroc"
+    assert path.times[0] == 1403636579 + 758555392e-9
+    assert path.quat_wxyz[0].tolist() == [0.534, -0.153, -0.827, -0.082]
+    assert path.translations[1].tolist() == [4.688, -1.786, 0.787]
+    bad = text.replace("1403636579763555584", "1403636579.76")
+    with pytest.raises(InputFileError, match=r"^data\.csv:3:1: expected a whole number of nano"):
+        read_trajectory(io.BytesIO(bad.encode()), "data.csv")
+
+
+@pytest.mark.parametrize(
+    "name, text, message",
+    [
+        ("a.tum", "0 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n",
+         r"^a\.tum:3:1: the time 1\.0 repeats the previous one, 1\.0; times must increase"),
+        ("a.tum", "# c\n2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n",
+         r"^a\.tum:3:1: the time 1\.0 goes back from the previous one, 2\.0"),
+        ("a.tum", "0 0 0 0 0 0 0 1\n1 0 0 x 0 0 0 1\n",
+         r"^a\.tum:2:7: expected a number, got 'x'"),
+        ("a.tum", "0 0 0 0 0 0 0 1\n1 0 0 0 0 0 1\n",
+         r"^a\.tum:2:1: expected 8 numbers per line \(tum\), got 7"),
+        ("a.tum", "0 0 0 0 0 0 0 1\n1 0 0 nan 0 0 0 1\n",
+         r"^a\.tum:2:7: expected a finite number, got 'nan'"),
+        ("a.tum", "0 0 0 0 0 0 0 0\n", r"^a\.tum:1:1: the quaternion is zero"),
+        ("a.kitti", "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 -1 0\n",
+         r"^a\.kitti:2:1: the rotation block is a reflection"),
+        ("a.kitti", "1 0 0 0 0 1 0 0 0 0 1.0000001 0\n",
+         r"^a\.kitti:1:1: the rotation block is not orthogonal: max \|R Rᵀ − I\| = 2e-07 "
+         r"exceeds tolerance 1e-09; .*--orthonormalize projects each onto the nearest rotation"),
+        ("a.csv", "t,x\n", r"^a\.csv: cannot tell the trajectory format"),
+        ("a.csv", "t,tx,ty,tz,qw,qx,qy,qz\n0,0,0,0,1,0,0,0,5\n",
+         r"^a\.csv:2:1: expected 8 numbers per line \(csv\), got 9"),
+    ],
+)  # fmt: skip
+def test_trajectory_errors_are_one_line_at_the_line(name, text, message):
+    with pytest.raises(InputFileError, match=message) as caught:
+        read_trajectory(io.BytesIO(text.encode()), name)
+    assert "\n" not in str(caught.value)
+
+
+def test_orthonormalize_is_an_explicit_repair_up_to_its_tolerance():
+    rng = np.random.default_rng(5)
+    _, poses = random_trajectory(rng, 20)
+    rounded = np.round(poses, 6)
+    with pytest.raises(PoseError, match="--orthonormalize"):
+        a2b.motion(rounded[0], rounded[1])
+    repaired = orthonormalize(rounded)
+    gram = repaired[:, :3, :3] @ np.swapaxes(repaired[:, :3, :3], 1, 2)
+    assert np.abs(gram - np.eye(3)).max() < 4e-15
+    assert np.abs(repaired - poses).max() < 2e-6  # the rotation the digits stood for
+    assert np.array_equal(repaired[:, :3, 3], rounded[:, :3, 3])
+    with pytest.raises(PoseError, match="too far from orthogonal to repair: .* 0.0001"):
+        orthonormalize(poses * np.array([1, 1, 1.01, 1])[:, None])
+    text = "".join(" ".join(f"{v:.6e}" for v in p[:3].ravel()) + "\n" for p in poses)
+    with pytest.raises(InputFileError, match="--orthonormalize"):
+        read_trajectory(io.BytesIO(text.encode()), "r.kitti")
+    path = read_trajectory(io.BytesIO(text.encode()), "r.kitti", orthonormalize=True)
+    assert 1e-8 < path.repaired < 1e-5
+    assert np.abs(path.matrices - poses).max() < 2e-6
+
+
+def test_a_bare_quaternion_list_asks_for_its_order():
+    result = run("interpolate", "-", input="start: {quaternion: [0, 0, 0, 1]}\nend: {}\n")
+    assert result.exit_code == 1
+    assert result.output.count("\n") == 1
+    assert "start.quaternion: a bare list is ambiguous" in result.output
+    assert "quaternion_wxyz" in result.output and "quaternion_xyzw" in result.output
+
+
+# -- the core ----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("mode", ["darboux", "cubic", "screw"])
+def test_per_motion_parameters_equal_each_motion_alone(mode):
+    rng = np.random.default_rng(11)
+    _, poses = random_trajectory(rng, 13)
+    for shape in [(12,), (3, 4)]:
+        starts, ends = poses[:-1].reshape(shape + (4, 4)), poses[1:].reshape(shape + (4, 4))
+        motion = a2b.motion(starts, ends, mode)
+        ts = rng.uniform(-0.2, 1.2, size=shape + (5,))
+        got = motion.matrices(ts)
+        quat, _ = motion.quat_trans(ts)
+        for index in np.ndindex(shape):
+            alone = a2b.motion(starts[index], ends[index], mode)
+            assert np.allclose(got[index], alone.matrices(ts[index]), rtol=0, atol=1e-15)
+            assert np.allclose(quat[index], alone.quat_trans(ts[index])[0], rtol=0, atol=1e-15)
+    with pytest.raises(A2bError, match="one row per motion"):
+        motion.matrices(np.zeros((4, 3, 2)))
+
+
+def test_screw_resampling_returns_the_stamps_exactly_and_sclerp_between():
+    pt = pytest.importorskip("pytransform3d.transformations")
+    rng = np.random.default_rng(3)
+    times, poses = random_trajectory(rng, 200)
+    kept, own = resample(times, poses, times)
+    assert np.array_equal(kept, times) and np.array_equal(own, poses)
+    fractions = rng.uniform(0, 1, 199)
+    between = times[:-1] + fractions * np.diff(times)
+    _, got = resample(times, poses, between)
+    u = (between - times[:-1]) / np.diff(times)  # the parameter a2b computes
+    for k in range(199):
+        expected = pt.transform_from_dual_quaternion(
+            pt.dual_quaternion_sclerp(
+                pt.dual_quaternion_from_transform(poses[k]),
+                pt.dual_quaternion_from_transform(poses[k + 1]),
+                u[k],
+            )
+        )
+        assert np.abs(got[k] - expected).max() < 1e-12
+
+
+@pytest.mark.parametrize("mode", ["darboux", "cubic", "spline"])
+def test_every_mode_passes_through_the_stamps_and_is_continuous(mode):
+    rng = np.random.default_rng(8)
+    times, poses = random_trajectory(rng, 30)
+    poses[:, :3, :3] = poses[:1, :3, :3] @ _small_turns(rng, 30)  # neighbours close: smooth
+    near = np.concatenate([times[1:-1] - 1e-9, times[1:-1] + 1e-9])
+    kept, out = resample(times, poses, np.concatenate([times, near]), mode)
+    assert np.array_equal(out[:30], poses)
+    around = out[30:].reshape(2, 28, 4, 4)
+    assert np.abs(around - poses[1:-1]).max() < 1e-6  # no jump at a stamp
+
+
+def _small_turns(rng, n):
+    angles = np.cumsum(rng.normal(0, 0.2, n))
+    c, s = np.cos(angles), np.sin(angles)
+    r = np.zeros((n, 3, 3))
+    r[:, 0, 0], r[:, 0, 1], r[:, 1, 0], r[:, 1, 1], r[:, 2, 2] = c, -s, s, c, 1
+    return r
+
+
+def test_outside_times_and_gaps():
+    times = np.array([0.0, 1.0, 5.0, 6.0])
+    poses = np.broadcast_to(np.eye(4), (4, 4, 4)).copy()
+    poses[:, 0, 3] = times
+    with pytest.raises(A2bError, match=r"the time 6\.5 is outside the trajectory, .*--clip"):
+        resample(times, poses, [0.5, 6.5])
+    resampler = Resampler(times, poses, max_gap=2.0)
+    located = resampler.locate([-1.0, 0.5, 1.0, 3.0, 5.0, 5.5, 7.0], clip=True)
+    assert located.outside == 2 and located.gap == 1
+    assert located.times.tolist() == [0.5, 1.0, 5.0, 5.5]
+    assert located.pose.tolist() == [-1, 1, 2, -1]
+    assert resampler.sample(located)[:, 0, 3].tolist() == [0.5, 1.0, 5.0, 5.5]
+
+
+def test_a_failing_segment_is_named_by_its_poses_and_times():
+    times = np.array([0.0, 1.0, 2.0])
+    poses = np.broadcast_to(np.eye(4), (3, 4, 4)).copy()
+    poses[1:, :3, :3] = [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]  # a screw, then
+    poses[1:, :3, 3] = [[0.0, 0.0, 1.0], [0.0, 0.0, 2.0]]  # a translation: κ needs a turn
+    resample(times, poses, [0.5], "darboux", kappa=0.5)
+    with pytest.raises(A2bError, match=r"^the segment from pose 1 \(time 1\.0\) to pose 2 "):
+        resample(times, poses, [0.5, 1.5], "darboux", kappa=0.5)
+
+
+# -- the command -------------------------------------------------------------------------------
+
+
+def test_resample_at_its_own_stamps_is_the_file(tmp_path):
+    out = tmp_path / "same.tum"
+    result = run("resample", SAMPLES / "reference.tum", "--at", SAMPLES / "reference.tum",
+                 "-o", out)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    with open(SAMPLES / "reference.tum", "rb") as f:
+        original = read_trajectory(f)
+    with open(out, "rb") as f:
+        again = read_trajectory(f)
+    assert np.array_equal(again.times, original.times)
+    assert np.array_equal(again.quat_wxyz, original.quat_wxyz)
+    assert np.array_equal(again.translations, original.translations)
+
+
+def test_resample_streams_every_format_and_marks_the_originals(tmp_path):
+    for fmt in ("csv", "matrix", "study", "tum", "kitti", "mcap"):
+        out = tmp_path / f"r.{fmt}"
+        result = run("resample", SAMPLES / "reference.tum", "--rate", 33, "--format", fmt,
+                     "-o", out)  # fmt: skip
+        assert result.exit_code == 0, result.output
+        with open(out, "rb") as f:
+            path = read_trajectory(f, fmt=fmt)
+        assert len(path) == 195  # 5.9 s at 33 Hz from the first stamp
+    result = run("resample", SAMPLES / "reference.tum", "--times", SAMPLES / "stamps.txt",
+                 "--mark", "--mode", "spline")  # fmt: skip
+    assert result.exit_code == 0, result.output
+    rows = result.output.splitlines()
+    assert rows[0] == "t,tx,ty,tz,qw,qx,qy,qz,original"
+    assert [row.rsplit(",", 1)[1] for row in rows[1:]] == ["0.0", "1.0", "0.0", "1.0"]
+
+
+def test_resample_refusals_are_one_line_with_the_fix(tmp_path):
+    stamps = tmp_path / "stamps.txt"
+    stamps.write_text("1700000001.0\n1700000001.0\n")
+    cases = [
+        (["--rate", "10", "--at", SAMPLES / "reference.tum"], "exactly one of --rate"),
+        (["--times", stamps], "stamps.txt:2:1: the time 1700000001.0 does not come after"),
+        (["--at", SAMPLES / "walk.kitti"], "KITTI files have none"),
+        (["--rate", "10", "--mark", "--format", "tum"], "--mark adds a column to csv"),
+    ]
+    for args, message in cases:
+        result = run("resample", SAMPLES / "reference.tum", *args)
+        assert result.exit_code != 0 and message in result.output, (args, result.output)
+        assert result.output.strip().count("\n") == 0 or "Usage" in result.output
+    result = run("resample", SAMPLES / "estimate.tum", "--at", SAMPLES / "reference.tum", "--clip",
+                 "--max-gap", 0.12, "-o", tmp_path / "e.tum")  # fmt: skip
+    assert result.exit_code == 0
+    assert "Dropped 1 time outside the trajectory (--clip)." in result.output
+    assert "inside segments longer than --max-gap 0.12 s." in result.output
+
+
+def test_a_repair_is_stated_under_v():
+    result = run("resample", SAMPLES / "walk.kitti", "--orthonormalize", "--rate", "2", "-v",
+                 "--mode", "spline", "--format", "kitti")  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert "orthonormalized 30 rotation blocks: largest max |R Rᵀ − I| was" in result.output
+
+
+# -- evo, a real client ------------------------------------------------------------------------
+
+EVO_VENV = Path(os.environ.get("A2B_TOOLS", Path.home() / ".cache" / "a2b-test-tools")) / "evo"
+
+
+@pytest.fixture(scope="session")
+def evo_ape():
+    """evo's ``evo_ape``, installed once into a venv of its own (evo pins its own numpy)."""
+    exe = EVO_VENV / "bin" / "evo_ape"
+    if not exe.exists():
+        try:
+            venv.create(EVO_VENV, with_pip=True)
+            subprocess.run([str(EVO_VENV / "bin" / "pip"), "install", "-q", "evo"], check=True,
+                           capture_output=True, timeout=900)  # fmt: skip
+        except (subprocess.SubprocessError, OSError) as e:
+            shutil.rmtree(EVO_VENV, ignore_errors=True)
+            pytest.skip(f"evo could not be installed from the package index: {e}")
+    return exe
+
+
+def test_evo_associates_every_pose_resampled_with_at(tmp_path, evo_ape):
+    estimate = tmp_path / "estimate.tum"
+    result = run("resample", SAMPLES / "estimate.tum", "--at", SAMPLES / "reference.tum",
+                 "--clip", "-o", estimate)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    results = tmp_path / "ape.zip"
+    env = dict(os.environ, MPLBACKEND="Agg", HOME=str(tmp_path))
+    done = subprocess.run(
+        [str(evo_ape), "tum", str(SAMPLES / "reference.tum"), str(estimate),
+         "--save_results", str(results), "--no_warnings"],
+        capture_output=True, text=True, env=env, timeout=300,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout + done.stderr
+    import json
+    import zipfile
+
+    with zipfile.ZipFile(results) as z:
+        stats = json.loads(z.read("stats.json"))
+        name = next(n for n in z.namelist() if n.startswith("error_array"))
+        errors = np.load(io.BytesIO(z.read(name)))
+    with open(SAMPLES / "reference.tum", "rb") as f:
+        reference = read_trajectory(f)
+    with open(estimate, "rb") as f:
+        ours = read_trajectory(f)
+    assert len(errors) == len(ours) == len(reference) - 1  # every pose associated
+    # evo's APE (translation part, no alignment): the distance of the positions at each stamp
+    same = np.isin(reference.times, ours.times)
+    independent = np.linalg.norm(reference.translations[same] - ours.translations, axis=1)
+    assert np.allclose(np.sort(errors), np.sort(independent), rtol=1e-9, atol=1e-12)
+    assert stats["rmse"] == pytest.approx(np.sqrt(np.mean(independent**2)), rel=1e-9)
