@@ -9,7 +9,7 @@ from .frames import screw_frame
 from .motions.base import Motion, check_ends, check_table
 from .names import MODES
 from .parameters import OF_MODE, TABLE
-from .poses import check_matrices
+from .poses import check_matrices, pose_matrices
 
 #: mode -> the names of its parameters (the table of :mod:`a2b.parameters`).
 PARAMETERS = OF_MODE
@@ -24,9 +24,10 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
     ----------
     start, end : array_like, shape (..., 4, 4)
         Robotics-layout homogeneous matrices ``[[R, t], [0, 0, 0, 1]]``, validated with
-        :func:`a2b.poses.check_matrices`. Their leading shapes broadcast to the shape ``S`` of
-        the result, with the parameters'; one pair of 4x4 matrices (and scalar parameters)
-        gives a single motion, ``S = ()``.
+        :func:`a2b.poses.check_matrices`; or scipy ``RigidTransform``/``Rotation`` objects, or
+        tuples ``(quat_wxyz, translation)`` (:func:`a2b.poses.pose_matrices`). Their leading
+        shapes broadcast to the shape ``S`` of the result, with the parameters'; one pair of
+        4x4 matrices (and scalar parameters) gives a single motion, ``S = ()``.
     mode : {"darboux", "cubic", "screw"}
     **parameters
         darboux: ``delta, kappa, lam, branch, pitch_start, pitch_end, through, long_way``;
@@ -50,6 +51,13 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
         Invalid poses, unknown or conflicting parameters, parameters without a solution, or a
         motion that is singular for some ``t ∈ [0, 1]``.
     """
+    a, b = (check_matrices(pose_matrices(pose)) for pose in (start, end))
+    return checked_motion(a, b, mode, **parameters)
+
+
+def checked_motion(a, b, mode: str = "darboux", **parameters) -> Motion:
+    """:func:`motion` of poses that are validated already (:func:`a2b.poses.check_matrices`),
+    as a trajectory's reader or :class:`a2b.resample.Resampler` validated them once."""
     if mode not in MODES:
         raise ParameterError(f"unknown mode {mode!r}; expected one of {', '.join(MODES)}")
     unknown = sorted(set(parameters) - set(PARAMETERS[mode]))
@@ -59,8 +67,6 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
             f"mode {mode} does not take {', '.join(unknown)} (its parameters: {allowed})"
         )
     params = {key: value for key, value in parameters.items() if value is not None}
-    a = check_matrices(start)
-    b = check_matrices(end)
     shapes = {"start": a.shape[:-2], "end": b.shape[:-2]}
     for key, item in params.items():
         if not isinstance(item, str):

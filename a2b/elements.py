@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import reprlib
 import warnings
+from collections import Counter
 from collections.abc import Callable
 
 import numpy as np
@@ -122,6 +123,19 @@ class Notes:
             item = text if isinstance(text, str) else text.reshape(-1)[flat]
             if item is not None and item not in out:
                 out.append(item)
+        return out
+
+    def counts(self, where=None) -> Counter:
+        """How many elements (of those ``where`` holds) each remark concerns: a batch's summary."""
+        out: Counter = Counter()
+        size = int(np.prod(self.shape, dtype=np.int64))
+        keep = np.ones(size, dtype=bool) if where is None else np.asarray(where).reshape(-1)
+        for mask, text in self.rules:
+            chosen = keep if mask is None else keep & np.asarray(mask).reshape(-1)
+            if isinstance(text, str):
+                out[text] += int(np.count_nonzero(chosen))
+            else:
+                out.update(t for t in np.asarray(text).reshape(-1)[chosen].tolist() if t)
         return out
 
     def tolist(self):

@@ -20,7 +20,14 @@ import numpy as np
 
 from .elements import as_numbers, unit_scale
 from .errors import PoseError
-from .study import STUDY_TOL, check_study, kappa, rotation_numerators, study_from_quat_trans
+from .study import (
+    STUDY_TOL,
+    check_study,
+    kappa,
+    quat_mul,
+    rotation_numerators,
+    study_from_quat_trans,
+)
 
 #: Tolerance of ``max |R Rᵀ − I|`` and ``|det R − 1|`` for rotation blocks of input matrices.
 ORTHO_TOL = 1e-9
@@ -148,6 +155,28 @@ def valid_matrices(matrices: np.ndarray, tol: float = ORTHO_TOL) -> np.ndarray:
         ortho = np.abs(_gram(rot) - np.eye(3)).max(axis=(-2, -1))
         det = determinants(rot)
         return ok & (ortho <= tol) & (det >= 0) & (np.abs(det - 1.0) <= tol)
+
+
+def pose_matrices(poses):
+    """Poses in the forms the API accepts, as robotics matrices ``(..., 4, 4)`` to validate.
+
+    * an array of matrices ``(..., 4, 4)`` (returned as it is);
+    * an object with ``as_matrix()``: scipy's ``RigidTransform`` (4x4) or ``Rotation`` (3x3, no
+      translation);
+    * a tuple ``(quat_wxyz, translation)`` of shapes ``(..., 4)`` and ``(..., 3)``: a2b's
+      quaternion order, w first (a scipy quaternion is x, y, z, w: give the ``Rotation``).
+    """
+    as_matrix = getattr(poses, "as_matrix", None)
+    if callable(as_matrix) and not isinstance(poses, np.ndarray):
+        m = np.asarray(as_matrix(), dtype=float)
+        if m.shape[-2:] == (3, 3):
+            return matrices_from_rot_trans(m, np.zeros(m.shape[:-1]))
+        return m
+    if isinstance(poses, tuple) and len(poses) == 2:
+        quat, trans = poses
+        if np.shape(quat)[-1:] == (4,) and np.shape(trans)[-1:] == (3,):
+            return matrices_from_quat_trans(quat, trans)
+    return poses
 
 
 def check_matrices(
@@ -298,6 +327,39 @@ def rotations_from_quaternions(quat_wxyz: np.ndarray) -> np.ndarray:
     p = np.asarray(quat_wxyz, dtype=float)
     delta = np.sum(p * p, axis=-1)
     return (rotation_numerators(p) / delta[..., None]).reshape(p.shape[:-1] + (3, 3))
+
+
+def quaternions_from_axis_angle(axes, angles) -> np.ndarray:
+    """Unit quaternions ``(..., 4)`` of turns by ``angles`` (radians, ``...``) about ``axes``
+    ``(..., 3)`` (any non-zero length): ``(cos(θ/2), sin(θ/2) u)``.
+
+    Raises
+    ------
+    PoseError
+        For a zero or non-finite axis or angle.
+    """
+    axis = as_numbers(axes, "an axis", PoseError)
+    angle = as_numbers(angles, "an angle", PoseError)
+    _finite(axis, "the axis")
+    _finite(angle, "the angle")
+    norm = np.linalg.norm(unit_scale(axis), axis=-1)
+    if axis.shape[-1:] != (3,) or np.any(norm == 0.0):
+        raise PoseError(f"a rotation axis needs 3 numbers, not all zero, got {axis.tolist()}")
+    unit = unit_scale(axis) / norm[..., None]
+    half = 0.5 * angle[..., None]
+    return np.concatenate([np.cos(half), np.sin(half) * unit], axis=-1)
+
+
+def quaternions_from_rpy_xyz(rpy) -> np.ndarray:
+    """Unit quaternions ``(..., 4)`` of roll, pitch, yaw ``(..., 3)`` (radians) about the fixed
+    axes x, then y, then z: ``R = Rz(yaw) Ry(pitch) Rx(roll)``, the convention of ROS's
+    ``setRPY`` and of URDF."""
+    angles = as_numbers(rpy, "roll, pitch, yaw", PoseError)
+    if angles.shape[-1:] != (3,):
+        raise PoseError(f"roll, pitch, yaw are 3 numbers, got shape {angles.shape}")
+    eye = np.eye(3)
+    turns = [quaternions_from_axis_angle(eye[i], angles[..., i]) for i in range(3)]
+    return quat_mul(turns[2], quat_mul(turns[1], turns[0]))
 
 
 def matrices_from_quat_trans(quat_wxyz: np.ndarray, translations: np.ndarray) -> np.ndarray:

@@ -48,7 +48,8 @@ class Resampler:
     ``quat_wxyz`` and ``study``, when given, are the poses as the file holds them: a time
     equal to a stamp returns them bit for bit, and the quaternions of a segment take the sign
     of the one at its start. ``max_gap``: segments longer than this many seconds are not
-    bridged; times strictly inside them are dropped. ``parameters`` go to every segment's
+    bridged; times strictly inside them are dropped. ``checked``: the poses were validated
+    already (by :func:`a2b.io.trajectories.read_trajectory`). ``parameters`` go to every segment's
     motion (:func:`a2b.motion`) or, for ``spline``, to :func:`a2b.motions.bezier.spline_motion`
     (``space``, default ``study``, and ``m``).
     """
@@ -62,6 +63,7 @@ class Resampler:
         max_gap: float | None = None,
         quat_wxyz=None,
         study=None,
+        checked: bool = False,
         **parameters,
     ):
         from .poses import check_matrices
@@ -71,7 +73,7 @@ class Resampler:
                 f"unknown mode {mode!r}; expected one of {', '.join(RESAMPLE_MODES)}"
             )
         self.times = as_numbers(times, "times")
-        self.poses = check_matrices(poses)
+        self.poses = np.asarray(poses, dtype=float) if checked else check_matrices(poses)
         n = len(self.times)
         if self.times.ndim != 1 or self.poses.shape != (n, 4, 4):
             raise ParameterError(
@@ -167,8 +169,13 @@ class Resampler:
     def _evaluate(self, k: np.ndarray, u: np.ndarray, representation: str):
         if self.spline is not None:
             return getattr(self.spline, representation)((k + u) / (len(self.times) - 1))
-        out = getattr(self._segments(k), representation)(u[:, None])  # one t per motion
-        return tuple(o[:, 0] for o in out) if isinstance(out, tuple) else out[:, 0]
+        rows, ts, where, order = _rows(k, u)
+        out = getattr(self._segments(rows, where), representation)(ts)
+        return (
+            tuple(_pick(o, where, order) for o in out)
+            if isinstance(out, tuple)
+            else (_pick(out, where, order))
+        )
 
     def _own_quat_trans(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         from .poses import quat_trans_from_matrices
@@ -184,34 +191,34 @@ class Resampler:
             return self.study[index]
         return study_from_matrices(self.poses[index])
 
-    def _segments(self, k: np.ndarray):
-        """The motions of segments ``k`` (sorted or not), one per entry, built once each."""
-        import a2b
+    def _segments(self, rows: np.ndarray, where: tuple):
+        """The motions of the segments ``rows`` (one per row, built in one batch)."""
+        from .api import checked_motion
 
-        first, inverse = np.unique(k, return_inverse=True)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", A2bWarning)
             try:
-                motion = a2b.motion(
-                    self.poses[first], self.poses[first + 1], self.mode, **self.parameters
+                motion = checked_motion(
+                    self.poses[rows], self.poses[rows + 1], self.mode, **self.parameters
                 )
             except A2bError as e:
                 if getattr(e, "index", None) is None:
                     raise
-                raise type(e)(f"{self._segment(first[e.index])}: {e.reason}") from None
+                raise type(e)(f"{self._segment(rows[e.index])}: {e.reason}") from None
+        first = np.ones(len(rows), dtype=bool)  # the first row of each segment: count it once
+        first[1:] = rows[1:] != rows[:-1]
         for w in caught:  # say which segment, not which element of this block
             index = getattr(w.message, "index", None)
-            if index is not None:
+            if index is None:
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+            elif first[index]:
                 warnings.warn(
-                    A2bWarning(f"{self._segment(first[index])}: {w.message.reason}"),
+                    A2bWarning(f"{self._segment(rows[index])}: {w.message.reason}"),
                     stacklevel=3,
                 )
-            else:
-                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-        self.segments_built += len(first)
-        for choices in motion.choices:
-            self.choices.update(choices)
-        return motion[inverse]
+        self.segments_built += int(np.count_nonzero(first))
+        self.choices.update(motion.notes.counts(first))
+        return motion
 
     def _segment(self, k: int) -> str:
         t = self.times
@@ -219,6 +226,35 @@ class Resampler:
             f"the segment from pose {k} (time {float(t[k])!r}) to pose {k + 1} "
             f"(time {float(t[k + 1])!r})"
         )
+
+
+def _rows(k: np.ndarray, u: np.ndarray):
+    """Parameters ``u`` of segments ``k`` as rows of one motion each: ``(rows (R,), ts (R, W),
+    where, order)``.
+
+    The motions of a batch share the number ``W`` of parameters, so the times of a segment
+    fill rows of ``W`` (the mean count, unused places 0): at most about twice the samples, for
+    any spread of times over segments. ``ts[where]`` are the parameters in the sorted order
+    ``order`` of ``k``.
+    """
+    order = np.argsort(k, kind="stable")
+    ks = k[order]
+    segments, start, counts = np.unique(ks, return_index=True, return_counts=True)
+    width = -(-len(ks) // len(segments))
+    position = np.arange(len(ks)) - np.repeat(start, counts)
+    per_segment = -(-counts // width)
+    row = np.repeat(np.cumsum(per_segment) - per_segment, counts) + position // width
+    column = position % width
+    ts = np.zeros((int(per_segment.sum()), width))
+    ts[row, column] = u[order]
+    return np.repeat(segments, per_segment), ts, (row, column), order
+
+
+def _pick(values: np.ndarray, where: tuple, order: np.ndarray) -> np.ndarray:
+    """The samples ``values[where]`` back in the order of the new times."""
+    out = np.empty((len(order),) + values.shape[2:])
+    out[order] = values[where]
+    return out
 
 
 def resample(

@@ -22,6 +22,12 @@ repeats interleaved, so that a busy machine slows both sides alike; figures are 
     (motions/s), against a Python loop of single motions and against pytransform3d's batch
     ScLERP on the same pairs (both sides: build and one sample at t = 1/2); and J = 10^4
     motions × 101 samples into ``(J, 101, 4, 4)`` against one motion of 10^6 samples.
+``resample``
+    ``a2b resample`` of a TUM trajectory of N poses (100 Hz, a robot's wander) at 10 N new
+    times (``--rate 1000``) into CSV as a whole process, against ``a2b interpolate --samples
+    10N --mode screw`` to CSV; and in the library, N segments resampled once each (screw mode,
+    ``Resampler.locate`` + ``sample``) against scipy's ``Slerp`` over the trajectory plus
+    ``numpy.interp`` of the translations, and pytransform3d's batch ScLERP of the segments.
 ``csv``
     ``a2b interpolate --samples N -o out.csv`` as a whole process, against a separate process
     running ``numpy.savetxt(fmt="%.17g")`` on the same eight columns; the CSV is read back and
@@ -69,7 +75,7 @@ import numpy as np
 import a2b
 from a2b.poses import matrices_from_quat_trans, study_from_matrices
 
-SECTIONS = ("library", "motions", "csv", "mcap", "startup", "batch")
+SECTIONS = ("library", "motions", "resample", "csv", "mcap", "startup", "batch")
 A2B_MODES = [
     ("darboux", "darboux", {}),
     ("cubic (canonical)", "cubic", {}),
@@ -665,6 +671,165 @@ def motions_section(jobs: int, n: int, repeats: int) -> list[Row]:
     return rows
 
 
+def wander(n: int, seed: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A trajectory of ``n`` poses at 100 Hz: times, unit quaternions (w, x, y, z) and
+    translations of a body that turns and drifts a little between samples."""
+    rng = np.random.default_rng(seed)
+    times = np.arange(n) * 0.01
+    axis = rng.normal(size=(n, 3))
+    axis /= np.linalg.norm(axis, axis=1, keepdims=True)
+    from a2b.study import quat_mul
+
+    steps = np.concatenate([np.cos(0.01 * np.ones((n, 1))), np.sin(0.01) * axis], axis=1)
+    quat = steps[:1].copy()
+    blocks = [quat]
+    for lo in range(1, n, 4096):  # products of small turns, in blocks (a walk on S³)
+        part = steps[lo : lo + 4096]
+        out = np.empty_like(part)
+        current = blocks[-1][-1]
+        for i, step in enumerate(part):
+            current = quat_mul(current, step)
+            out[i] = current
+        blocks.append(out / np.linalg.norm(out, axis=1, keepdims=True))
+    quat = np.concatenate(blocks)[:n]
+    trans = np.cumsum(rng.normal(0, 0.01, (n, 3)), axis=0)
+    return times, quat, trans
+
+
+def resample_section(n: int, repeats: int, work: Path, exe: list[str] | None) -> list[Row]:
+    """``a2b resample`` as a process against ``a2b interpolate``; and the library against
+    scipy's Slerp + interp and pytransform3d's batch ScLERP on the same segments."""
+    from a2b.io.floatrepr import format_rows
+    from a2b.poses import matrices_from_quat_trans
+    from a2b.resample import Resampler
+
+    times, quat, trans = wander(n)
+    rows: list[Row] = []
+    if exe is not None:
+        tum = work / "wander.tum"
+        table = np.column_stack([times, trans, quat[:, [1, 2, 3, 0]]])
+        tum.write_bytes(b"# time tx ty tz qx qy qz qw\n" + format_rows(table, sep=" "))
+        poses = work / "poses.json"
+        poses.write_text(json.dumps(poses_document(*test_poses())))
+        out, ref = work / "resampled.csv", work / "interpolated.csv"
+        samples = 10 * n
+        commands = {
+            "resample": exe + ["resample", str(tum), "--rate", "1000", "-o", str(out)],
+            "interpolate": exe + ["interpolate", str(poses), "--samples", str(samples),
+                                  "--mode", "screw", "-o", str(ref)],
+        }  # fmt: skip
+        log(f"resample: {n} poses to {samples} times, {repeats} interleaved repeats")
+        result = interleaved_processes(commands, repeats, rss=True,
+                                       outputs={"resample": out, "interpolate": ref})  # fmt: skip
+        (seconds, peak), (reference, _) = result["resample"], result["interpolate"]
+        written = sum(1 for _ in open(out, "rb")) - 1
+        rows.append(Row("resample", f"a2b resample of {n} TUM poses to {written} CSV rows",
+                        f"{seconds:.2f} s, {peak / 2**20:.0f} MiB"))  # fmt: skip
+        rows.append(Row("resample", f"a2b interpolate --samples {samples} (screw) to CSV",
+                        f"{reference:.2f} s"))  # fmt: skip
+        ratio = seconds / reference
+        rows.append(Row("resample", "resample vs interpolate, whole process", "",
+                        f"{ratio:.2f}", "≤ 1.5", ratio <= 1.5))  # fmt: skip
+    else:
+        rows.append(Row("resample", "the a2b command is not installed", "not measured"))
+
+    matrices = matrices_from_quat_trans(quat, trans)
+    middle = times[:-1] + 0.005  # one new time in each of the n − 1 segments
+
+    def ours():
+        resampler = Resampler(times, matrices, "screw", quat_wxyz=quat, checked=True)
+        return resampler.sample(resampler.locate(middle))
+
+    cases = {"a2b": ours}
+    try:
+        from scipy.spatial.transform import Rotation, Slerp
+    except ImportError:
+        pass
+    else:
+
+        def scipy_slerp():
+            rotations = Slerp(times, Rotation.from_quat(quat[:, [1, 2, 3, 0]]))(middle)
+            out = np.zeros((len(middle), 4, 4))
+            out[:, :3, :3] = rotations.as_matrix()
+            for axis in range(3):
+                out[:, axis, 3] = np.interp(middle, times, trans[:, axis])
+            out[:, 3, 3] = 1.0
+            return out
+
+        cases["scipy Slerp + interp"] = scipy_slerp
+    try:
+        from pytransform3d.trajectories import (
+            dual_quaternions_from_transforms,
+            dual_quaternions_sclerp,
+            transforms_from_dual_quaternions,
+        )
+    except ImportError:
+        pass
+    else:
+
+        def pt3d():
+            k = np.searchsorted(times, middle, side="right") - 1
+            u = (middle - times[k]) / (times[k + 1] - times[k])
+            dq = dual_quaternions_from_transforms(matrices)
+            a, b = dq[k], dq[k + 1]
+            b[np.sum(a[:, :4] * b[:, :4], axis=1) < 0] *= -1
+            return transforms_from_dual_quaternions(dual_quaternions_sclerp(a, b, u))
+
+        cases["pytransform3d batch ScLERP"] = pt3d
+    # The peers' per-segment ways (one interpolator per segment, in a Python loop), timed on
+    # the first segments and counted per segment
+    loop = min(n - 1, 2000)
+    if "scipy Slerp + interp" in cases:
+
+        def scipy_loop():
+            for k in range(loop):
+                pair = Rotation.from_quat(quat[k : k + 2, [1, 2, 3, 0]])
+                Slerp(times[k : k + 2], pair)(middle[k]).as_matrix()
+                np.interp(middle[k], times[k : k + 2], trans[k : k + 2, 0])
+
+        cases["scipy Slerp per segment"] = scipy_loop
+    if "pytransform3d batch ScLERP" in cases:
+        from pytransform3d.transformations import (
+            dual_quaternion_from_transform,
+            dual_quaternion_sclerp,
+            transform_from_dual_quaternion,
+        )
+
+        def pt3d_loop():
+            for k in range(loop):
+                a = dual_quaternion_from_transform(matrices[k])
+                b = dual_quaternion_from_transform(matrices[k + 1])
+                u = (middle[k] - times[k]) / (times[k + 1] - times[k])
+                transform_from_dual_quaternion(dual_quaternion_sclerp(a, b, u))
+
+        cases["pytransform3d ScLERP per segment"] = pt3d_loop
+    for f in cases.values():
+        f()
+    medians = interleaved(cases, repeats)
+    for peer in ("scipy Slerp per segment", "pytransform3d ScLERP per segment"):
+        if peer in medians:
+            medians[peer] *= (n - 1) / loop
+    rows.append(Row("resample", f"a2b: {n - 1} segments resampled once each (screw)",
+                    rate(n - 1, medians["a2b"])))  # fmt: skip
+    for peer in ("scipy Slerp per segment", "pytransform3d ScLERP per segment"):
+        if peer not in medians:
+            rows.append(Row("resample", peer, "not installed"))
+            continue
+        ratio = medians[peer] / medians["a2b"]
+        rows.append(Row("resample", f"{peer} (loop of {loop}, per segment)",
+                        rate(n - 1, medians[peer])))  # fmt: skip
+        rows.append(Row("resample", f"a2b vs {peer}", "", f"{ratio:.1f}×", "≥ 5×", ratio >= 5))
+    for peer in ("scipy Slerp + interp", "pytransform3d batch ScLERP"):
+        if peer not in medians:
+            rows.append(Row("resample", peer, "not installed"))
+            continue
+        ratio = medians[peer] / medians["a2b"]
+        rows.append(Row("resample", f"{peer}, same segments", rate(n - 1, medians[peer])))
+        rows.append(Row("resample", f"a2b vs {peer} (vectorised, no target)", "",
+                        f"{ratio:.2f}×"))  # fmt: skip
+    return rows
+
+
 def csv_section(n: int, repeats: int, work: Path, exe: list[str]) -> tuple[list[Row], float | None]:
     start, end = test_poses()
     poses = work / "poses.json"
@@ -1036,6 +1201,9 @@ def main(argv: list[str] | None = None) -> int:
                 continue
             if section == "motions":
                 rows += motions_section(10 * args.jobs, args.samples, args.repeats)
+                continue
+            if section == "resample":
+                rows += resample_section(args.samples, args.process_repeats, work, exe)
                 continue
             if exe is None:
                 rows.append(Row(section, "the a2b command is not installed", "not measured"))

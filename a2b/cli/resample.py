@@ -7,7 +7,7 @@ import click
 from . import CONTEXT_SETTINGS, options
 
 #: New times per block: the segments of a block are built together.
-BLOCK_TIMES = 65536
+BLOCK_TIMES = 16384
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
@@ -106,7 +106,7 @@ def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, r
         raise click.UsageError(f"--mark adds a column to csv, matrix and study, not to {fmt}")
     resampler = Resampler(
         path.times, path.matrices, mode, max_gap=max_gap, quat_wxyz=path.quat_wxyz,
-        study=path.study,
+        study=path.study, checked=True,
     )  # fmt: skip
     new_times = _new_times(path, rate, reference, times_file, choices)
     counts = {"outside": 0, "gap": 0, "written": 0}

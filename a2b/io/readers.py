@@ -8,6 +8,10 @@ A pose is a mapping with exactly one of these forms::
     {quaternion: {w: .., x: .., y: .., z: ..}, translation: [x, y, z] | {x, y, z}}
     {quaternion_wxyz: [w, x, y, z], translation: ...}
     {quaternion_xyzw: [x, y, z, w], translation: ...}      # ROS order, read at this edge only
+    {rpy_xyz: [roll, pitch, yaw], translation: ...}        # R = Rz(yaw) Ry(pitch) Rx(roll)
+    {axis_angle: {axis: [x, y, z], angle: a}, translation: ...}
+
+Angles are radians, or degrees with a ``deg`` suffix (``90deg``).
 
 A bare list under ``quaternion`` is an error: its order is the one thing a reader of the file
 cannot tell, and reading ROS's x, y, z, w as w, x, y, z turns the identity into a half turn.
@@ -74,7 +78,15 @@ __all__ = [
     "read_poses",
 ]
 
-POSE_FORMS = ("matrix", "quaternion", "quaternion_wxyz", "quaternion_xyzw", "study")
+POSE_FORMS = (
+    "matrix",
+    "quaternion",
+    "quaternion_wxyz",
+    "quaternion_xyzw",
+    "rpy_xyz",
+    "axis_angle",
+    "study",
+)
 POSE_KEYS = POSE_FORMS + ("layout", "translation", "kappa")
 Path = tuple  # keys (str) and list indexes (int) from the document root
 
@@ -645,6 +657,20 @@ def _numbers(doc: _Document, path: Path, v, n: int, what: str) -> list[float]:
     return [_number(doc, path + (i,), x) for i, x in enumerate(v)]
 
 
+def _list(doc: _Document, path: Path, v, n: int) -> list:
+    if not isinstance(v, list) or len(v) != n:
+        got = f"{len(v)}" if isinstance(v, list) else _describe(v)
+        raise doc.error(path, f"expected a list of {n} angles, got {got}")
+    return v
+
+
+def _angle(doc: _Document, path: Path, v) -> float:
+    """An angle: a number (radians) or a string with a ``deg`` suffix (``45deg``)."""
+    if isinstance(v, str) and degrees(v) is not None:
+        return degrees(v)
+    return _number(doc, path, v)
+
+
 def _mapping(doc: _Document, path: Path, v, what: str) -> dict:
     if not isinstance(v, dict):
         raise doc.error(path, f"expected {what}, got {_describe(v)}")
@@ -664,13 +690,20 @@ def _check_keys(doc: _Document, path: Path, mapping: dict, allowed: tuple, what:
 
 def _pose(doc: _Document, path: Path, v) -> np.ndarray:
     """Validate one pose mapping and return its robotics 4x4 matrix."""
-    from ..poses import check_matrices, matrices_from_quat_trans, matrices_from_study
+    from ..poses import (
+        check_matrices,
+        matrices_from_quat_trans,
+        matrices_from_study,
+        quaternions_from_axis_angle,
+        quaternions_from_rpy_xyz,
+    )
 
     pose = _mapping(
         doc,
         path,
         v,
-        "a pose mapping (matrix, quaternion, quaternion_wxyz, quaternion_xyzw or study)",
+        "a pose mapping (matrix, quaternion, quaternion_wxyz, quaternion_xyzw, rpy_xyz, "
+        "axis_angle or study)",
     )
     if "start" in pose or "end" in pose:
         raise doc.error(
@@ -736,6 +769,21 @@ def _pose(doc: _Document, path: Path, v) -> np.ndarray:
             )
         elif form == "quaternion_wxyz":
             wxyz = _numbers(doc, path + (form,), q, 4, "(w, x, y, z)")
+        elif form == "rpy_xyz":
+            rpy = [
+                _angle(doc, path + (form, i), x)
+                for i, x in enumerate(_list(doc, path + (form,), q, 3))
+            ]
+            wxyz = quaternions_from_rpy_xyz(np.array(rpy))
+        elif form == "axis_angle":
+            turn = _mapping(doc, path + (form,), q, "{axis: [x, y, z], angle: ANGLE}")
+            _check_keys(doc, path + (form,), turn, ("axis", "angle"), "an axis_angle")
+            missing = [k for k in ("axis", "angle") if k not in turn]
+            if missing:
+                raise doc.error(path + (form,), f"the axis_angle lacks {', '.join(missing)}")
+            axis = _numbers(doc, path + (form, "axis"), turn["axis"], 3, "(x, y, z)")
+            angle = _angle(doc, path + (form, "angle"), turn["angle"])
+            wxyz = quaternions_from_axis_angle(np.array(axis), angle)
         else:
             x, y, z, w = _numbers(doc, path + (form,), q, 4, "(x, y, z, w)")
             wxyz = [w, x, y, z]  # ROS order is converted here and nowhere else

@@ -29,6 +29,7 @@ import io
 import json
 import os
 import re
+import warnings
 from dataclasses import dataclass
 from typing import IO
 
@@ -113,7 +114,7 @@ def read_trajectory(
     if fmt == "mcap":
         times, quat, trans = _mcap(data, name, topic)
         lines = None
-        trajectory = _from_quaternions(times, quat, trans, name, fmt, lines, rows=None)
+        trajectory = _from_quaternions(times, quat, trans, name, fmt, lines)
     else:
         table, lines = _table(data, name, fmt)
         trajectory = _from_table(table, lines, name, fmt, rate, orthonormalize)
@@ -152,53 +153,86 @@ def _sniff(data: bytes, name: str) -> str:
 # -- text formats ------------------------------------------------------------------------------
 
 
-def _table(data: bytes, name: str, fmt: str) -> tuple[np.ndarray, np.ndarray]:
-    """The numbers of a text trajectory ``(N, columns)`` and the line number of each row."""
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as e:
-        line = data.count(b"\n", 0, e.start) + 1
-        raise InputFileError(f"{name}:{line}: the file is not UTF-8 text") from None
-    lines = text.splitlines()
+def _table(data: bytes, name: str, fmt: str) -> tuple[np.ndarray, _Lines]:
+    """The numbers of a text trajectory ``(N, columns)`` and the line of each row.
+
+    The numbers are parsed in bulk by ``numpy.loadtxt``; only when that fails, or a check
+    needs the line of a row for its message, are the lines numbered one by one.
+    """
+    if not data.isascii():  # the common case needs no decoded copy
+        try:
+            data.decode("utf-8")
+        except UnicodeDecodeError as e:
+            line = data.count(b"\n", 0, e.start) + 1
+            raise InputFileError(f"{name}:{line}: the file is not UTF-8 text") from None
+    head = data[: data.find(b"\n") if b"\n" in data[:65536] else 65536].decode("utf-8", "replace")
+    head = head.rstrip("\r")
     first, marked = 0, False
     if fmt in _HEADERS:
-        marked = bool(lines) and lines[0].strip() == _HEADERS[fmt] + ",original"
-        if not lines or (lines[0].strip() != _HEADERS[fmt] and not marked):
-            got = repr(lines[0][:80]) if lines else "an empty file"
+        marked = head.strip() == _HEADERS[fmt] + ",original"
+        if head.strip() != _HEADERS[fmt] and not marked:
+            got = repr(head[:80]) if data else "an empty file"
             raise InputFileError(
                 f"{name}:1:1: expected the {fmt} header {_HEADERS[fmt]!r}, got {got}"
             )
         first = 1
     elif fmt == "euroc":
-        if not lines or not lines[0].startswith("#"):
+        if not head.startswith("#"):
             raise InputFileError(f"{name}:1:1: expected EuRoC's '#timestamp [ns],…' header line")
         first = 1
+    lines = _Lines(data, first)
     sep = "," if fmt in _HEADERS or fmt == "euroc" else None
-    numbers = [
-        (i + 1, line)
-        for i, line in enumerate(lines[first:], first)
-        if line.strip() and not line.lstrip().startswith("#")
-    ]
-    width = _COLUMNS[fmt] + (fmt in _HEADERS and marked)  # a2b resample's original column
-    if fmt == "euroc":
-        return _euroc(numbers, name)
-    rows = np.empty((len(numbers), width))
+    width = _COLUMNS[fmt] + marked  # a2b resample's original column
+    body = io.BytesIO(data)
     try:
-        if numbers:
-            parsed = np.loadtxt([line for _, line in numbers], delimiter=sep, ndmin=2)
-            if parsed.shape[1] != width:
-                raise ValueError
-            rows = parsed
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)  # "input contained no data"
+            if fmt == "euroc":  # nanosecond stamps exceed 2**53: read them as integers
+                stamps = np.loadtxt(
+                    body, delimiter=",", usecols=0, dtype=np.int64, ndmin=1, skiprows=1
+                )
+                body.seek(0)
+                rows = np.loadtxt(body, delimiter=",", usecols=range(8), ndmin=2, skiprows=1)
+                seconds, nanoseconds = np.divmod(stamps, 10**9)
+                rows[:, 0] = seconds + nanoseconds * 1e-9
+            else:
+                rows = np.loadtxt(body, delimiter=sep, comments="#", ndmin=2, skiprows=first)
+        if rows.size == 0:
+            rows = np.empty((0, width))
+        if rows.shape[1] != width:
+            raise ValueError
     except ValueError:
-        _locate_bad_number(numbers, sep, width, name, fmt)
+        if fmt == "euroc":
+            return _euroc(lines.numbered(), name), lines
+        _locate_bad_number(lines.numbered(), sep, width, name, fmt)
         raise  # pragma: no cover - _locate_bad_number raises
-    line_numbers = np.array([n for n, _ in numbers], dtype=np.int64)
     bad = ~np.isfinite(rows).all(axis=1)
     if bad.any():
         i = int(np.argmax(bad))
         column = int(np.argmax(~np.isfinite(rows[i])))
-        _raise_at(numbers[i], sep, column, name, "expected a finite number")
-    return rows, line_numbers
+        _raise_at(lines.numbered()[i], sep, column, name, "expected a finite number")
+    return rows, lines
+
+
+class _Lines:
+    """The line number of each data row of a text, counted only when a message asks."""
+
+    def __init__(self, data: bytes, first: int):
+        self.data, self.first = data, first
+        self._numbered: list | None = None
+
+    def numbered(self) -> list[tuple[int, str]]:
+        """``(line number, line)`` of every row: not blank, not a ``#`` comment."""
+        if self._numbered is None:
+            self._numbered = [
+                (i + 1, line)
+                for i, line in enumerate(self.data.decode("utf-8").splitlines())
+                if i >= self.first and line.strip() and not line.lstrip().startswith("#")
+            ]
+        return self._numbered
+
+    def __getitem__(self, row: int) -> int:
+        return self.numbered()[row][0]
 
 
 def _fields(line: str, sep: str | None) -> list[tuple[int, str]]:
@@ -237,8 +271,8 @@ def _locate_bad_number(numbers: list, sep, width: int, name: str, fmt: str) -> N
     raise InputFileError(f"{name}: cannot read the numbers of this {fmt} file")
 
 
-def _euroc(numbers: list, name: str) -> tuple[np.ndarray, np.ndarray]:
-    """EuRoC rows: nanosecond stamps read as integers (they exceed 2**53), then 7 numbers."""
+def _euroc(numbers: list, name: str) -> np.ndarray:
+    """EuRoC rows line by line, to locate what the bulk reading refused."""
     rows = np.empty((len(numbers), 8))
     for i, numbered in enumerate(numbers):
         fields = _fields(numbered[1], ",")
@@ -261,7 +295,7 @@ def _euroc(numbers: list, name: str) -> tuple[np.ndarray, np.ndarray]:
         if not np.isfinite(rows[i]).all():
             column = int(np.argmax(~np.isfinite(rows[i])))
             _raise_at(numbered, ",", column, name, "expected a finite number")
-    return rows, np.array([n for n, _ in numbers], dtype=np.int64)
+    return rows
 
 
 def _from_table(table, lines, name, fmt, rate, orthonormalize) -> Trajectory:
@@ -292,16 +326,25 @@ def _from_table(table, lines, name, fmt, rate, orthonormalize) -> Trajectory:
     return Trajectory(times, matrices, study=study, name=name, fmt=fmt)
 
 
-def _from_quaternions(times, quat, trans, name, fmt, lines, rows=True) -> Trajectory:
+#: Poses converted at a time: the temporaries of a block stay small for any file.
+BLOCK = 65536
+
+
+def _from_quaternions(times, quat, trans, name, fmt, lines) -> Trajectory:
     from ..poses import matrices_from_quat_trans
 
-    norms = np.sqrt(np.einsum("ij,ij->i", quat, quat))
-    bad = ~(norms > 0.0)
-    if bad.any():
-        i = int(np.argmax(bad))
-        where = f"{name}:{lines[i]}:1" if lines is not None else f"{name}: message {i + 1}"
-        raise InputFileError(f"{where}: the quaternion is zero; a rotation needs a non-zero one")
-    matrices = matrices_from_quat_trans(quat / norms[:, None], trans)
+    quat, trans = np.ascontiguousarray(quat), np.ascontiguousarray(trans)
+    matrices = np.empty((len(quat), 4, 4))
+    for lo in range(0, len(quat), BLOCK):
+        part = quat[lo : lo + BLOCK]
+        bad = ~(np.einsum("ij,ij->i", part, part) > 0.0)
+        if bad.any():
+            i = lo + int(np.argmax(bad))
+            where = f"{name}:{lines[i]}:1" if lines is not None else f"{name}: message {i + 1}"
+            raise InputFileError(
+                f"{where}: the quaternion is zero; a rotation needs a non-zero one"
+            )
+        matrices[lo : lo + BLOCK] = matrices_from_quat_trans(part, trans[lo : lo + BLOCK])
     return Trajectory(times, matrices, quat_wxyz=quat, name=name, fmt=fmt)
 
 
