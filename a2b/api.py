@@ -6,7 +6,7 @@ import numpy as np
 
 from .errors import ParameterError
 from .frames import screw_frame
-from .motions.base import Motion, check_ends, check_table
+from .motions.base import Motion, check_ends, check_excursion, check_table
 from .names import MODES
 from .parameters import OF_MODE, TABLE
 from .poses import check_matrices, pose_matrices
@@ -55,7 +55,7 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
     return checked_motion(a, b, mode, **parameters)
 
 
-def checked_motion(a, b, mode: str = "darboux", **parameters) -> Motion:
+def checked_motion(a, b, mode: str = "darboux", /, **parameters) -> Motion:
     """:func:`motion` of poses that are validated already (:func:`a2b.poses.check_matrices`),
     as a trajectory's reader or :class:`a2b.resample.Resampler` validated them once."""
     if mode not in MODES:
@@ -99,6 +99,7 @@ def _build(a, b, mode, params) -> Motion:
         result = ScrewMotion(a, b, frame)
     check_table(result.table, result.shape)
     check_ends(result)
+    check_excursion(result)
     return result
 
 

@@ -125,6 +125,16 @@ class Notes:
                 out.append(item)
         return out
 
+    def mask(self) -> np.ndarray:
+        """Which elements have any remark, shape ``S``."""
+        out = np.zeros(self.shape, dtype=bool)
+        for mask, text in self.rules:
+            if isinstance(text, str):
+                out |= True if mask is None else mask
+            else:
+                out |= (np.asarray(text) != None) & (True if mask is None else mask)  # noqa: E711
+        return out
+
     def counts(self, where=None) -> Counter:
         """How many elements (of those ``where`` holds) each remark concerns: a batch's summary."""
         out: Counter = Counter()

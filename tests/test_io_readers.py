@@ -296,7 +296,8 @@ EXACT_ERRORS = [
      "deep.json: invalid JSON: nested too deeply to read"),
     ("key.json", b'{"quaternion_wxyz": [1, 0, 0, 0], "a\\nb": 1}',
      "key.json:1:35: 'a\\nb': unknown key 'a\\nb' in a pose (expected matrix, quaternion, "
-     "quaternion_wxyz, quaternion_xyzw, study, layout, translation, kappa)"),
+     "quaternion_wxyz, quaternion_xyzw, rpy_xyz, axis_angle, study, layout, translation, "
+     "kappa)"),
 ]  # fmt: skip
 
 

@@ -12,6 +12,7 @@ import os
 import shutil
 import subprocess
 import venv
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -352,3 +353,58 @@ def test_evo_associates_every_pose_resampled_with_at(tmp_path, evo_ape):
     independent = np.linalg.norm(reference.translations[same] - ours.translations, axis=1)
     assert np.allclose(np.sort(errors), np.sort(independent), rtol=1e-9, atol=1e-12)
     assert stats["rmse"] == pytest.approx(np.sqrt(np.mean(independent**2)), rel=1e-9)
+
+
+# -- poses the way users write them ------------------------------------------------------------
+
+
+def test_rpy_and_axis_angle_poses_match_scipy():
+    rotation = pytest.importorskip("scipy.spatial.transform").Rotation
+    from a2b.io.readers import read_pose
+
+    rng = np.random.default_rng(21)
+    for rpy in rng.uniform(-3, 3, size=(5, 3)):
+        text = f"rpy_xyz: {rpy.tolist()}\ntranslation: [1, 2, 3]\n"
+        pose = read_pose(io.BytesIO(text.encode()), "p.yaml")
+        assert np.abs(pose[:3, :3] - rotation.from_euler("xyz", rpy).as_matrix()).max() < 1e-15
+        assert pose[:3, 3].tolist() == [1.0, 2.0, 3.0]
+        axis, angle = rng.normal(size=3), float(rng.uniform(-3, 3))
+        text = f"axis_angle: {{axis: {axis.tolist()}, angle: {angle!r}}}\n"
+        pose = read_pose(io.BytesIO(text.encode()), "p.yaml")
+        expected = rotation.from_rotvec(axis / np.linalg.norm(axis) * angle).as_matrix()
+        assert np.abs(pose[:3, :3] - expected).max() < 1e-15
+    degrees = read_pose(io.BytesIO(b"rpy_xyz: [0, 0, 90deg]\n"), "p.yaml")
+    assert np.allclose(degrees[:3, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]], rtol=0, atol=3e-16)
+    with pytest.raises(InputFileError, match=r"p\.yaml:1:1: axis_angle: the axis_angle lacks angle"):
+        read_pose(io.BytesIO(b"axis_angle: {axis: [0, 0, 1]}\n"), "p.yaml")
+    with pytest.raises(InputFileError, match=r"p\.yaml:1:1: axis_angle: a rotation axis needs"):
+        read_pose(io.BytesIO(b"axis_angle: {axis: [0, 0, 0], angle: 1}\n"), "p.yaml")
+
+
+def test_the_api_takes_scipy_transforms_and_quaternion_translation_tuples():
+    transform = pytest.importorskip("scipy.spatial.transform")
+    turn = transform.Rotation.from_euler("z", 90, degrees=True)
+    matrix = np.eye(4)
+    matrix[:3, :3] = turn.as_matrix()
+    expected = a2b.interpolate(np.eye(4), matrix, 5, "screw")
+    assert np.array_equal(a2b.interpolate(np.eye(4), turn, 5, "screw"), expected)
+    as_tuple = ([1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+    quat = [np.cos(np.pi / 4), 0.0, 0.0, np.sin(np.pi / 4)]
+    assert np.allclose(a2b.interpolate(as_tuple, (quat, [0, 0, 0]), 5, "screw"), expected)
+    if hasattr(transform, "RigidTransform"):
+        rigid = transform.RigidTransform.from_components([1.0, 2.0, 3.0], turn)
+        expected = a2b.interpolate(np.eye(4), rigid.as_matrix(), 5)
+        assert np.array_equal(a2b.interpolate(np.eye(4), rigid, 5), expected)
+
+
+def test_a_far_excursion_is_warned_with_its_ratio():
+    start, end = _poses("quarter-turn.yaml")
+    with pytest.warns(a2b.errors.A2bWarning, match=r"up to 260 away .* 173 times their distance"):
+        motion = a2b.motion(start, end, "darboux", lam=888.0)
+    assert motion.warnings and "173 times" in motion.warnings[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", a2b.errors.A2bWarning)
+        for mode in ("darboux", "cubic", "screw"):  # the defaults stay close
+            a2b.motion(start, end, mode)
+    result = run("interpolate", SAMPLES / "quarter-turn.yaml", "--lam", 888, "--samples", 2)
+    assert result.exit_code == 0 and "Warning: the Darboux motion takes the origin" in result.output

@@ -87,6 +87,49 @@ def check_ends(motion) -> None:
     )
 
 
+#: A motion whose moving origin strays farther than this many times the distance of the two
+#: positions from the straight segment between them gets a warning (the default motions of
+#: every mode stay within 0.5 of it).
+EXCURSION_RATIO = 10.0
+
+
+def check_excursion(motion) -> None:
+    """Warn where the moving origin strays far from the segment between its two positions.
+
+    The path is sampled at 17 parameters in [0, 1]; its largest distance from the segment
+    ``tA tB`` is compared with ``|tB − tA|``. A large ratio usually means a parameter (an
+    amplitude λ, an offset δ, the cubic's a and b) far larger than these poses call for. A
+    motion already warned about (close to p(t) = 0) is not warned about again.
+    """
+    ts = np.linspace(0.0, 1.0, 17)
+    with np.errstate(over="ignore", invalid="ignore"):
+        path = evaluate_translations(motion._basis(ts), motion.table)
+    a, b = motion.start[..., None, :3, 3], motion.end[..., None, :3, 3]
+    chord = b - a
+    length2 = np.sum(chord * chord, axis=-1)
+    along = np.clip(np.sum((path - a) * chord, axis=-1) / np.where(length2 > 0, length2, 1), 0, 1)
+    away = np.linalg.norm(path - a - along[..., None] * chord, axis=-1).max(axis=-1)
+    length = np.sqrt(length2[..., 0])
+    size = np.maximum(np.abs(a).max(axis=(-2, -1)), np.abs(b).max(axis=(-2, -1)))
+    far = (away > EXCURSION_RATIO * length + 1e-9 * size) & ~motion.warning_notes.mask()
+
+    def message(i: int) -> str:
+        there = f"{value(away, i):.3g}"
+        if value(length, i) > 0:
+            ratio = f"{value(away, i) / value(length, i):.3g} times their distance"
+            return (
+                f"the {motion.what} takes the origin up to {there} away from the straight "
+                f"segment between its two positions, {ratio} {value(length, i):.3g}; a parameter "
+                "may be far larger than these poses call for"
+            )
+        return (
+            f"the {motion.what} takes the origin up to {there} away from its position, which "
+            "the two poses share; a parameter may be far larger than these poses call for"
+        )
+
+    motion._warn(far, message)
+
+
 def _largest_finite(values: np.ndarray) -> float:
     return float(np.max(np.abs(values[np.isfinite(values)]), initial=0.0))
 
