@@ -22,6 +22,7 @@ from click.testing import CliRunner
 import a2b
 from a2b.cli import cli
 from a2b.errors import A2bError, InputFileError, PoseError
+from a2b.io import trajectories
 from a2b.io.trajectories import read_trajectory
 from a2b.poses import matrices_from_quat_trans, orthonormalize
 from a2b.resample import Resampler, resample
@@ -375,7 +376,9 @@ def test_rpy_and_axis_angle_poses_match_scipy():
         assert np.abs(pose[:3, :3] - expected).max() < 1e-15
     degrees = read_pose(io.BytesIO(b"rpy_xyz: [0, 0, 90deg]\n"), "p.yaml")
     assert np.allclose(degrees[:3, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]], rtol=0, atol=3e-16)
-    with pytest.raises(InputFileError, match=r"p\.yaml:1:1: axis_angle: the axis_angle lacks angle"):
+    with pytest.raises(
+        InputFileError, match=r"p\.yaml:1:1: axis_angle: the axis_angle lacks angle"
+    ):
         read_pose(io.BytesIO(b"axis_angle: {axis: [0, 0, 1]}\n"), "p.yaml")
     with pytest.raises(InputFileError, match=r"p\.yaml:1:1: axis_angle: a rotation axis needs"):
         read_pose(io.BytesIO(b"axis_angle: {axis: [0, 0, 0], angle: 1}\n"), "p.yaml")
@@ -408,3 +411,24 @@ def test_a_far_excursion_is_warned_with_its_ratio():
             a2b.motion(start, end, mode)
     result = run("interpolate", SAMPLES / "quarter-turn.yaml", "--lam", 888, "--samples", 2)
     assert result.exit_code == 0 and "Warning: the Darboux motion takes the origin" in result.output
+
+
+def test_spline_and_bezier_take_their_poses_from_trajectory_files(tmp_path):
+    with open(SAMPLES / "walk.kitti", "rb") as f:
+        walk = read_trajectory(f, orthonormalize=True)
+    result = run("spline", SAMPLES / "walk.kitti", "--orthonormalize", "--space", "study",
+                 "--samples", 59, "--format", "matrix")  # fmt: skip
+    assert result.exit_code == 0, result.output
+    _, matrices = trajectories.read_matrix_csv(io.BytesIO(result.output.encode()))
+    assert np.abs(matrices[::2] - walk.matrices).max() < 1e-12  # key pose j at t = j / 29
+    with open(SAMPLES / "reference.tum", "rb") as f:
+        reference = read_trajectory(f)
+    result = run("bezier", SAMPLES / "reference.tum", "--space", "study", "--samples", 2)
+    assert result.exit_code == 0, result.output
+    _, quat, trans = trajectories.read_csv(io.BytesIO(result.output.encode()))
+    assert np.allclose(trans, reference.translations[[0, -1]], rtol=0, atol=1e-12)
+    data = (SAMPLES / "reference.tum").read_bytes()
+    piped = run("spline", "-", "--input-format", "tum", "--samples", 3, input=data)
+    assert piped.exit_code == 0, piped.output
+    refused = run("spline", SAMPLES / "spline.yaml", "--orthonormalize")
+    assert refused.exit_code == 2 and "are for trajectory files" in refused.output

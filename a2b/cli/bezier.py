@@ -24,14 +24,17 @@ from . import CONTEXT_SETTINGS, options
 )
 @options.basis_option("matrix: the kernel basis of --alpha", default=None)
 @options.offsets_option("study: κ-fiber offsets s, one per control pose (h + s εp).")
+@options.trajectory_input_options(rate=False)
 @options.trajectory_options
-def command(poses, space, samples, verbose, **parameters):
+def command(poses, space, samples, verbose, input_format, topic, orthonormalize, **parameters):
     """Sample the Bézier motion of the control poses in POSES (a file, or - for stdin).
 
     POSES is JSON or YAML with a list `controls` of at least two poses, in any pose form of
     `a2b interpolate`, and optionally `space`, `samples` and `parameters` (m, weights, alphas,
-    basis, offsets); options given here override the file. The curve has degree k − 1 for k
-    controls and passes through the first control (t = 0) and the last (t = 1).
+    basis, offsets); options given here override the file. POSES may also be a trajectory
+    file (as `a2b resample` reads): its poses, in order, are the controls. The curve has
+    degree k − 1 for k controls and passes through the first control (t = 0) and the last
+    (t = 1).
 
     \b
     matrix  de Casteljau over the control poses' points (1, R, t) of R^13, mapped by μ_[m]
@@ -48,12 +51,13 @@ def command(poses, space, samples, verbose, **parameters):
       a2b bezier samples/planar-bezier.yaml --samples 5
       a2b bezier samples/planar-bezier.yaml --space study --format tum -o planar.tum
       a2b bezier samples/planar-bezier.yaml --weights 1,2,2,1 --format mcap -o planar.mcap
+      a2b bezier samples/reference.tum --space study --samples 5
     """
-    from ..io.readers import read_pose_list
-
     out = options.pop_trajectory(parameters)
-    curve = read_pose_list(poses, "controls")
-    parameters["alphas"] = parameters["alphas"] or None
     choices: list[str] = []
+    curve = options.read_pose_list_option(
+        poses, "controls", input_format, topic, orthonormalize, choices
+    )
+    parameters["alphas"] = parameters["alphas"] or None
     motion = options.curve_motion(curve, space, choices, parameters)
     options.sample_and_write(motion, samples, curve.samples, choices, verbose, out)

@@ -532,20 +532,31 @@ def check_output(fmt: str, output: str, samples: int, duration: float, start_tim
         )
 
 
-def trajectory_input_options(f):
-    """``--input-format``, ``--topic``, ``--input-rate`` and ``--orthonormalize`` for a
-    trajectory file read by :func:`read_trajectory_option`."""
-    from ..io.trajectories import TRAJECTORY_FORMATS
+#: The formats of trajectory files (:mod:`a2b.io.trajectories`), without importing it.
+TRAJECTORY_FORMATS = ("tum", "kitti", "euroc", "csv", "matrix", "study", "mcap")
 
-    for option in reversed(
-        [
-            click.option(
-                "--input-format",
-                type=click.Choice(TRAJECTORY_FORMATS),
-                help="The trajectory's format  [default: from the suffix (.tum, .kitti, .mcap), "
-                "else from the content]",
-            ),
-            click.option("--topic", help="mcap input: the topic of the poses, if several."),
+
+def trajectory_input_options(rate: bool = True):
+    """``--input-format``, ``--topic``, ``--orthonormalize`` and (with ``rate``) ``--input-rate``
+    for a trajectory file read by :func:`read_trajectory_option`."""
+    options = [
+        click.option(
+            "--input-format",
+            type=click.Choice(TRAJECTORY_FORMATS),
+            help="A trajectory's format  [default: from the suffix (.tum, .kitti, .mcap), else "
+            "from the content]",
+        ),
+        click.option("--topic", help="mcap input: the topic of the poses, if several."),
+        click.option(
+            "--orthonormalize",
+            is_flag=True,
+            help="Project rotation blocks that are orthogonal only to a few digits "
+            "(max |R Rᵀ − I| ≤ 1e-4) onto the nearest rotations; -v states the residual.",
+        ),
+    ]
+    if rate:
+        options.insert(
+            2,
             click.option(
                 "--input-rate",
                 type=PositiveFloat(),
@@ -553,16 +564,48 @@ def trajectory_input_options(f):
                 help="kitti input: the poses are 1/HZ s apart  [default: times are the line "
                 "indices 0, 1, 2, …]",
             ),
-            click.option(
-                "--orthonormalize",
-                is_flag=True,
-                help="Project rotation blocks that are orthogonal only to a few digits "
-                "(max |R Rᵀ − I| ≤ 1e-4) onto the nearest rotations; -v states the residual.",
-            ),
-        ]
-    ):
-        f = option(f)
-    return f
+        )
+
+    def decorate(f):
+        for option in reversed(options):
+            f = option(f)
+        return f
+
+    return decorate
+
+
+def read_pose_list_option(stream, key: str, fmt, topic, orthonormalize: bool, choices: list):
+    """The poses of a pose-list file (``controls`` or ``poses``), or of a trajectory file: one
+    given ``--input-format``, with a trajectory suffix, or whose content is a trajectory's."""
+    import io
+
+    from ..errors import InputFileError
+    from ..io.readers import PoseList, read_pose_list
+    from ..io.trajectories import read_trajectory, sniff_format
+
+    name = getattr(stream, "name", "-")
+    name = "<stdin>" if name in ("-", "<stdin>") else name
+    data = stream.read()
+    if fmt is None:
+        try:
+            fmt = sniff_format(data, name)
+        except InputFileError:
+            fmt = None  # not a trajectory: a pose list
+        else:
+            choices.append(f"input format {fmt}: a trajectory file (--input-format to change)")
+    if fmt is None:
+        if orthonormalize or topic:
+            raise click.UsageError("--orthonormalize and --topic are for trajectory files")
+        return read_pose_list(io.BytesIO(data), key, name)
+    path = read_trajectory(
+        io.BytesIO(data), name, fmt, topic=topic, orthonormalize=orthonormalize, minimum=2
+    )
+    if path.repaired is not None:
+        choices.append(
+            f"orthonormalized {len(path)} rotation blocks: largest max |R Rᵀ − I| was "
+            f"{path.repaired:.3g}"
+        )
+    return PoseList(key, path.matrices)
 
 
 def read_trajectory_option(

@@ -12,7 +12,7 @@ BLOCK_TIMES = 16384
 
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("trajectory", type=options.INPUT)
-@options.trajectory_input_options
+@options.trajectory_input_options()
 @click.option(
     "--rate",
     type=options.PositiveFloat(),
@@ -164,10 +164,11 @@ def _new_times(path, rate, reference, times_file, choices):
             )
         times = path.times
         if not len(times):
-            raise InputFileError(f"{reference.name}: the reference has no poses")
+            raise InputFileError(f"{path.name}: the reference has no poses")
     else:
         times = _read_times(times_file)
-    choices.append(f"new times: {len(times)} from {(reference or times_file).name}")
+    source = getattr(reference or times_file, "name", "-")
+    choices.append(f"new times: {len(times)} from {'<stdin>' if source == '-' else source}")
     return (times[lo : lo + BLOCK_TIMES] for lo in range(0, len(times), BLOCK_TIMES))
 
 
@@ -177,7 +178,8 @@ def _read_times(stream):
 
     from ..errors import InputFileError
 
-    name = "<stdin>" if stream.name == "-" else stream.name
+    name = getattr(stream, "name", "-")
+    name = "<stdin>" if name == "-" else name
     times, lines = [], []
     for number, raw in enumerate(stream.read().decode("utf-8", "replace").splitlines(), 1):
         text = raw.split("#", 1)[0].strip()

@@ -14,13 +14,16 @@ from . import CONTEXT_SETTINGS, options
     "matrix: the vector m of μ_[m], one for all segments  [default: the sum of the poses' "
     "quaternions]"
 )
+@options.trajectory_input_options(rate=False)
 @options.trajectory_options
-def command(poses, space, m, samples, verbose, **out):
+def command(poses, space, m, samples, verbose, input_format, topic, orthonormalize, **out):
     """Sample the C¹ spline through the key poses in POSES (a file, or - for stdin).
 
     POSES is JSON or YAML with a list `poses` of at least two poses, in any pose form of
     `a2b interpolate`, and optionally `space`, `samples` and `parameters` (m); options given
-    here override the file.
+    here override the file. POSES may also be a trajectory file (as `a2b resample` reads):
+    its poses, in order, are the key poses (their times are not used; `a2b resample --mode
+    spline` follows the times).
 
     Consecutive poses are joined by cubic Bézier segments whose inner control points follow
     the uniform Catmull–Rom rule in the chosen space (R^13 for matrix, unit Study vectors for
@@ -37,10 +40,11 @@ def command(poses, space, m, samples, verbose, **out):
       a2b spline samples/spline.yaml --samples 9
       a2b spline samples/spline.yaml --space study --format tum -o spline.tum
       a2b spline samples/spline.yaml --format mcap -o spline.mcap
+      a2b spline samples/walk.kitti --orthonormalize --space study --samples 59
     """
-    from ..io.readers import read_pose_list
-
-    curve = read_pose_list(poses, "poses")
     choices: list[str] = []
+    curve = options.read_pose_list_option(
+        poses, "poses", input_format, topic, orthonormalize, choices
+    )
     motion = options.curve_motion(curve, space, choices, {"m": m})
     options.sample_and_write(motion, samples, curve.samples, choices, verbose, out)

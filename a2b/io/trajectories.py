@@ -50,6 +50,7 @@ __all__ = [
     "read_study_csv",
     "read_trajectory",
     "read_tum",
+    "sniff_format",
 ]
 
 TRAJECTORY_FORMATS = ("tum", "kitti", "euroc", "csv", "matrix", "study", "mcap")
@@ -108,7 +109,7 @@ def read_trajectory(
     data = stream.read()
     if isinstance(data, str):
         data = data.encode()
-    fmt = fmt or _SUFFIXES.get(os.path.splitext(name)[1].lower()) or _sniff(data, name)
+    fmt = fmt or sniff_format(data, name)
     if fmt not in TRAJECTORY_FORMATS:
         raise InputFileError(f"{name}: unknown trajectory format {fmt!r}")
     if fmt == "mcap":
@@ -126,7 +127,17 @@ def read_trajectory(
     return trajectory
 
 
-def _sniff(data: bytes, name: str) -> str:
+def sniff_format(data: bytes, name: str) -> str:
+    """The trajectory format of a file's content: from its suffix, else its content.
+
+    Raises
+    ------
+    InputFileError
+        If neither tells (the file is no trajectory).
+    """
+    by_suffix = _SUFFIXES.get(os.path.splitext(name)[1].lower())
+    if by_suffix:
+        return by_suffix
     if data.startswith(MCAP_MAGIC):
         return "mcap"
     head = data[:4096].decode("utf-8", "replace").splitlines()
