@@ -26,6 +26,8 @@ from .names import MODES
 __all__ = ["RESAMPLE_MODES", "Located", "Resampler", "resample"]
 
 RESAMPLE_MODES = MODES + ("spline",)
+#: Warnings about segments issued in one run; the rest are counted (:attr:`Resampler.warned`).
+WARNINGS_SHOWN = 10
 
 
 @dataclass
@@ -98,6 +100,8 @@ class Resampler:
         self.parameters = parameters
         self.choices: Counter = Counter()
         self.segments_built = 0
+        #: Segments warned about (the first :data:`WARNINGS_SHOWN` are issued).
+        self.warned = 0
         self.spline = None
         if mode == "spline":
             from .motions.bezier import spline_motion
@@ -212,10 +216,12 @@ class Resampler:
             if index is None:
                 warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
             elif first[index]:
-                warnings.warn(
-                    A2bWarning(f"{self._segment(rows[index])}: {w.message.reason}"),
-                    stacklevel=3,
-                )
+                self.warned += 1
+                if self.warned <= WARNINGS_SHOWN:
+                    warnings.warn(
+                        A2bWarning(f"{self._segment(rows[index])}: {w.message.reason}"),
+                        stacklevel=3,
+                    )
         self.segments_built += int(np.count_nonzero(first))
         self.choices.update(motion.notes.counts(first))
         return motion

@@ -432,3 +432,18 @@ def test_spline_and_bezier_take_their_poses_from_trajectory_files(tmp_path):
     assert piped.exit_code == 0, piped.output
     refused = run("spline", SAMPLES / "spline.yaml", "--orthonormalize")
     assert refused.exit_code == 2 and "are for trajectory files" in refused.output
+
+
+def test_segment_warnings_name_the_segment_and_stop_at_ten():
+    from a2b.resample import WARNINGS_SHOWN
+
+    times = np.arange(30.0)
+    angles = 0.3 * times
+    quat = np.stack([np.cos(angles / 2), 0 * angles, 0 * angles, np.sin(angles / 2)], axis=1)
+    poses = matrices_from_quat_trans(quat, np.stack([0.1 * times, 0 * times, 0 * times], 1))
+    resampler = Resampler(times, poses, "darboux", lam=888.0)
+    with pytest.warns(a2b.errors.A2bWarning) as caught:
+        resampler.sample(resampler.locate(times[:-1] + 0.5))
+    shown = [str(w.message) for w in caught if issubclass(w.category, a2b.errors.A2bWarning)]
+    assert len(shown) == WARNINGS_SHOWN and resampler.warned == 29
+    assert shown[0].startswith("the segment from pose 0 (time 0.0) to pose 1 (time 1.0): the ")

@@ -205,6 +205,8 @@ def _read_times(stream):
 
 def _report(counts, resampler, clip, max_gap, verbose) -> None:
     """Say what was dropped (always: data was left out) and, with -v, what was built."""
+    from ..resample import WARNINGS_SHOWN
+
     if counts["outside"]:
         click.echo(
             f"Dropped {_times(counts['outside'])} outside the trajectory (--clip).", err=True
@@ -212,6 +214,12 @@ def _report(counts, resampler, clip, max_gap, verbose) -> None:
     if counts["gap"]:
         click.echo(
             f"Dropped {_times(counts['gap'])} inside segments longer than --max-gap {max_gap:g} s.",
+            err=True,
+        )
+    if resampler.warned > WARNINGS_SHOWN:
+        click.echo(
+            f"Warning: {resampler.warned - WARNINGS_SHOWN} more segments were warned about "
+            f"(the first {WARNINGS_SHOWN} are shown above).",
             err=True,
         )
     if verbose:
