@@ -26,6 +26,8 @@ from .names import MODES
 __all__ = ["RESAMPLE_MODES", "Located", "Resampler", "resample"]
 
 RESAMPLE_MODES = MODES + ("spline",)
+#: New times sampled at a time.
+BLOCK = 65536
 #: Warnings about segments issued in one run; the rest are counted (:attr:`Resampler.warned`).
 WARNINGS_SHOWN = 10
 
@@ -146,7 +148,20 @@ class Resampler:
     # -- the poses ---------------------------------------------------------------------------
     def sample(self, located: Located, representation: str = "matrices") -> np.ndarray | tuple:
         """The poses at located times: robotics ``matrices (M, 4, 4)``, ``quat_trans``
-        (``(M, 4)`` w, x, y, z and ``(M, 3)``) or unit ``study (M, 8)``."""
+        (``(M, 4)`` w, x, y, z and ``(M, 3)``) or unit ``study (M, 8)``.
+
+        Times are taken :data:`BLOCK` at a time: the segments of a block are built together,
+        small enough to stay in cache."""
+        if len(located.times) > BLOCK:
+            parts = [
+                self.sample(
+                    Located(*(a[lo : lo + BLOCK] for a in _arrays(located))), representation
+                )
+                for lo in range(0, len(located.times), BLOCK)
+            ]
+            if isinstance(parts[0], tuple):
+                return tuple(np.concatenate(p) for p in zip(*parts))
+            return np.concatenate(parts)
         k, u, pose = located.segment, located.u, located.pose
         between = pose < 0
         own = pose[~between]
@@ -232,6 +247,10 @@ class Resampler:
             f"the segment from pose {k} (time {float(t[k])!r}) to pose {k + 1} "
             f"(time {float(t[k + 1])!r})"
         )
+
+
+def _arrays(located: Located) -> tuple:
+    return located.times, located.segment, located.u, located.pose
 
 
 def _rows(k: np.ndarray, u: np.ndarray):

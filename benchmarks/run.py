@@ -673,25 +673,12 @@ def motions_section(jobs: int, n: int, repeats: int) -> list[Row]:
 
 def wander(n: int, seed: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A trajectory of ``n`` poses at 100 Hz: times, unit quaternions (w, x, y, z) and
-    translations of a body that turns and drifts a little between samples."""
+    translations of a body whose roll, pitch and yaw and position drift a little each step."""
+    from a2b.poses import quaternions_from_rpy_xyz
+
     rng = np.random.default_rng(seed)
     times = np.arange(n) * 0.01
-    axis = rng.normal(size=(n, 3))
-    axis /= np.linalg.norm(axis, axis=1, keepdims=True)
-    from a2b.study import quat_mul
-
-    steps = np.concatenate([np.cos(0.01 * np.ones((n, 1))), np.sin(0.01) * axis], axis=1)
-    quat = steps[:1].copy()
-    blocks = [quat]
-    for lo in range(1, n, 4096):  # products of small turns, in blocks (a walk on S³)
-        part = steps[lo : lo + 4096]
-        out = np.empty_like(part)
-        current = blocks[-1][-1]
-        for i, step in enumerate(part):
-            current = quat_mul(current, step)
-            out[i] = current
-        blocks.append(out / np.linalg.norm(out, axis=1, keepdims=True))
-    quat = np.concatenate(blocks)[:n]
+    quat = quaternions_from_rpy_xyz(np.cumsum(rng.normal(0, 0.01, (n, 3)), axis=0))
     trans = np.cumsum(rng.normal(0, 0.01, (n, 3)), axis=0)
     return times, quat, trans
 

@@ -6,9 +6,6 @@ import click
 
 from . import CONTEXT_SETTINGS, options
 
-#: New times per block: the segments of a block are built together.
-BLOCK_TIMES = 16384
-
 
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("trajectory", type=options.INPUT)
@@ -137,10 +134,11 @@ def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, r
 
 
 def _new_times(path, rate, reference, times_file, choices):
-    """The new times, in blocks of :data:`BLOCK_TIMES`, increasing."""
+    """The new times, in blocks of :data:`a2b.resample.BLOCK`, increasing."""
     import numpy as np
 
     from ..errors import InputFileError
+    from ..resample import BLOCK
 
     if rate is not None:
         first, last = float(path.times[0]), float(path.times[-1])
@@ -150,8 +148,8 @@ def _new_times(path, rate, reference, times_file, choices):
         choices.append(f"new times: {count} from {first!r} s every 1/{rate:g} s")
 
         def generate():
-            for lo in range(0, count, BLOCK_TIMES):
-                yield first + np.arange(lo, min(lo + BLOCK_TIMES, count)) / rate
+            for lo in range(0, count, BLOCK):
+                yield first + np.arange(lo, min(lo + BLOCK, count)) / rate
 
         return generate()
     if reference is not None:
@@ -169,7 +167,7 @@ def _new_times(path, rate, reference, times_file, choices):
         times = _read_times(times_file)
     source = getattr(reference or times_file, "name", "-")
     choices.append(f"new times: {len(times)} from {'<stdin>' if source == '-' else source}")
-    return (times[lo : lo + BLOCK_TIMES] for lo in range(0, len(times), BLOCK_TIMES))
+    return (times[lo : lo + BLOCK] for lo in range(0, len(times), BLOCK))
 
 
 def _read_times(stream):
