@@ -430,8 +430,8 @@ def test_spline_and_bezier_take_their_poses_from_trajectory_files(tmp_path):
     data = (SAMPLES / "reference.tum").read_bytes()
     piped = run("spline", "-", "--input-format", "tum", "--samples", 3, input=data)
     assert piped.exit_code == 0, piped.output
-    refused = run("spline", SAMPLES / "spline.yaml", "--orthonormalize")
-    assert refused.exit_code == 2 and "are for trajectory files" in refused.output
+    refused = run("spline", SAMPLES / "spline.yaml", "--topic", "/tf")
+    assert refused.exit_code == 2 and "--topic is for trajectory files" in refused.output
 
 
 def test_segment_warnings_name_the_segment_and_stop_at_ten():
@@ -447,3 +447,38 @@ def test_segment_warnings_name_the_segment_and_stop_at_ten():
     shown = [str(w.message) for w in caught if issubclass(w.category, a2b.errors.A2bWarning)]
     assert len(shown) == WARNINGS_SHOWN and resampler.warned == 29
     assert shown[0].startswith("the segment from pose 0 (time 0.0) to pose 1 (time 1.0): the ")
+
+
+SIX_DIGITS = (
+    "start: {matrix: [[1, 0, 0, 0], [0, 0.707107, -0.707107, 0], [0, 0.707107, 0.707107, 0], "
+    "[0, 0, 0, 1]]}\nend: {quaternion_wxyz: [1, 0, 0, 0], translation: [1, 0, 0]}\n"
+)
+
+
+def test_orthonormalize_repairs_matrix_poses_in_every_command(tmp_path):
+    poses = tmp_path / "six.yaml"
+    poses.write_text(SIX_DIGITS)
+    jobs = tmp_path / "jobs.yaml"
+    jobs.write_text("- " + SIX_DIGITS.replace("\nend", "\n  end"))
+    for command, path, verbose in [
+        ("interpolate", poses, ["-v"]),
+        ("describe", poses, []),  # describe states its choices always
+        ("batch", jobs, ["-v"]),
+    ]:
+        refused = run(command, path)
+        assert refused.exit_code == 1
+        assert "6.19e-07 exceeds tolerance 1e-09; if it is a rotation rounded" in refused.output
+        assert "--orthonormalize" in refused.output
+        repaired = run(command, path, "--orthonormalize", *verbose)
+        assert repaired.exit_code == 0, repaired.output
+        assert "orthonormalized 1 matrix pose: largest max |R Rᵀ − I| was 6.19e-07" in (
+            repaired.output
+        )
+    result = run("interpolate", poses, "--orthonormalize", "--samples", 2, "--format", "matrix")
+    _, matrices = trajectories.read_matrix_csv(io.BytesIO(result.output.encode()))
+    turn = np.array([[1, 0, 0], [0, np.sqrt(0.5), -np.sqrt(0.5)], [0, np.sqrt(0.5), np.sqrt(0.5)]])
+    assert np.abs(matrices[0, :3, :3] - turn).max() < 1e-15  # the rotation 6 digits stood for
+    too_far = SIX_DIGITS.replace("0.707107, 0.707107", "0.7, 0.7")
+    poses.write_text(too_far)
+    result = run("interpolate", poses, "--orthonormalize")
+    assert result.exit_code == 1 and "exceeds tolerance 0.0001" in result.output

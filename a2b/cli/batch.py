@@ -75,7 +75,11 @@ def _progress(total: int | None):
     "renamed into place when complete; tum and kitti need a directory, made if missing.",
 )
 @options.verbose_option
-def command(jobs, mode, samples, fmt, chunk_size, duration, start_time, frame_id, output, verbose):
+@options.orthonormalize_option
+def command(
+    jobs, mode, samples, fmt, chunk_size, duration, start_time, frame_id, output, verbose,
+    orthonormalize,
+):  # fmt: skip
     """Sample every job in JOBS: into one CSV whose first column, job, names the motion, into
     a file per job (tum, kitti), or into one MCAP file with a topic per job.
 
@@ -131,36 +135,40 @@ def command(jobs, mode, samples, fmt, chunk_size, duration, start_time, frame_id
 
     if fmt in ("tum", "kitti") and output == "-":
         raise click.UsageError(f"{fmt} writes one file per job: give a directory with -o DIR")
-    job_list = read_jobs(jobs)
-    target = atomic_directory if fmt in ("tum", "kitti") else atomic_output
-    if target is atomic_output and os.path.isdir(output):
-        raise click.BadParameter(f"{output!r} is a directory", param_hint="'-o' / '--output'")
-    with _progress(job_list.count) as progress, target(output) as out:
-        advance = None
-        if progress is not None:
-            task = progress.add_task("jobs", total=job_list.count)
+    repaired: list[str] = []
+    with options.repairing(orthonormalize, repaired):  # the jobs are read as they are sampled
+        job_list = read_jobs(jobs)
+        target = atomic_directory if fmt in ("tum", "kitti") else atomic_output
+        if target is atomic_output and os.path.isdir(output):
+            raise click.BadParameter(f"{output!r} is a directory", param_hint="'-o' / '--output'")
+        with _progress(job_list.count) as progress, target(output) as out:
+            advance = None
+            if progress is not None:
+                task = progress.add_task("jobs", total=job_list.count)
 
-            def advance(n):
-                progress.advance(task, n)
+                def advance(n):
+                    progress.advance(task, n)
 
-        pieces = sample(
-            job_list.blocks(chunk_size),
-            mode=mode or "darboux",
-            samples=samples or 101,
-            representation=REPRESENTATION[fmt],
-            report=report if verbose else None,
-            advance=advance,
-            unique_names=fmt in ("tum", "kitti", "mcap"),
-        )
-        chunks = (
-            Chunk(piece.t, job=JobRuns(piece.names, piece.counts), **piece.fields)
-            for piece in pieces
-        )
-        if fmt in ("tum", "kitti"):
-            write_batch_files(out, chunks, fmt, duration=duration, start_time=start_time)
-        elif fmt == "mcap":
-            write_batch_mcap(
-                out, chunks, duration=duration, start_time=start_time, frame_id=frame_id
+            pieces = sample(
+                job_list.blocks(chunk_size),
+                mode=mode or "darboux",
+                samples=samples or 101,
+                representation=REPRESENTATION[fmt],
+                report=report if verbose else None,
+                advance=advance,
+                unique_names=fmt in ("tum", "kitti", "mcap"),
             )
-        else:
-            write_batch_csv(out, chunks, fmt)
+            chunks = (
+                Chunk(piece.t, job=JobRuns(piece.names, piece.counts), **piece.fields)
+                for piece in pieces
+            )
+            if fmt in ("tum", "kitti"):
+                write_batch_files(out, chunks, fmt, duration=duration, start_time=start_time)
+            elif fmt == "mcap":
+                write_batch_mcap(
+                    out, chunks, duration=duration, start_time=start_time, frame_id=frame_id
+                )
+            else:
+                write_batch_csv(out, chunks, fmt)
+    if verbose and repaired:
+        click.echo(f"Repairs a2b made:\n  • {repaired[0]}", err=True)

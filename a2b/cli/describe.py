@@ -75,7 +75,8 @@ def render(description: dict, defaults: list | None = None) -> None:
 @options.motion_options
 @options.space_option
 @options.json_option
-def command(poses, mode, space, as_json, **parameters):
+@options.orthonormalize_option
+def command(poses, mode, space, as_json, orthonormalize, **parameters):
     """Describe the motion between the two poses in POSES (a file, or - for stdin), or the
     Bézier motion or spline of a `controls:` or `poses:` file (with --space).
 
@@ -98,8 +99,11 @@ def command(poses, mode, space, as_json, **parameters):
 
     from ..io.readers import PoseList, read_motion_file
 
-    job = read_motion_file(poses)
     defaults: list[str] = []
+    with options.repairing(orthonormalize, defaults):
+        job = read_motion_file(poses)
+        if not isinstance(job, PoseList):
+            parameters = options.merge_parameters(job.parameters, parameters, mode)
     if isinstance(job, PoseList):
         options.only_for_two_poses(job, mode=mode, **parameters)
         description = options.curve_motion(job, space, defaults).describe()
@@ -108,7 +112,6 @@ def command(poses, mode, space, as_json, **parameters):
             raise click.UsageError(
                 "--space is for a list of controls or poses; this is a poses file"
             )
-        parameters = options.merge_parameters(job.parameters, parameters, mode)
         mode = options.pick("mode", mode, job.mode, "darboux", defaults, "--mode")
         description = a2b.describe(job.start, job.end, mode, **parameters)
     options.check_finite(description, "describe")

@@ -74,7 +74,8 @@ def render(result: dict) -> None:
 )
 @options.basis_option("mu: the kernel basis of M_m")
 @options.json_option
-def command(pose, kind, offsets, m, alphas, basis, as_json):
+@options.orthonormalize_option
+def command(pose, kind, offsets, m, alphas, basis, as_json, orthonormalize):
     """Points of the fiber of the pose in POSE (a file with one pose, or - for stdin).
 
     A fiber is every point of the extended model that maps to the same pose. Under κ it is
@@ -106,7 +107,9 @@ def command(pose, kind, offsets, m, alphas, basis, as_json):
         ]
     from ..fibers import fiber
 
-    result = fiber(read_pose(pose), kind, s=offsets, m=m, alphas=alphas, basis=basis)
+    with options.repairing(orthonormalize, []):
+        pose = read_pose(pose)
+    result = fiber(pose, kind, s=offsets, m=m, alphas=alphas, basis=basis)
     options.check_finite(result, "fiber")
     if as_json:
         click.echo(json.dumps(result, indent=2, allow_nan=False))

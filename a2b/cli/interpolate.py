@@ -10,8 +10,9 @@ from . import CONTEXT_SETTINGS, options
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=options.INPUT)
 @options.motion_options
+@options.orthonormalize_option
 @options.trajectory_options
-def command(poses, mode, samples, verbose, **parameters):
+def command(poses, mode, samples, verbose, orthonormalize, **parameters):
     """Sample the motion from the start to the end pose in POSES (a file, or - for stdin).
 
     POSES is JSON or YAML with `start` and `end` poses and, optionally, `mode`, `samples` and
@@ -44,9 +45,10 @@ def command(poses, mode, samples, verbose, **parameters):
     from ..io.readers import read_poses
 
     out = options.pop_trajectory(parameters)
-    job = read_poses(poses)
-    parameters = options.merge_parameters(job.parameters, parameters, mode)
     choices: list[str] = []
+    with options.repairing(orthonormalize, choices):
+        job = read_poses(poses)
+        parameters = options.merge_parameters(job.parameters, parameters, mode)
     mode = options.pick("mode", mode, job.mode, "darboux", choices, "--mode")
     motion = a2b.motion(job.start, job.end, mode, **parameters)
     options.sample_and_write(motion, samples, job.samples, choices, verbose, out)

@@ -6,6 +6,7 @@ functions that need them, so ``a2b --help`` stays fast.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import re
@@ -547,12 +548,7 @@ def trajectory_input_options(rate: bool = True):
             "from the content]",
         ),
         click.option("--topic", help="mcap input: the topic of the poses, if several."),
-        click.option(
-            "--orthonormalize",
-            is_flag=True,
-            help="Project rotation blocks that are orthogonal only to a few digits "
-            "(max |R Rᵀ − I| ≤ 1e-4) onto the nearest rotations; -v states the residual.",
-        ),
+        orthonormalize_option,
     ]
     if rate:
         options.insert(
@@ -572,6 +568,32 @@ def trajectory_input_options(rate: bool = True):
         return f
 
     return decorate
+
+
+orthonormalize_option = click.option(
+    "--orthonormalize",
+    is_flag=True,
+    help="Project rotation blocks that are orthogonal only to a few digits "
+    "(max |R Rᵀ − I| ≤ 1e-4) onto the nearest rotations; -v states the residual.",
+)
+
+
+@contextlib.contextmanager
+def repairing(orthonormalize: bool, choices: list):
+    """Read pose files within: with ``orthonormalize``, matrix poses are repaired
+    (:func:`a2b.io.readers.orthonormalizing`) and the repairs stated in ``choices``."""
+    if not orthonormalize:
+        yield
+        return
+    from ..io.readers import orthonormalizing
+
+    with orthonormalizing() as repairs:
+        yield
+    if repairs:
+        choices.append(
+            f"orthonormalized {len(repairs)} matrix pose{'s' * (len(repairs) != 1)}: largest "
+            f"max |R Rᵀ − I| was {max(repairs):.3g}"
+        )
 
 
 def read_pose_list_option(stream, key: str, fmt, topic, orthonormalize: bool, choices: list):
@@ -594,9 +616,10 @@ def read_pose_list_option(stream, key: str, fmt, topic, orthonormalize: bool, ch
         else:
             choices.append(f"input format {fmt}: a trajectory file (--input-format to change)")
     if fmt is None:
-        if orthonormalize or topic:
-            raise click.UsageError("--orthonormalize and --topic are for trajectory files")
-        return read_pose_list(io.BytesIO(data), key, name)
+        if topic:
+            raise click.UsageError("--topic is for trajectory files")
+        with repairing(orthonormalize, choices):
+            return read_pose_list(io.BytesIO(data), key, name)
     path = read_trajectory(
         io.BytesIO(data), name, fmt, topic=topic, orthonormalize=orthonormalize, minimum=2
     )

@@ -108,6 +108,7 @@ class PointList(click.ParamType):
     f"{PLOT_MAX_SAMPLES})  [default: the file's samples, else 101]",
 )
 @options.verbose_option
+@options.orthonormalize_option
 def command(
     poses,
     output,
@@ -122,6 +123,7 @@ def command(
     length_unit,
     samples,
     verbose,
+    orthonormalize,
     **parameters,
 ):
     """Draw the motion between the start and end pose in POSES (a file, or - for stdin),
@@ -169,7 +171,8 @@ def command(
         )
     if compare and mode:
         raise click.UsageError("give --mode or --compare, not both")
-    job = read_motion_file(poses)
+    with options.repairing(orthonormalize, choices):
+        job = read_motion_file(poses)
     samples = options.pick("samples", samples, job.samples, 101, choices, "--samples")
     style = {
         "points": points,

@@ -48,6 +48,7 @@ import re
 import sys
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from json.decoder import scanstring
 from typing import IO, Any
@@ -688,10 +689,42 @@ def _check_keys(doc: _Document, path: Path, mapping: dict, allowed: tuple, what:
             )
 
 
+#: Set by :func:`orthonormalizing`: the residuals of the matrix poses repaired so far.
+_REPAIRS: ContextVar[list | None] = ContextVar("a2b_repairs", default=None)
+
+
+@contextmanager
+def orthonormalizing() -> Iterator[list]:
+    """Within this context, matrix poses that are orthogonal only to a few digits (up to
+    :data:`a2b.poses.REPAIR_TOL`) are projected onto the nearest rotation
+    (:func:`a2b.poses.orthonormalize`); the list yielded collects the residual of each repair.
+    This is what ``--orthonormalize`` turns on."""
+    repairs: list = []
+    token = _REPAIRS.set(repairs)
+    try:
+        yield repairs
+    finally:
+        _REPAIRS.reset(token)
+
+
+def _matrix_pose(rows: list, layout: str) -> np.ndarray:
+    """A matrix pose, checked, or repaired within :func:`orthonormalizing`."""
+    from ..poses import REPAIR_TOL, check_matrices, orthogonality_residuals, orthonormalize
+
+    repairs = _REPAIRS.get()
+    if repairs is None:
+        return check_matrices(np.array(rows), layout=layout)
+    pose = check_matrices(np.array(rows), layout=layout, tol=REPAIR_TOL)
+    residual = float(orthogonality_residuals(pose[:3, :3]))
+    if residual > 0.0:
+        pose = orthonormalize(pose)
+        repairs.append(residual)
+    return pose
+
+
 def _pose(doc: _Document, path: Path, v) -> np.ndarray:
     """Validate one pose mapping and return its robotics 4x4 matrix."""
     from ..poses import (
-        check_matrices,
         matrices_from_quat_trans,
         matrices_from_study,
         quaternions_from_axis_angle,
@@ -736,7 +769,7 @@ def _pose(doc: _Document, path: Path, v) -> np.ndarray:
                 raise doc.error(
                     path + ("layout",), f"expected robotics or paper, got {_describe(layout)}"
                 )
-            return check_matrices(np.array(m), layout=layout)
+            return _matrix_pose(m, layout)
         if form == "study":
             h = _numbers(
                 doc, path + ("study",), pose["study"], 8, "(p0, p1, p2, p3, q0, q1, q2, q3)"
