@@ -482,3 +482,9 @@ def test_orthonormalize_repairs_matrix_poses_in_every_command(tmp_path):
     poses.write_text(too_far)
     result = run("interpolate", poses, "--orthonormalize")
     assert result.exit_code == 1 and "exceeds tolerance 0.0001" in result.output
+
+
+def test_a_trajectory_given_as_a_pose_file_points_to_resample():
+    result = run("interpolate", SAMPLES / "reference.tum")
+    assert result.exit_code == 1 and result.output.count("\n") == 1
+    assert "… (4886 characters) (a trajectory file? a2b resample reads TUM" in result.output

@@ -640,7 +640,9 @@ def _describe(v) -> str:
     if isinstance(v, bool):
         return f"the boolean {str(v).lower()}"
     if isinstance(v, str):
-        return f"the string {v!r}"
+        return (
+            f"the string {v!r}" if len(v) <= 60 else f"the string {v[:50]!r}… ({len(v)} characters)"
+        )
     if v is None:
         return "nothing (null)"
     if isinstance(v, dict):
@@ -674,7 +676,13 @@ def _angle(doc: _Document, path: Path, v) -> float:
 
 def _mapping(doc: _Document, path: Path, v, what: str) -> dict:
     if not isinstance(v, dict):
-        raise doc.error(path, f"expected {what}, got {_describe(v)}")
+        hint = ""
+        if not path and isinstance(v, (str, int, float)) and not isinstance(v, bool):
+            hint = (  # a file of numbers or a CSV header read as one YAML string
+                " (a trajectory file? a2b resample reads TUM, KITTI, EuRoC, CSV and MCAP; "
+                "a2b spline and bezier take their poses)"
+            )
+        raise doc.error(path, f"expected {what}, got {_describe(v)}{hint}")
     return v
 
 
