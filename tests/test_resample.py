@@ -488,3 +488,24 @@ def test_a_trajectory_given_as_a_pose_file_points_to_resample():
     result = run("interpolate", SAMPLES / "reference.tum")
     assert result.exit_code == 1 and result.output.count("\n") == 1
     assert "… (4886 characters) (a trajectory file? a2b resample reads TUM" in result.output
+
+
+@pytest.mark.parametrize("mode", ["darboux", "cubic", "screw"])
+def test_default_motions_stay_within_half_their_distance(monkeypatch, mode):
+    """Why only motions with a parameter are checked for excursions: the defaults never are."""
+    from a2b.motions import base
+
+    rng = np.random.default_rng(99)
+    n = 3000
+    starts = matrices_from_quat_trans(rng.normal(size=(n, 4)), rng.normal(size=(n, 3)))
+    ends = matrices_from_quat_trans(rng.normal(size=(n, 4)), rng.normal(size=(n, 3)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", a2b.errors.A2bWarning)  # a few near p(t) = 0
+        motion = a2b.motion(starts, ends, mode)
+    sensitive = motion.warning_notes.mask()
+    monkeypatch.setattr(base, "EXCURSION_RATIO", 0.5)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", a2b.errors.A2bWarning)
+        base.check_excursion(motion)
+    assert not caught, str(caught[0].message)
+    assert sensitive.sum() < n // 100
