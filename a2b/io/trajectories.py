@@ -155,9 +155,12 @@ def sniff_format(data: bytes, name: str) -> str:
             if count == 12:
                 return "kitti"
             break
+    hint = ""
+    if any(key in data[:65536] for key in (b"start", b"controls", b"poses")):
+        hint = " (a pose file? a2b interpolate, bezier and spline read those)"
     raise InputFileError(
         f"{name}: cannot tell the trajectory format (expected TUM, KITTI, EuRoC, a2b's csv, "
-        "matrix or study, or MCAP); give it with --input-format"
+        f"matrix or study, or MCAP); give it with --input-format{hint}"
     )
 
 
