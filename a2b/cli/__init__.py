@@ -122,13 +122,15 @@ def cli():
     """Interpolate two rigid-body poses: vertical Darboux motions, cubic circular motions and
     screw motions (H.-P. Schröcker, From A to B: New Methods to Interpolate Two Poses).
 
-    Poses come from JSON or YAML files; samples go to CSV, TUM, KITTI or MCAP (Foxglove).
+    Poses come from JSON or YAML files, trajectories from TUM, KITTI, EuRoC, CSV or MCAP
+    files; samples go to CSV, TUM, KITTI or MCAP (Foxglove).
 
     \b
     Example:
         a2b interpolate samples/quarter-turn.yaml --samples 5
         a2b interpolate samples/quarter-turn.yaml --format mcap -o turn.mcap
         a2b describe samples/quarter-turn.yaml
+        a2b resample samples/reference.tum --rate 100 -o dense.tum
 
     \b
     Shell completion (bash; zsh and fish likewise with zsh_source, fish_source):
