@@ -36,7 +36,7 @@ COMMANDS = {
         "Show the essential parameters of a motion or curve and every choice made.",
     ),
     "fiber": ("a2b.cli.fiber", "Show points of the fiber of a pose under κ or μ_[m]."),
-    "batch": ("a2b.cli.batch", "Sample many motions from a jobs file into one CSV."),
+    "batch": ("a2b.cli.batch", "Sample many motions from a jobs file (CSV, TUM, KITTI, MCAP)."),
     "plot": (
         "a2b.cli.plot",
         "Draw a motion or curve: moving frame, trajectories, transmission curve.",
