@@ -202,6 +202,8 @@ def _table(data: bytes, name: str, fmt: str) -> tuple[np.ndarray, _Lines]:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)  # "input contained no data"
             if fmt == "euroc":  # nanosecond stamps exceed 2**53: read them as integers
+                if _NOT_AN_INTEGER_STAMP.search(data, data.find(b"\n") + 1):
+                    raise ValueError  # older numpy would truncate 1.5 to 1
                 stamps = np.loadtxt(
                     body, delimiter=",", usecols=0, dtype=np.int64, ndmin=1, skiprows=1
                 )
@@ -226,6 +228,10 @@ def _table(data: bytes, name: str, fmt: str) -> tuple[np.ndarray, _Lines]:
         column = int(np.argmax(~np.isfinite(rows[i])))
         _raise_at(lines.numbered()[i], sep, column, name, "expected a finite number")
     return rows, lines
+
+
+#: A EuRoC line whose first field is more than an optional sign and digits.
+_NOT_AN_INTEGER_STAMP = re.compile(rb"(?m)^(?![ \t]*#)[ \t]*[+-]?[0-9]*[^0-9,\r\n]")
 
 
 class _Lines:
