@@ -18,6 +18,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import a2b
 from a2b.cli import cli
@@ -509,3 +511,46 @@ def test_default_motions_stay_within_half_their_distance(monkeypatch, mode):
         base.check_excursion(motion)
     assert not caught, str(caught[0].message)
     assert sensitive.sum() < n // 100
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_a_damaged_trajectory_is_one_clear_error(data):
+    """Cut, replace or insert bytes anywhere in a TUM, KITTI or CSV file: it reads, or it is
+    one InputFileError that names the file (never another exception)."""
+    name = data.draw(st.sampled_from(["reference.tum", "walk.kitti", "stamps.csv"]))
+    if name == "stamps.csv":
+        original = b"t,tx,ty,tz,qw,qx,qy,qz\n0.0,0,0,0,1,0,0,0\n0.5,1,2,3,0,1,0,0\n"
+    else:
+        original = (SAMPLES / name).read_bytes()
+    text = bytearray(original)
+    for _ in range(data.draw(st.integers(1, 4))):
+        at = data.draw(st.integers(0, len(text)))
+        junk = data.draw(
+            st.binary(max_size=6)
+            | st.sampled_from([b"nan", b"1e999", b",", b"\n", b" ", b"#", b"-", b"\xff"])
+        )
+        cut = data.draw(st.integers(0, 8))
+        text[at : at + cut] = junk  # fmt: skip
+    try:
+        read_trajectory(io.BytesIO(bytes(text)), name, orthonormalize=name == "walk.kitti")
+    except InputFileError as e:
+        assert str(e).startswith(name) and "\n" not in str(e), str(e)
+
+
+@settings(max_examples=300, deadline=None)
+@given(cuts=st.lists(st.tuples(st.integers(0, 10**6), st.integers(0, 8), st.binary(max_size=4)),
+                     min_size=1, max_size=3))  # fmt: skip
+def test_a_damaged_mcap_file_is_one_clear_error(cuts, tmp_path_factory):
+    path = tmp_path_factory.getbasetemp() / "small.mcap"
+    if not path.exists():
+        assert run("interpolate", SAMPLES / "quarter-turn.yaml", "--samples", 20, "-o",
+                   path).exit_code == 0  # fmt: skip
+    text = bytearray(path.read_bytes())
+    for at, cut, junk in cuts:
+        at %= len(text)
+        text[at : at + cut] = junk
+    try:
+        read_trajectory(io.BytesIO(bytes(text)), "x.mcap")
+    except InputFileError as e:
+        assert str(e).startswith("x.mcap")

@@ -230,6 +230,10 @@ def _table(data: bytes, name: str, fmt: str) -> tuple[np.ndarray, _Lines]:
     return rows, lines
 
 
+#: A number as numpy's text reader takes it (``nan`` and ``inf`` are then refused as such).
+_NUMBER = re.compile(
+    r"[-+]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?|nan|inf(?:inity)?)", re.I
+)
 #: A EuRoC line whose first field is more than an optional sign and digits.
 _NOT_AN_INTEGER_STAMP = re.compile(rb"(?m)^(?![ \t]*#)[ \t]*[+-]?[0-9]*[^0-9,\r\n]")
 
@@ -284,9 +288,7 @@ def _locate_bad_number(numbers: list, sep, width: int, name: str, fmt: str) -> N
                 f"{len(fields)}"
             )
         for column, (_, token) in enumerate(fields):
-            try:
-                float(token)
-            except ValueError:
+            if not _NUMBER.fullmatch(token):
                 _raise_at(numbered, sep, column, name, "expected a number")
     raise InputFileError(f"{name}: cannot read the numbers of this {fmt} file")
 
@@ -419,24 +421,35 @@ def _check_times(times: np.ndarray, name: str, lines) -> None:
 
 
 def _mcap(data: bytes, name: str, topic: str | None):
-    """Times (s), quaternions and translations of the pose messages of one MCAP topic."""
-    from mcap.exceptions import McapError
+    """Times (s), quaternions and translations of the pose messages of one MCAP topic.
+
+    Whatever the ``mcap`` package raises on a damaged file (its own errors, ``struct`` and
+    zstd errors, undecodable text) becomes one :class:`InputFileError`.
+    """
+    try:
+        return _mcap_poses(data, name, topic)
+    except InputFileError:
+        raise
+    except Exception as e:  # noqa: BLE001 - a damaged file, in the words of the mcap package
+        raise InputFileError(
+            f"{name}: not a readable MCAP file ({type(e).__name__}: {e})"
+        ) from None
+
+
+def _mcap_poses(data: bytes, name: str, topic: str | None):
     from mcap.reader import make_reader
 
-    try:
+    reader = make_reader(io.BytesIO(data))
+    summary = reader.get_summary()
+    channels = summary.channels if summary is not None else None
+    if channels is None:
+        channels = {}
+        for _schema, channel, _message in reader.iter_messages():
+            channels.setdefault(channel.id, channel)
         reader = make_reader(io.BytesIO(data))
-        summary = reader.get_summary()
-        channels = summary.channels if summary is not None else None
-        if channels is None:
-            channels = {}
-            for _schema, channel, _message in reader.iter_messages():
-                channels.setdefault(channel.id, channel)
-            reader = make_reader(io.BytesIO(data))
-            schemas = None
-        else:
-            schemas = summary.schemas
-    except (McapError, ValueError, EOFError) as e:
-        raise InputFileError(f"{name}: not a readable MCAP file ({e})") from None
+        schemas = None
+    else:
+        schemas = summary.schemas
     topics = sorted({c.topic for c in channels.values()})
     if topic is None:
         candidates = []
