@@ -51,38 +51,54 @@ class Resampler:
 
     ``quat_wxyz`` and ``study``, when given, are the poses as the file holds them: a time
     equal to a stamp returns them bit for bit, and the quaternions of a segment take the sign
-    of the one at its start. ``max_gap``: segments longer than this many seconds are not
-    bridged; times strictly inside them are dropped. ``checked``: the poses were validated
-    already (by :func:`a2b.io.trajectories.read_trajectory`). ``parameters`` go to every segment's
-    motion (:func:`a2b.motion`) or, for ``spline``, to :func:`a2b.motions.bezier.spline_motion`
+    of the one at its start. Instead of ``poses``, ``quat_wxyz`` (any non-zero scale) and
+    ``translations (n, 3)`` may be given: the matrices are then made for the segments in use.
+    ``max_gap``: segments longer than this many seconds are not bridged; times strictly
+    inside them are dropped. ``checked``: the poses were validated already (by
+    :func:`a2b.io.trajectories.read_trajectory`). ``parameters`` go to every segment's motion
+    (:func:`a2b.motion`) or, for ``spline``, to :func:`a2b.motions.bezier.spline_motion`
     (``space``, default ``study``, and ``m``).
     """
 
     def __init__(
         self,
         times,
-        poses,
+        poses=None,
         mode: str = "screw",
         *,
         max_gap: float | None = None,
         quat_wxyz=None,
+        translations=None,
         study=None,
         checked: bool = False,
         **parameters,
     ):
-        from .poses import check_matrices
+        from .poses import check_matrices, check_quaternions
 
         if mode not in RESAMPLE_MODES:
             raise ParameterError(
                 f"unknown mode {mode!r}; expected one of {', '.join(RESAMPLE_MODES)}"
             )
         self.times = as_numbers(times, "times")
-        self.poses = np.asarray(poses, dtype=float) if checked else check_matrices(poses)
         n = len(self.times)
-        if self.times.ndim != 1 or self.poses.shape != (n, 4, 4):
+        self.quat_wxyz = None if quat_wxyz is None else np.asarray(quat_wxyz, dtype=float)
+        self.translations = None
+        if poses is not None:
+            self.poses = np.asarray(poses, dtype=float) if checked else check_matrices(poses)
+            shape = self.poses.shape
+        elif quat_wxyz is not None and translations is not None:  # matrices made as needed
+            self.poses = None
+            self.translations = np.asarray(translations, dtype=float)
+            if not checked:
+                check_quaternions(self.quat_wxyz)
+            shape = self.quat_wxyz.shape[:1] + (4, 4)
+            if self.translations.shape != (len(self.quat_wxyz), 3):
+                shape = self.translations.shape
+        else:
+            raise ParameterError("give the poses, or their quat_wxyz and translations")
+        if self.times.ndim != 1 or shape != (n, 4, 4):
             raise ParameterError(
-                f"times {self.times.shape} and poses {self.poses.shape} need shapes (n,) and "
-                "(n, 4, 4)"
+                f"times {self.times.shape} and poses {shape} need shapes (n,) and (n, 4, 4)"
             )
         if n < 2:
             raise ParameterError(f"a trajectory to resample needs at least 2 poses, got {n}")
@@ -97,7 +113,6 @@ class Resampler:
             raise ParameterError(f"max_gap must be greater than 0, got {max_gap!r}")
         self.mode = mode
         self.max_gap = max_gap
-        self.quat_wxyz = None if quat_wxyz is None else np.asarray(quat_wxyz, dtype=float)
         self.study = None if study is None else np.asarray(study, dtype=float)
         self.parameters = parameters
         self.choices: Counter = Counter()
@@ -109,7 +124,7 @@ class Resampler:
             from .motions.bezier import spline_motion
 
             space = parameters.pop("space", "study")
-            self.spline = spline_motion(self.poses, space, **parameters)
+            self.spline = spline_motion(self._pose_matrices(slice(None)), space, **parameters)
             self.choices.update(self.spline.choices)
 
     # -- where the new times fall ------------------------------------------------------------
@@ -168,7 +183,7 @@ class Resampler:
         values = self._evaluate(k[between], u[between], representation) if between.any() else None
         if representation == "matrices":
             out = np.empty((len(k), 4, 4))
-            out[~between] = self.poses[own]
+            out[~between] = self._pose_matrices(own)
         elif representation == "study":
             out = np.empty((len(k), 8))
             out[~between] = self._own_study(own)
@@ -200,7 +215,8 @@ class Resampler:
         from .poses import quat_trans_from_matrices
 
         if self.quat_wxyz is not None:
-            return self.quat_wxyz[index], self.poses[index, :3, 3]
+            trans = self.translations if self.poses is None else self.poses[:, :3, 3]
+            return self.quat_wxyz[index], trans[index]
         return quat_trans_from_matrices(self.poses[index])
 
     def _own_study(self, index: np.ndarray) -> np.ndarray:
@@ -208,7 +224,7 @@ class Resampler:
 
         if self.study is not None:
             return self.study[index]
-        return study_from_matrices(self.poses[index])
+        return study_from_matrices(self._pose_matrices(index))
 
     def _segments(self, rows: np.ndarray, where: tuple):
         """The motions of the segments ``rows`` (one per row, built in one batch)."""
@@ -218,8 +234,9 @@ class Resampler:
             warnings.simplefilter("always", A2bWarning)
             try:
                 motion = checked_motion(
-                    self.poses[rows], self.poses[rows + 1], self.mode, **self.parameters
-                )
+                    self._pose_matrices(rows), self._pose_matrices(rows + 1), self.mode,
+                    **self.parameters,
+                )  # fmt: skip
             except A2bError as e:
                 if getattr(e, "index", None) is None:
                     raise
@@ -240,6 +257,14 @@ class Resampler:
         self.segments_built += int(np.count_nonzero(first))
         self.choices.update(motion.notes.counts(first))
         return motion
+
+    def _pose_matrices(self, index) -> np.ndarray:
+        """The robotics matrices of poses ``index``: given, or made from their quaternions."""
+        if self.poses is not None:
+            return self.poses[index]
+        from .poses import matrices_from_quat_trans
+
+        return matrices_from_quat_trans(self.quat_wxyz[index], self.translations[index])
 
     def _segment(self, k: int) -> str:
         t = self.times

@@ -11,6 +11,7 @@ import io
 import os
 import shutil
 import subprocess
+import sys
 import venv
 import warnings
 from pathlib import Path
@@ -554,3 +555,26 @@ def test_a_damaged_mcap_file_is_one_clear_error(cuts, tmp_path_factory):
         read_trajectory(io.BytesIO(bytes(text)), "x.mcap")
     except InputFileError as e:
         assert str(e).startswith("x.mcap")
+
+
+def _items_with_pids(fail_at=None):
+    for i in range(5):
+        if i == fail_at:
+            raise InputFileError(f"item {i} failed")
+        yield i, os.getpid()
+
+
+def test_items_produced_apart_come_in_order_from_another_process_with_their_errors():
+    from a2b.io.parallel import produced_apart
+
+    got = list(produced_apart(_items_with_pids))
+    assert [i for i, _ in got] == [0, 1, 2, 3, 4]
+    if sys.platform == "linux":
+        assert {pid for _, pid in got} != {os.getpid()}  # computed in a forked child
+    items = produced_apart(lambda: _items_with_pids(fail_at=3))
+    assert [next(items)[0] for _ in range(3)] == [0, 1, 2]
+    with pytest.raises(InputFileError, match="^item 3 failed$"):
+        next(items)
+    early = produced_apart(lambda: ((i, os.getpid()) for i in range(10**9)))
+    assert next(early)[0] == 0
+    early.close()  # the child is stopped, not left running

@@ -101,15 +101,16 @@ def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, r
     fmt = options.format_from(fmt, output, choices)
     if mark and fmt not in ("csv", "matrix", "study"):
         raise click.UsageError(f"--mark adds a column to csv, matrix and study, not to {fmt}")
+    poses = None if path.quat_wxyz is not None else path.matrices  # else made as needed
     resampler = Resampler(
-        path.times, path.matrices, mode, max_gap=max_gap, quat_wxyz=path.quat_wxyz,
-        study=path.study, checked=True,
+        path.times, poses, mode, max_gap=max_gap, quat_wxyz=path.quat_wxyz,
+        translations=path.trans, study=path.study, checked=True,
     )  # fmt: skip
     new_times = _new_times(path, rate, reference, times_file, choices)
     counts = {"outside": 0, "gap": 0, "written": 0}
     options.check_output(fmt, output, 2, 1.0, 0.0)
 
-    def chunks():
+    def computed():  # in a process of its own: see a2b.io.parallel.produced_apart
         from ..io.writers import REPRESENTATION, Chunk
 
         representation = REPRESENTATION[fmt]
@@ -127,10 +128,22 @@ def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, r
             if mark:
                 chunk.original = (located.pose >= 0).astype(float)
             yield chunk
+        yield counts, resampler.segments_built, resampler.warned, resampler.choices
+
+    summary = []
+
+    def chunks():
+        from ..io.parallel import produced_apart
+
+        for item in produced_apart(computed):
+            if isinstance(item, tuple):  # the last: what the computing process counted
+                summary.append(item)
+            else:
+                yield item
 
     options.state_choices(choices, verbose)
     options.write_chunks(chunks(), fmt, output, frame_id=frame_id, child_frame_id=child_frame_id)
-    _report(counts, resampler, clip, max_gap, verbose)
+    _report(*summary[0], clip, max_gap, verbose)
 
 
 def _new_times(path, rate, reference, times_file, choices):
@@ -201,7 +214,7 @@ def _read_times(stream):
     return np.array(times)
 
 
-def _report(counts, resampler, clip, max_gap, verbose) -> None:
+def _report(counts, built, warned, made, clip, max_gap, verbose) -> None:
     """Say what was dropped (always: data was left out) and, with -v, what was built."""
     from ..resample import WARNINGS_SHOWN
 
@@ -214,18 +227,18 @@ def _report(counts, resampler, clip, max_gap, verbose) -> None:
             f"Dropped {_times(counts['gap'])} inside segments longer than --max-gap {max_gap:g} s.",
             err=True,
         )
-    if resampler.warned > WARNINGS_SHOWN:
+    if warned > WARNINGS_SHOWN:
         click.echo(
-            f"Warning: {resampler.warned - WARNINGS_SHOWN} more segments were warned about "
+            f"Warning: {warned - WARNINGS_SHOWN} more segments were warned about "
             f"(the first {WARNINGS_SHOWN} are shown above).",
             err=True,
         )
     if verbose:
         click.echo(
-            f"Wrote {counts['written']} poses; built {resampler.segments_built} segment motions.",
+            f"Wrote {counts['written']} poses; built {built} segment motions.",
             err=True,
         )
-        for choice, count in resampler.choices.most_common(20):
+        for choice, count in made.most_common(20):
             click.echo(f"  • {count} segment(s): {choice}", err=True)
 
 

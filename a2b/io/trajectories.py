@@ -67,22 +67,36 @@ POSE_SCHEMAS = ("foxglove.PoseInFrame", "foxglove.FrameTransform")
 
 @dataclass
 class Trajectory:
-    """Poses in time: ``times (N,)`` increasing seconds (for KITTI without a rate, the indices),
-    robotics ``matrices (N, 4, 4)``, and the numbers as the file holds them: ``quat_wxyz (N, 4)``
-    for quaternion formats, ``study (N, 8)`` for study, else ``None``."""
+    """Poses in time: ``times (N,)`` increasing seconds (for KITTI without a rate, the indices)
+    and the numbers as the file holds them: ``quat_wxyz (N, 4)`` and ``trans (N, 3)`` for
+    quaternion formats, ``study (N, 8)`` for study. :attr:`matrices` are the robotics
+    matrices ``(N, 4, 4)``, built from the normalised quaternions when first asked for."""
 
     times: np.ndarray
-    matrices: np.ndarray
     quat_wxyz: np.ndarray | None = None
+    trans: np.ndarray | None = None
     study: np.ndarray | None = None
     name: str = "<trajectory>"
     fmt: str = ""
     #: With ``orthonormalize``: the largest ``max |R Rᵀ − I|`` repaired.
     repaired: float | None = None
+    _matrices: np.ndarray | None = None
+
+    @property
+    def matrices(self) -> np.ndarray:
+        if self._matrices is None:
+            from ..poses import matrices_from_quat_trans
+
+            out = np.empty((len(self.times), 4, 4))
+            for lo in range(0, len(out), BLOCK):  # small temporaries for any length
+                part = slice(lo, lo + BLOCK)
+                out[part] = matrices_from_quat_trans(self.quat_wxyz[part], self.trans[part])
+            self._matrices = out
+        return self._matrices
 
     @property
     def translations(self) -> np.ndarray:
-        return self.matrices[:, :3, 3]
+        return self.trans if self.trans is not None else self.matrices[:, :3, 3]
 
     def __len__(self) -> int:
         return len(self.times)
@@ -345,7 +359,7 @@ def _from_table(table, lines, name, fmt, rate, orthonormalize) -> Trajectory:
             except A2bError as e:
                 raise InputFileError(f"{name}:{lines[i]}:1: {e}") from None
         raise
-    return Trajectory(times, matrices, study=study, name=name, fmt=fmt)
+    return Trajectory(times, study=study, name=name, fmt=fmt, _matrices=matrices)
 
 
 #: Poses converted at a time: the temporaries of a block stay small for any file.
@@ -353,21 +367,13 @@ BLOCK = 65536
 
 
 def _from_quaternions(times, quat, trans, name, fmt, lines) -> Trajectory:
-    from ..poses import matrices_from_quat_trans
-
     quat, trans = np.ascontiguousarray(quat), np.ascontiguousarray(trans)
-    matrices = np.empty((len(quat), 4, 4))
-    for lo in range(0, len(quat), BLOCK):
-        part = quat[lo : lo + BLOCK]
-        bad = ~(np.einsum("ij,ij->i", part, part) > 0.0)
-        if bad.any():
-            i = lo + int(np.argmax(bad))
-            where = f"{name}:{lines[i]}:1" if lines is not None else f"{name}: message {i + 1}"
-            raise InputFileError(
-                f"{where}: the quaternion is zero; a rotation needs a non-zero one"
-            )
-        matrices[lo : lo + BLOCK] = matrices_from_quat_trans(part, trans[lo : lo + BLOCK])
-    return Trajectory(times, matrices, quat_wxyz=quat, name=name, fmt=fmt)
+    bad = ~(np.einsum("ij,ij->i", quat, quat) > 0.0)
+    if bad.any():
+        i = int(np.argmax(bad))
+        where = f"{name}:{lines[i]}:1" if lines is not None else f"{name}: message {i + 1}"
+        raise InputFileError(f"{where}: the quaternion is zero; a rotation needs a non-zero one")
+    return Trajectory(times, quat_wxyz=quat, trans=trans, name=name, fmt=fmt)
 
 
 def _from_matrices(times, rows, lines, name, fmt, orthonormalize) -> Trajectory:
@@ -396,10 +402,10 @@ def _from_matrices(times, rows, lines, name, fmt, orthonormalize) -> Trajectory:
                     f"projects each onto the nearest rotation (up to {REPAIR_TOL:g})"
                 )
         raise InputFileError(f"{name}:{lines[i]}:1: {message}")
-    trajectory = Trajectory(times, matrices, name=name, fmt=fmt)
+    trajectory = Trajectory(times, name=name, fmt=fmt, _matrices=matrices)
     if orthonormalize:
         trajectory.repaired = float(residual.max(initial=0.0))
-        trajectory.matrices = project(matrices)
+        trajectory._matrices = project(matrices)
     return trajectory
 
 
