@@ -142,33 +142,56 @@ def command(
         if target is atomic_output and os.path.isdir(output):
             raise click.BadParameter(f"{output!r} is a directory", param_hint="'-o' / '--output'")
         with _progress(job_list.count) as progress, target(output) as out:
-            advance = None
-            if progress is not None:
-                task = progress.add_task("jobs", total=job_list.count)
+            task = progress.add_task("jobs", total=job_list.count) if progress else None
 
-                def advance(n):
-                    progress.advance(task, n)
+            def computed():  # in a process of its own: see a2b.io.parallel.produced_apart
+                from ..io.readers import current_repairs
 
-            pieces = sample(
-                job_list.blocks(chunk_size),
-                mode=mode or "darboux",
-                samples=samples or 101,
-                representation=REPRESENTATION[fmt],
-                report=report if verbose else None,
-                advance=advance,
-                unique_names=fmt in ("tum", "kitti", "mcap"),
-            )
-            chunks = (
-                Chunk(piece.t, job=JobRuns(piece.names, piece.counts), **piece.fields)
-                for piece in pieces
-            )
-            if fmt in ("tum", "kitti"):
-                write_batch_files(out, chunks, fmt, duration=duration, start_time=start_time)
-            elif fmt == "mcap":
-                write_batch_mcap(
-                    out, chunks, duration=duration, start_time=start_time, frame_id=frame_id
+                repairs = current_repairs() or []
+                before = len(repairs)  # those made here are sent at the end
+                events: list = []  # reports and progress, sent before the piece they precede
+                pieces = sample(
+                    job_list.blocks(chunk_size),
+                    mode=mode or "darboux",
+                    samples=samples or 101,
+                    representation=REPRESENTATION[fmt],
+                    report=(lambda name, made: events.append((name, made))) if verbose else None,
+                    advance=(lambda n: events.append(n)) if progress else None,
+                    unique_names=fmt in ("tum", "kitti", "mcap"),
                 )
-            else:
-                write_batch_csv(out, chunks, fmt)
+                for piece in pieces:
+                    yield from events
+                    events.clear()
+                    yield piece
+                yield from events
+                yield repairs[before:]  # the matrix poses repaired here
+
+            def chunks():
+                from ..io.parallel import produced_apart
+                from ..io.readers import current_repairs
+
+                for item in produced_apart(computed):
+                    if isinstance(item, tuple):
+                        report(*item)
+                    elif isinstance(item, int):
+                        progress.advance(task, item)
+                    elif isinstance(item, list):
+                        if current_repairs() is not None:
+                            current_repairs().extend(item)
+                    else:
+                        yield Chunk(item.t, job=JobRuns(item.names, item.counts), **item.fields)
+
+            chunks = chunks()
+            try:
+                if fmt in ("tum", "kitti"):
+                    write_batch_files(out, chunks, fmt, duration=duration, start_time=start_time)
+                elif fmt == "mcap":
+                    write_batch_mcap(
+                        out, chunks, duration=duration, start_time=start_time, frame_id=frame_id
+                    )
+                else:
+                    write_batch_csv(out, chunks, fmt)
+            finally:  # stops the computing process at once on an error
+                chunks.close()
     if verbose and repaired:
         click.echo(f"Repairs a2b made:\n  • {repaired[0]}", err=True)

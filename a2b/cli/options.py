@@ -659,8 +659,12 @@ def write_chunks(chunks, fmt: str, output: str, **options) -> None:
     from ..io.atomic import atomic_output
     from ..io.writers import write_samples
 
-    with atomic_output(output) as stream:
-        write_samples(stream, fmt, chunks, **options)
+    try:
+        with atomic_output(output) as stream:
+            write_samples(stream, fmt, chunks, **options)
+    finally:  # a generator that computes in a process of its own stops it now
+        if hasattr(chunks, "close"):
+            chunks.close()
 
 
 def write_motion(

@@ -8,8 +8,10 @@ memory gained 1.2× to 1.3× more, too little to be kept.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
+import warnings
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator
 
@@ -63,9 +65,11 @@ def produced_apart(items: Callable[[], Iterable]) -> Iterator:
     Computing (numpy calls that hold the GIL between them) and formatting then run on two
     processors instead of taking turns for one interpreter lock. The child holds at most the
     item it is sending: a pipe's send blocks until this side reads. An exception in the child
-    is raised here, at its item. Where ``fork`` is not available (or unsafe: not Linux), the
+    is raised here, at its item, and its warnings are issued here, before the item that
+    followed them. Where ``fork`` is not available (or unsafe: not Linux), the
     items are computed here. The child inherits everything read so far, so nothing is pickled
-    but the items.
+    but the items. Close the generator when done with it (a ``finally``), so that the child
+    is stopped at once on an error.
     """
     import multiprocessing
 
@@ -75,7 +79,11 @@ def produced_apart(items: Callable[[], Iterable]) -> Iterator:
     context = multiprocessing.get_context("fork")
     receiver, sender = context.Pipe(duplex=False)
     child = context.Process(target=_produce, args=(items, sender), daemon=True)
-    child.start()
+    stdin, sys.stdin = sys.stdin, None  # else the child closes it: it may read the input
+    try:
+        child.start()
+    finally:
+        sys.stdin = stdin
     sender.close()
     try:
         while True:
@@ -89,9 +97,13 @@ def produced_apart(items: Callable[[], Iterable]) -> Iterator:
                 raise value
             if kind == "done":
                 return
+            if kind == "warning":  # issued here, where the user's stderr is watched
+                warnings.warn_explicit(*value)
+                continue
             yield value
     finally:
-        receiver.close()
+        with contextlib.suppress(OSError):  # already closed at interpreter exit
+            receiver.close()
         if child.is_alive():
             child.terminate()
         child.join()
@@ -102,13 +114,27 @@ def _produce(items: Callable[[], Iterable], sender) -> None:
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent answers Ctrl-C and cleans up
+    for name in ("SIGTERM", "SIGHUP", "SIGQUIT", "SIGUSR1", "SIGUSR2", "SIGALRM"):
+        if hasattr(signal, name):  # not the parent's handlers: terminate() ends the child now
+            signal.signal(getattr(signal, name), signal.SIG_DFL)
+    caught: list = []
+
+    def forward(message, category, filename, lineno, file=None, line=None):
+        caught.append((message, category, filename, lineno))
+
+    warnings.showwarning = forward  # the child's warnings are sent to the parent, in order
     try:
         for item in items():
+            for warning in caught:
+                sender.send(("warning", warning))
+            caught.clear()
             sender.send(("item", item))
+        for warning in caught:
+            sender.send(("warning", warning))
         sender.send(("done", None))
     except BrokenPipeError:  # the parent stopped reading
         pass
-    except BaseException as e:  # handed to the parent, raised there at its item
+    except Exception as e:  # handed to the parent, raised there at its item
         sender.send(("error", e))
     finally:
         sender.close()

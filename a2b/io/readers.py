@@ -715,6 +715,11 @@ def orthonormalizing() -> Iterator[list]:
         _REPAIRS.reset(token)
 
 
+def current_repairs() -> list | None:
+    """The residuals collected by the :func:`orthonormalizing` context in force, else None."""
+    return _REPAIRS.get()
+
+
 def _matrix_pose(rows: list, layout: str) -> np.ndarray:
     """A matrix pose, checked, or repaired within :func:`orthonormalizing`."""
     from ..poses import REPAIR_TOL, check_matrices, orthogonality_residuals, orthonormalize
