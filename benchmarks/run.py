@@ -1065,8 +1065,8 @@ def batch_section(
             quats, trans = rng.normal(size=(2, 4)), rng.normal(size=(2, 3))
             job = {
                 "name": f"job{i}",
-                "start": {"quaternion": quats[0].tolist(), "translation": trans[0].tolist()},
-                "end": {"quaternion": quats[1].tolist(), "translation": trans[1].tolist()},
+                "start": {"quaternion_wxyz": quats[0].tolist(), "translation": trans[0].tolist()},
+                "end": {"quaternion_wxyz": quats[1].tolist(), "translation": trans[1].tolist()},
             }
             f.write(json.dumps(job) + "\n")
     out = work / "batch.csv"
