@@ -561,18 +561,22 @@ def _items_with_pids(fail_at=None):
     for i in range(5):
         if i == fail_at:
             raise InputFileError(f"item {i} failed")
+        if i == 2:
+            warnings.warn(a2b.errors.A2bWarning("a warning in the child"), stacklevel=1)
         yield i, os.getpid()
 
 
 def test_items_produced_apart_come_in_order_from_another_process_with_their_errors():
     from a2b.io.parallel import produced_apart
 
-    got = list(produced_apart(_items_with_pids))
+    with pytest.warns(a2b.errors.A2bWarning, match="^a warning in the child$"):
+        got = list(produced_apart(_items_with_pids))  # issued here, where stderr is watched
     assert [i for i, _ in got] == [0, 1, 2, 3, 4]
     if sys.platform == "linux":
         assert {pid for _, pid in got} != {os.getpid()}  # computed in a forked child
     items = produced_apart(lambda: _items_with_pids(fail_at=3))
-    assert [next(items)[0] for _ in range(3)] == [0, 1, 2]
+    with pytest.warns(a2b.errors.A2bWarning):
+        assert [next(items)[0] for _ in range(3)] == [0, 1, 2]
     with pytest.raises(InputFileError, match="^item 3 failed$"):
         next(items)
     early = produced_apart(lambda: ((i, os.getpid()) for i in range(10**9)))
