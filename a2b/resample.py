@@ -111,6 +111,15 @@ class Resampler:
             )
         if max_gap is not None and not max_gap > 0:
             raise ParameterError(f"max_gap must be greater than 0, got {max_gap!r}")
+        if mode != "spline":
+            from .parameters import OF_MODE
+
+            unknown = sorted(set(parameters) - set(OF_MODE[mode]))
+            if unknown:
+                raise ParameterError(
+                    f"mode {mode} does not take {', '.join(unknown)} (its parameters: "
+                    f"{', '.join(OF_MODE[mode]) or 'none'})"
+                )
         self.mode = mode
         self.max_gap = max_gap
         self.study = None if study is None else np.asarray(study, dtype=float)

@@ -582,3 +582,20 @@ def test_items_produced_apart_come_in_order_from_another_process_with_their_erro
     early = produced_apart(lambda: ((i, os.getpid()) for i in range(10**9)))
     assert next(early)[0] == 0
     early.close()  # the child is stopped, not left running
+
+
+def test_resample_takes_the_motion_options_of_its_mode():
+    result = run("resample", SAMPLES / "reference.tum", "--rate", 3, "--mode", "darboux",
+                 "--delta", 10000, "-o", "/dev/null")  # fmt: skip
+    assert result.exit_code == 0, result.output
+    warned = [line for line in result.output.splitlines() if line.startswith("Warning: ")]
+    assert len(warned) == 11  # ten segments named, then the count of the rest
+    assert warned[0].startswith("Warning: the segment from pose 3 (time 1700000000.3) to pose 4")
+    assert (
+        warned[-1] == "Warning: 2 more segments were warned about (the first 10 are shown above)."
+    )
+    refused = run("resample", SAMPLES / "reference.tum", "--rate", 3, "--delta", 1)
+    assert refused.exit_code == 1
+    assert "mode screw does not take delta (its parameters: none)" in refused.output
+    refused = run("resample", SAMPLES / "reference.tum", "--rate", 3, "--mode", "spline", "--a", 1)
+    assert refused.exit_code == 2 and "the spline takes no motion parameters" in refused.output

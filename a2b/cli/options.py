@@ -220,10 +220,16 @@ _MOTION_OPTIONS = [_motion_option(parameter) for parameter in TABLE]
 MOTION_PARAMETERS = tuple(BY_NAME)
 
 
-def motion_options(f):
-    """``--mode`` and every motion parameter of the core, each defaulting to "not given"."""
+def motion_parameter_options(f):
+    """Every motion parameter of the core (not ``--mode``), each defaulting to "not given"."""
     for option in reversed(_MOTION_OPTIONS):
         f = option(f)
+    return f
+
+
+def motion_options(f):
+    """``--mode`` and every motion parameter of the core, each defaulting to "not given"."""
+    f = motion_parameter_options(f)
     return click.option(
         "--mode",
         type=click.Choice(MODES),

@@ -33,8 +33,9 @@ from . import CONTEXT_SETTINGS, options
 @click.option(
     "--mode",
     type=click.Choice(("screw", "darboux", "cubic", "spline")),
-    help="screw (ScLERP, default), darboux or cubic per segment with the mode's "
-    "defaults, or spline: the C¹ spline through all poses (unit Study vectors).",
+    help="screw (ScLERP, default), darboux or cubic per segment (with the motion options "
+    "below, the same for every segment), or spline: the C¹ spline through all poses (unit "
+    "Study vectors).",
 )
 @click.option(
     "--clip",
@@ -54,13 +55,14 @@ from . import CONTEXT_SETTINGS, options
     help="csv, matrix, study: add a last column 'original', 1 where the row is a pose of "
     "TRAJECTORY, 0 where it is interpolated.",
 )
+@options.motion_parameter_options
 @options.output_option
 @options.format_option
 @options.frame_options
 @options.verbose_option
 def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, reference,
             times_file, mode, clip, max_gap, mark, output, fmt, frame_id, child_frame_id,
-            verbose):  # fmt: skip
+            verbose, **parameters):  # fmt: skip
     """Sample TRAJECTORY (a file, or - for stdin) at new times.
 
     TRAJECTORY is TUM, KITTI, EuRoC, a2b's csv, matrix or study output, or MCAP with
@@ -98,13 +100,19 @@ def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, r
     if mode is None:
         mode = "screw"
         choices.append("mode screw: the default of resample, ScLERP per segment (--mode to change)")
+    given = {key: value for key, value in parameters.items() if value is not None}
+    if given and mode == "spline":
+        raise click.UsageError(
+            "the spline takes no motion parameters; give --mode darboux or cubic"
+        )
+    parameters = options.merge_parameters({}, given) if given else {}
     fmt = options.format_from(fmt, output, choices)
     if mark and fmt not in ("csv", "matrix", "study"):
         raise click.UsageError(f"--mark adds a column to csv, matrix and study, not to {fmt}")
     poses = None if path.quat_wxyz is not None else path.matrices  # else made as needed
     resampler = Resampler(
         path.times, poses, mode, max_gap=max_gap, quat_wxyz=path.quat_wxyz,
-        translations=path.trans, study=path.study, checked=True,
+        translations=path.trans, study=path.study, checked=True, **parameters,
     )  # fmt: skip
     new_times = _new_times(path, rate, reference, times_file, choices)
     counts = {"outside": 0, "gap": 0, "written": 0}
