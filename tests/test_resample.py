@@ -599,3 +599,23 @@ def test_resample_takes_the_motion_options_of_its_mode():
     assert "mode screw does not take delta (its parameters: none)" in refused.output
     refused = run("resample", SAMPLES / "reference.tum", "--rate", 3, "--mode", "spline", "--a", 1)
     assert refused.exit_code == 2 and "the spline takes no motion parameters" in refused.output
+
+
+@pytest.mark.parametrize("name", ["reference.tum", "walk.kitti"])
+def test_a_trajectory_read_in_small_pieces_is_the_same(name):
+    from a2b.io.trajectories import trajectory_pieces
+
+    data = (SAMPLES / name).read_bytes()
+    whole = read_trajectory(io.BytesIO(data), name, orthonormalize=True)
+    pieces = list(trajectory_pieces(data, name, whole.fmt, size=200, orthonormalize=True))
+    assert len(pieces) > 5
+    assert np.array_equal(np.concatenate([p.times for p in pieces]), whole.times)
+    assert np.array_equal(np.concatenate([p.matrices for p in pieces]), whole.matrices)
+    lines = data.splitlines(keepends=True)
+    if name.endswith(".tum"):  # KITTI has no times to repeat
+        repeated = b"".join(lines[:20] + [lines[19]] + lines[20:])  # line 21 repeats line 20
+        with pytest.raises(InputFileError, match=rf"^{name}:21:1: the time .* repeats"):
+            list(trajectory_pieces(repeated, name, whole.fmt, size=200))
+    damaged = b"".join(lines[:25] + [lines[25].replace(b"0", b"x", 1)] + lines[26:])
+    with pytest.raises(InputFileError, match=rf"^{name}:26:\d+: expected a number, got '"):
+        list(trajectory_pieces(damaged, name, whole.fmt, size=200, orthonormalize=True))

@@ -30,6 +30,7 @@ import json
 import os
 import re
 import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import IO
 
@@ -48,9 +49,11 @@ __all__ = [
     "read_matrix_csv",
     "read_mcap",
     "read_study_csv",
+    "opened",
     "read_trajectory",
     "read_tum",
     "sniff_format",
+    "trajectory_pieces",
 ]
 
 TRAJECTORY_FORMATS = ("tum", "kitti", "euroc", "csv", "matrix", "study", "mcap")
@@ -118,6 +121,20 @@ def read_trajectory(
     file has several; ``orthonormalize`` repairs rotation blocks that are orthogonal only to a
     few digits (:func:`a2b.poses.orthonormalize`); ``minimum`` is the fewest poses accepted.
     """
+    name, data, fmt = opened(stream, name, fmt)
+    pieces = list(trajectory_pieces(data, name, fmt, rate=rate, topic=topic,
+                                    orthonormalize=orthonormalize))  # fmt: skip
+    trajectory = _joined(pieces, name, fmt)
+    if len(trajectory) < minimum:
+        raise InputFileError(
+            f"{name}: expected at least {minimum} pose{'s' * (minimum != 1)}, got {len(trajectory)}"
+        )
+    return trajectory
+
+
+def opened(stream: IO, name: str | None = None, fmt: str | None = None) -> tuple:
+    """``(name, bytes, format)`` of a trajectory file: its name for messages, its content, and
+    its format (given, else from the suffix or the content: :func:`sniff_format`)."""
     name = name or getattr(stream, "name", None) or "<stdin>"
     name = "<stdin>" if name == "-" else str(name)
     data = stream.read()
@@ -126,19 +143,72 @@ def read_trajectory(
     fmt = fmt or sniff_format(data, name)
     if fmt not in TRAJECTORY_FORMATS:
         raise InputFileError(f"{name}: unknown trajectory format {fmt!r}")
+    return name, data, fmt
+
+
+#: Bytes of text parsed at a time by :func:`trajectory_pieces`.
+PIECE_BYTES = 1 << 22
+
+
+def trajectory_pieces(
+    data: bytes,
+    name: str,
+    fmt: str,
+    *,
+    rate: float | None = None,
+    topic: str | None = None,
+    orthonormalize: bool = False,
+    size: int = PIECE_BYTES,
+) -> Iterator[Trajectory]:
+    """The poses of a trajectory file's content, in consecutive pieces of about ``size`` bytes
+    of text (MCAP: one piece), each checked as it is read; times increase across pieces too.
+
+    A reader can start on the first poses while the rest is still text: ``a2b resample``
+    computes the first segments while the file is parsed.
+    """
     if fmt == "mcap":
         times, quat, trans = _mcap(data, name, topic)
-        lines = None
-        trajectory = _from_quaternions(times, quat, trans, name, fmt, lines)
-    else:
-        table, lines = _table(data, name, fmt)
-        trajectory = _from_table(table, lines, name, fmt, rate, orthonormalize)
-    if len(trajectory) < minimum:
-        raise InputFileError(
-            f"{name}: expected at least {minimum} pose{'s' * (minimum != 1)}, got {len(trajectory)}"
-        )
-    _check_times(trajectory.times, name, lines)
-    return trajectory
+        piece = _from_quaternions(times, quat, trans, name, fmt, None)
+        _check_times(piece.times, name, None)
+        yield piece
+        return
+    skip, marked = _header(data, name, fmt)
+    start, line, row, previous = 0, 0, 0, None
+    while start < len(data):
+        stop = data.find(b"\n", start + size) + 1 if len(data) - start > size else 0
+        stop = stop or len(data)
+        text = data[start:stop]
+        table, lines = _table(text, name, fmt, skip if start == 0 else 0, marked, line)
+        piece = _from_table(table, lines, name, fmt, rate, orthonormalize, row)
+        _check_times(piece.times, name, lines, previous)
+        if len(piece):
+            yield piece
+            previous = piece.times[-1]
+        start, line, row = stop, line + text.count(b"\n"), row + len(piece)
+
+
+def _joined(pieces: list, name: str, fmt: str) -> Trajectory:
+    """One trajectory of consecutive pieces."""
+    if len(pieces) == 1:
+        return pieces[0]
+    if not pieces:
+        return Trajectory(np.empty(0), name=name, fmt=fmt, _matrices=np.empty((0, 4, 4)))
+
+    def joined(field):
+        parts = [getattr(p, field) for p in pieces]
+        return None if parts[0] is None else np.concatenate(parts)
+
+    repaired = [p.repaired for p in pieces if p.repaired is not None]
+    return Trajectory(
+        joined("times"),
+        quat_wxyz=joined("quat_wxyz"),
+        trans=joined("trans"),
+        study=joined("study"),
+        name=name,
+        fmt=fmt,
+        repaired=max(repaired) if repaired else None,
+        _matrices=joined("_matrices"),
+    )
 
 
 def sniff_format(data: bytes, name: str) -> str:
@@ -181,12 +251,9 @@ def sniff_format(data: bytes, name: str) -> str:
 # -- text formats ------------------------------------------------------------------------------
 
 
-def _table(data: bytes, name: str, fmt: str) -> tuple[np.ndarray, _Lines]:
-    """The numbers of a text trajectory ``(N, columns)`` and the line of each row.
-
-    The numbers are parsed in bulk by ``numpy.loadtxt``; only when that fails, or a check
-    needs the line of a row for its message, are the lines numbered one by one.
-    """
+def _header(data: bytes, name: str, fmt: str) -> tuple[int, bool]:
+    """Check the text and the first line of a trajectory file: ``(lines to skip, whether a2b's
+    ``original`` column follows the pose columns)``."""
     if not data.isascii():  # the common case needs no decoded copy
         try:
             data.decode("utf-8")
@@ -195,7 +262,6 @@ def _table(data: bytes, name: str, fmt: str) -> tuple[np.ndarray, _Lines]:
             raise InputFileError(f"{name}:{line}: the file is not UTF-8 text") from None
     head = data[: data.find(b"\n") if b"\n" in data[:65536] else 65536].decode("utf-8", "replace")
     head = head.rstrip("\r")
-    first, marked = 0, False
     if fmt in _HEADERS:
         marked = head.strip() == _HEADERS[fmt] + ",original"
         if head.strip() != _HEADERS[fmt] and not marked:
@@ -203,12 +269,24 @@ def _table(data: bytes, name: str, fmt: str) -> tuple[np.ndarray, _Lines]:
             raise InputFileError(
                 f"{name}:1:1: expected the {fmt} header {_HEADERS[fmt]!r}, got {got}"
             )
-        first = 1
-    elif fmt == "euroc":
+        return 1, marked
+    if fmt == "euroc":
         if not head.startswith("#"):
             raise InputFileError(f"{name}:1:1: expected EuRoC's '#timestamp [ns],…' header line")
-        first = 1
-    lines = _Lines(data, first)
+        return 1, False
+    return 0, False
+
+
+def _table(
+    data: bytes, name: str, fmt: str, first: int, marked: bool, offset: int
+) -> tuple[np.ndarray, _Lines]:
+    """The numbers of some lines of a text trajectory ``(N, columns)`` and the line of each row.
+
+    ``first`` lines are skipped (a header); ``offset`` lines of the file come before ``data``.
+    The numbers are parsed in bulk by ``numpy.loadtxt``; only when that fails, or a check
+    needs the line of a row for its message, are the lines numbered one by one.
+    """
+    lines = _Lines(data, first, offset)
     sep = "," if fmt in _HEADERS or fmt == "euroc" else None
     width = _COLUMNS[fmt] + marked  # a2b resample's original column
     body = io.BytesIO(data)
@@ -216,13 +294,13 @@ def _table(data: bytes, name: str, fmt: str) -> tuple[np.ndarray, _Lines]:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)  # "input contained no data"
             if fmt == "euroc":  # nanosecond stamps exceed 2**53: read them as integers
-                if _NOT_AN_INTEGER_STAMP.search(data, data.find(b"\n") + 1):
+                if _NOT_AN_INTEGER_STAMP.search(data):
                     raise ValueError  # older numpy would truncate 1.5 to 1
                 stamps = np.loadtxt(
-                    body, delimiter=",", usecols=0, dtype=np.int64, ndmin=1, skiprows=1
+                    body, delimiter=",", usecols=0, dtype=np.int64, ndmin=1, skiprows=first
                 )
                 body.seek(0)
-                rows = np.loadtxt(body, delimiter=",", usecols=range(8), ndmin=2, skiprows=1)
+                rows = np.loadtxt(body, delimiter=",", usecols=range(8), ndmin=2, skiprows=first)
                 seconds, nanoseconds = np.divmod(stamps, 10**9)
                 rows[:, 0] = seconds + nanoseconds * 1e-9
             else:
@@ -255,15 +333,15 @@ _NOT_AN_INTEGER_STAMP = re.compile(rb"(?m)^(?![ \t]*#)[ \t]*[+-]?[0-9]*[^0-9,\r\
 class _Lines:
     """The line number of each data row of a text, counted only when a message asks."""
 
-    def __init__(self, data: bytes, first: int):
-        self.data, self.first = data, first
+    def __init__(self, data: bytes, first: int, offset: int = 0):
+        self.data, self.first, self.offset = data, first, offset
         self._numbered: list | None = None
 
     def numbered(self) -> list[tuple[int, str]]:
         """``(line number, line)`` of every row: not blank, not a ``#`` comment."""
         if self._numbered is None:
             self._numbered = [
-                (i + 1, line)
+                (self.offset + i + 1, line)
                 for i, line in enumerate(self.data.decode("utf-8").splitlines())
                 if i >= self.first and line.strip() and not line.lstrip().startswith("#")
             ]
@@ -334,9 +412,9 @@ def _euroc(numbers: list, name: str) -> np.ndarray:
     return rows
 
 
-def _from_table(table, lines, name, fmt, rate, orthonormalize) -> Trajectory:
-    if fmt == "kitti":
-        times = np.arange(len(table), dtype=float)
+def _from_table(table, lines, name, fmt, rate, orthonormalize, row: int = 0) -> Trajectory:
+    if fmt == "kitti":  # the index in the file (``row`` poses came before these)
+        times = np.arange(row, row + len(table), dtype=float)
         if rate is not None:
             times /= rate
         return _from_matrices(times, table, lines, name, fmt, orthonormalize)
@@ -409,16 +487,19 @@ def _from_matrices(times, rows, lines, name, fmt, orthonormalize) -> Trajectory:
     return trajectory
 
 
-def _check_times(times: np.ndarray, name: str, lines) -> None:
-    steps = np.diff(times)
+def _check_times(times: np.ndarray, name: str, lines, previous: float | None = None) -> None:
+    """Times must increase (``previous``: the time before the first of these)."""
+    before = np.concatenate([[previous], times]) if previous is not None else times
+    steps = np.diff(before)
     bad = ~(steps > 0.0)
     if bad.any():
         i = int(np.argmax(bad)) + 1
         what = "repeats" if steps[i - 1] == 0.0 else "goes back from"
-        where = f"{name}:{lines[i]}:1" if lines is not None else f"{name}: message {i + 1}"
+        row = i - (previous is not None)  # the row of these times
+        where = f"{name}:{lines[row]}:1" if lines is not None else f"{name}: message {row + 1}"
         raise InputFileError(
-            f"{where}: the time {float(times[i])!r} {what} the previous one, "
-            f"{float(times[i - 1])!r}; "
+            f"{where}: the time {float(before[i])!r} {what} the previous one, "
+            f"{float(before[i - 1])!r}; "
             "times must increase (sort the file, or drop the repeated pose)"
         )
 
