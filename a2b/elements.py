@@ -143,7 +143,9 @@ class Notes:
         for mask, text in self.rules:
             chosen = keep if mask is None else keep & np.asarray(mask).reshape(-1)
             if isinstance(text, str):
-                out[text] += int(np.count_nonzero(chosen))
+                count = int(np.count_nonzero(chosen))
+                if count:
+                    out[text] += count
             else:
                 out.update(t for t in np.asarray(text).reshape(-1)[chosen].tolist() if t)
         return out

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import warnings
 from collections import Counter
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,7 +24,7 @@ from .elements import as_numbers
 from .errors import A2bError, A2bWarning, ParameterError
 from .names import MODES
 
-__all__ = ["RESAMPLE_MODES", "Located", "Resampler", "resample"]
+__all__ = ["RESAMPLE_MODES", "Located", "NewTimes", "Resampler", "resample", "windows"]
 
 RESAMPLE_MODES = MODES + ("spline",)
 #: New times sampled at a time.
@@ -281,6 +282,76 @@ class Resampler:
             f"the segment from pose {k} (time {float(t[k])!r}) to pose {k + 1} "
             f"(time {float(t[k + 1])!r})"
         )
+
+
+class NewTimes:
+    """New times taken in order, up to a limit at a time: every ``1 / rate`` s from the first
+    stamp (up to the last), or the increasing ``times`` given."""
+
+    def __init__(self, rate: float | None = None, times=None, source: str = ""):
+        self.rate, self.times, self.source = rate, times, source
+        self.start: float | None = None
+        self.taken = 0
+
+    def upto(self, limit: float | None, start: float | None) -> Iterator[np.ndarray]:
+        """The times not taken yet up to ``limit`` (``None``: all that are left), in blocks of
+        :data:`BLOCK`; ``start`` is the trajectory's first stamp so far."""
+        if self.rate is None:
+            end = (
+                len(self.times)
+                if limit is None
+                else int(np.searchsorted(self.times, limit, "right"))
+            )
+            for lo in range(self.taken, end, BLOCK):
+                yield self.times[lo : min(lo + BLOCK, end)]
+            self.taken = max(self.taken, end)
+            return
+        if limit is None:  # the times every 1/rate s end at the last stamp
+            return
+        if self.start is None:
+            self.start = start
+        first, rate = self.start, self.rate
+        end = int(np.floor((limit - first) * rate)) + 1
+        while end > self.taken and first + (end - 1) / rate > limit:
+            end -= 1
+        while first + end / rate <= limit:
+            end += 1
+        for lo in range(self.taken, end, BLOCK):
+            yield first + np.arange(lo, min(lo + BLOCK, end)) / rate
+        self.taken = max(self.taken, end)
+
+    def described(self) -> str:
+        if self.rate is None:
+            return f"{self.taken} new times from {self.source}"
+        return f"{self.taken} new times from {self.start!r} s every 1/{self.rate:g} s"
+
+
+def windows(pieces: Iterable, repaired: list | None = None) -> Iterator[dict]:
+    """A trajectory that arrives in pieces (each with ``times``, ``quat_wxyz``, ``trans``,
+    ``study``, ``matrices``, ``repaired``, as :mod:`a2b.io.trajectories` reads them) as the
+    keyword arguments of one :class:`Resampler` per piece. Each window starts with the last
+    pose of the piece before, so every segment lies in one window; ``last`` counts the poses so
+    far. Repairs are collected in ``repaired``."""
+    previous: dict | None = None
+    count = 0
+    for piece in pieces:
+        window = {
+            "times": piece.times,
+            "quat_wxyz": piece.quat_wxyz,
+            "translations": piece.trans,
+            "study": piece.study,
+            "poses": None if piece.quat_wxyz is not None else piece.matrices,
+        }
+        if repaired is not None and piece.repaired is not None:
+            repaired.append(piece.repaired)
+        if previous is not None:
+            window = {
+                key: None if value is None else np.concatenate([previous[key][-1:], value])
+                for key, value in window.items()
+            }
+        count += len(piece.times)
+        previous = window
+        yield dict(window, last=count)
 
 
 def _arrays(located: Located) -> tuple:

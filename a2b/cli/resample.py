@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections import Counter
+
 import click
 
 from . import CONTEXT_SETTINGS, options
@@ -84,7 +86,7 @@ def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, r
       a2b resample samples/reference.tum --times samples/stamps.txt --mode spline --mark
       a2b resample samples/reference.tum --rate 100 --max-gap 0.5 -o reference-100hz.mcap
     """
-    from ..resample import Resampler
+    from ..io.trajectories import opened, trajectory_pieces
 
     sources = (("--rate", rate), ("--at", reference), ("--times", times_file))
     given = [name for name, value in sources if value is not None]
@@ -94,9 +96,11 @@ def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, r
             + (f" (got {' and '.join(given)})" if given else "")
         )
     choices: list[str] = []
-    path = options.read_trajectory_option(
-        trajectory, input_format, topic, input_rate, orthonormalize, choices, minimum=2
-    )
+    name, data, in_fmt = opened(trajectory, None, input_format)
+    if input_format is None:
+        choices.append(f"input format {in_fmt}: from the file (--input-format to change)")
+    if in_fmt == "kitti" and input_rate is None:
+        choices.append("kitti times: the line indices 0, 1, 2, … (--input-rate to change)")
     if mode is None:
         mode = "screw"
         choices.append("mode screw: the default of resample, ScLERP per segment (--mode to change)")
@@ -109,34 +113,40 @@ def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, r
     fmt = options.format_from(fmt, output, choices)
     if mark and fmt not in ("csv", "matrix", "study"):
         raise click.UsageError(f"--mark adds a column to csv, matrix and study, not to {fmt}")
-    poses = None if path.quat_wxyz is not None else path.matrices  # else made as needed
-    resampler = Resampler(
-        path.times, poses, mode, max_gap=max_gap, quat_wxyz=path.quat_wxyz,
-        translations=path.trans, study=path.study, checked=True, **parameters,
-    )  # fmt: skip
-    new_times = _new_times(path, rate, reference, times_file, choices)
-    counts = {"outside": 0, "gap": 0, "written": 0}
+    new_times = _new_times(rate, reference, times_file, choices)
     options.check_output(fmt, output, 2, 1.0, 0.0)
 
     def computed():  # in a process of its own: see a2b.io.parallel.produced_apart
+        """The samples, as the trajectory is parsed: each piece of it, with the last pose of
+        the piece before, is a window of segments; the new times up to its end go through it
+        (a spline needs every pose first: one window)."""
+        from ..errors import InputFileError
         from ..io.writers import REPRESENTATION, Chunk
+        from ..resample import Resampler, windows
 
         representation = REPRESENTATION[fmt]
-        for block in new_times:
-            located = resampler.locate(block, clip)
-            counts["outside"] += located.outside
-            counts["gap"] += located.gap
-            counts["written"] += len(located.times)
-            values = resampler.sample(located, representation)
-            chunk = Chunk(located.times)
-            if representation == "quat_trans":
-                chunk.quat_wxyz, chunk.trans = values
-            else:
-                setattr(chunk, representation, values)
-            if mark:
-                chunk.original = (located.pose >= 0).astype(float)
-            yield chunk
-        yield counts, resampler.segments_built, resampler.warned, resampler.choices
+        counts = {"outside": 0, "gap": 0, "written": 0, "poses": 0, "built": 0, "warned": 0}
+        made, repaired, resampler = Counter(), [], None
+        whole = {"size": len(data) + 1} if mode == "spline" else {}  # one piece: every pose
+        pieces = trajectory_pieces(data, name, in_fmt, rate=input_rate, topic=topic,
+                                   orthonormalize=orthonormalize, **whole)  # fmt: skip
+        for window in windows(pieces, repaired):
+            counts["poses"] = window["last"]
+            if counts["poses"] < 2:
+                continue  # a first piece of one pose: it is the start of the next window
+            del window["last"]
+            resampler = Resampler(mode=mode, max_gap=max_gap, checked=True, **window, **parameters)
+            resampler.warned = counts["warned"]  # the first ten of the whole run are shown
+            for block in new_times.upto(float(window["times"][-1]), float(window["times"][0])):
+                yield _chunk(resampler, block, clip, representation, mark, counts, Chunk)
+            counts["built"] += resampler.segments_built
+            counts["warned"] = resampler.warned
+            made.update(resampler.choices)
+        if counts["poses"] < 2:
+            raise InputFileError(f"{name}: expected at least 2 poses, got {counts['poses']}")
+        for block in new_times.upto(None, None):  # after the end: outside the trajectory
+            yield _chunk(resampler, block, clip, representation, mark, counts, Chunk)
+        yield counts, made, repaired, new_times.described()
 
     summary = []
 
@@ -154,25 +164,30 @@ def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, r
     _report(*summary[0], clip, max_gap, verbose)
 
 
-def _new_times(path, rate, reference, times_file, choices):
-    """The new times, in blocks of :data:`a2b.resample.BLOCK`, increasing."""
-    import numpy as np
+def _chunk(resampler, block, clip, representation, mark, counts, chunk_type):
+    """The writer's chunk of the new times ``block``."""
+    located = resampler.locate(block, clip)
+    counts["outside"] += located.outside
+    counts["gap"] += located.gap
+    counts["written"] += len(located.times)
+    values = resampler.sample(located, representation)
+    chunk = chunk_type(located.times)
+    if representation == "quat_trans":
+        chunk.quat_wxyz, chunk.trans = values
+    else:
+        setattr(chunk, representation, values)
+    if mark:
+        chunk.original = (located.pose >= 0).astype(float)
+    return chunk
 
+
+def _new_times(rate, reference, times_file, choices):
+    """The new times (:class:`a2b.resample.NewTimes`): every 1/rate s, or a file's."""
     from ..errors import InputFileError
-    from ..resample import BLOCK
+    from ..resample import NewTimes
 
     if rate is not None:
-        first, last = float(path.times[0]), float(path.times[-1])
-        count = int(np.floor((last - first) * rate)) + 1
-        while count > 1 and first + (count - 1) / rate > last:
-            count -= 1
-        choices.append(f"new times: {count} from {first!r} s every 1/{rate:g} s")
-
-        def generate():
-            for lo in range(0, count, BLOCK):
-                yield first + np.arange(lo, min(lo + BLOCK, count)) / rate
-
-        return generate()
+        return NewTimes(rate=rate)
     if reference is not None:
         from ..io.trajectories import read_trajectory
 
@@ -187,8 +202,7 @@ def _new_times(path, rate, reference, times_file, choices):
     else:
         times = _read_times(times_file)
     source = getattr(reference or times_file, "name", "-")
-    choices.append(f"new times: {len(times)} from {'<stdin>' if source == '-' else source}")
-    return (times[lo : lo + BLOCK] for lo in range(0, len(times), BLOCK))
+    return NewTimes(times=times, source="<stdin>" if source == "-" else source)
 
 
 def _read_times(stream):
@@ -222,9 +236,11 @@ def _read_times(stream):
     return np.array(times)
 
 
-def _report(counts, built, warned, made, clip, max_gap, verbose) -> None:
+def _report(counts, made, repaired, times, clip, max_gap, verbose) -> None:
     """Say what was dropped (always: data was left out) and, with -v, what was built."""
     from ..resample import WARNINGS_SHOWN
+
+    warned, built = counts["warned"], counts["built"]
 
     if counts["outside"]:
         click.echo(
@@ -243,9 +259,15 @@ def _report(counts, built, warned, made, clip, max_gap, verbose) -> None:
         )
     if verbose:
         click.echo(
-            f"Wrote {counts['written']} poses; built {built} segment motions.",
+            f"Wrote {counts['written']} poses ({times}); built {built} segment motions.",
             err=True,
         )
+        if repaired:
+            click.echo(
+                f"  • orthonormalized {counts['poses']} rotation blocks: largest max |R Rᵀ − I| "
+                f"was {max(repaired):.3g}",
+                err=True,
+            )
         for choice, count in made.most_common(20):
             click.echo(f"  • {count} segment(s): {choice}", err=True)
 
