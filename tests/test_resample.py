@@ -27,7 +27,7 @@ from a2b.cli import cli
 from a2b.errors import A2bError, InputFileError, PoseError
 from a2b.io import trajectories
 from a2b.io.trajectories import read_trajectory
-from a2b.poses import matrices_from_quat_trans, orthonormalize
+from a2b.poses import matrices_from_quat_trans, orthonormalize, quat_trans_from_matrices
 from a2b.resample import Resampler, resample
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -619,3 +619,23 @@ def test_a_trajectory_read_in_small_pieces_is_the_same(name):
     damaged = b"".join(lines[:25] + [lines[25].replace(b"0", b"x", 1)] + lines[26:])
     with pytest.raises(InputFileError, match=rf"^{name}:26:\d+: expected a number, got '"):
         list(trajectory_pieces(damaged, name, whole.fmt, size=200, orthonormalize=True))
+
+
+def test_a_bad_line_after_many_poses_leaves_the_old_output(tmp_path):
+    """The trajectory is parsed in pieces as it is sampled: a bad line near the end comes after
+    rows were written, and the output is still all or nothing."""
+    rng = np.random.default_rng(4)
+    times, poses = random_trajectory(rng, 60000)
+    quat, trans = quat_trans_from_matrices(poses)
+    from a2b.io.floatrepr import format_rows
+
+    rows = np.column_stack([times, trans, quat[:, [1, 2, 3, 0]]])
+    path = tmp_path / "long.tum"
+    path.write_bytes(format_rows(rows, sep=" ") + b"1 2 3\n")
+    out = tmp_path / "out.csv"
+    out.write_bytes(b"precious\n")
+    result = run("resample", path, "--rate", 10, "-o", out)
+    assert result.exit_code == 1
+    assert result.output == f"Error: {path}:60001:1: expected 8 numbers per line (tum), got 3\n"
+    assert out.read_bytes() == b"precious\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["long.tum", "out.csv"]
