@@ -639,3 +639,9 @@ def test_a_bad_line_after_many_poses_leaves_the_old_output(tmp_path):
     assert result.output == f"Error: {path}:60001:1: expected 8 numbers per line (tum), got 3\n"
     assert out.read_bytes() == b"precious\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["long.tum", "out.csv"]
+
+
+def test_the_command_line_knows_every_trajectory_format():
+    from a2b.cli.options import TRAJECTORY_FORMATS
+
+    assert TRAJECTORY_FORMATS == trajectories.TRAJECTORY_FORMATS

@@ -539,13 +539,14 @@ def check_output(fmt: str, output: str, samples: int, duration: float, start_tim
         )
 
 
-#: The formats of trajectory files (:mod:`a2b.io.trajectories`), without importing it.
+#: The formats of trajectory files (:mod:`a2b.io.trajectories`), without importing it (a test
+#: checks that the two agree).
 TRAJECTORY_FORMATS = ("tum", "kitti", "euroc", "csv", "matrix", "study", "mcap")
 
 
 def trajectory_input_options(rate: bool = True):
     """``--input-format``, ``--topic``, ``--orthonormalize`` and (with ``rate``) ``--input-rate``
-    for a trajectory file read by :func:`read_trajectory_option`."""
+    for a trajectory file (:func:`a2b.io.trajectories.read_trajectory`)."""
     options = [
         click.option(
             "--input-format",
@@ -635,28 +636,6 @@ def read_pose_list_option(stream, key: str, fmt, topic, orthonormalize: bool, ch
             f"{path.repaired:.3g}"
         )
     return PoseList(key, path.matrices)
-
-
-def read_trajectory_option(
-    stream, fmt, topic, rate, orthonormalize: bool, choices: list, minimum: int = 1
-):
-    """Read a trajectory file with the options of :func:`trajectory_input_options`, stating
-    in ``choices`` what a2b decided (the format, KITTI's times, a repair)."""
-    from ..io.trajectories import read_trajectory
-
-    path = read_trajectory(
-        stream, fmt=fmt, rate=rate, topic=topic, orthonormalize=orthonormalize, minimum=minimum
-    )
-    if fmt is None:
-        choices.append(f"input format {path.fmt}: from the file (--input-format to change)")
-    if path.fmt == "kitti" and rate is None:
-        choices.append("kitti times: the line indices 0, 1, 2, … (--input-rate to change)")
-    if path.repaired is not None:
-        choices.append(
-            f"orthonormalized {len(path)} rotation blocks: largest max |R Rᵀ − I| was "
-            f"{path.repaired:.3g}"
-        )
-    return path
 
 
 def write_chunks(chunks, fmt: str, output: str, **options) -> None:
