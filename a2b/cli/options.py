@@ -597,10 +597,15 @@ def repairing(orthonormalize: bool, choices: list):
     with orthonormalizing() as repairs:
         yield
     if repairs:
-        choices.append(
-            f"orthonormalized {len(repairs)} matrix pose{'s' * (len(repairs) != 1)}: largest "
-            f"max |R Rᵀ − I| was {max(repairs):.3g}"
-        )
+        choices.append(repaired(len(repairs), max(repairs), "matrix pose"))
+
+
+def repaired(count: int, residual: float, what: str) -> str:
+    """What ``--orthonormalize`` did, for ``-v``."""
+    return (
+        f"orthonormalized {count} {what}{'s' * (count != 1)}: largest max |R Rᵀ − I| was "
+        f"{residual:.3g}"
+    )
 
 
 def read_pose_list_option(stream, key: str, fmt, topic, orthonormalize: bool, choices: list):
@@ -609,11 +614,11 @@ def read_pose_list_option(stream, key: str, fmt, topic, orthonormalize: bool, ch
     import io
 
     from ..errors import InputFileError
+    from ..io.jobscan import stream_name
     from ..io.readers import PoseList, read_pose_list
     from ..io.trajectories import read_trajectory, sniff_format
 
-    name = getattr(stream, "name", "-")
-    name = "<stdin>" if name in ("-", "<stdin>") else name
+    name = stream_name(stream, None)
     data = stream.read()
     if fmt is None:
         try:
@@ -631,10 +636,7 @@ def read_pose_list_option(stream, key: str, fmt, topic, orthonormalize: bool, ch
         io.BytesIO(data), name, fmt, topic=topic, orthonormalize=orthonormalize, minimum=2
     )
     if path.repaired is not None:
-        choices.append(
-            f"orthonormalized {len(path)} rotation blocks: largest max |R Rᵀ − I| was "
-            f"{path.repaired:.3g}"
-        )
+        choices.append(repaired(len(path), path.repaired, "rotation block"))
     return PoseList(key, path.matrices)
 
 

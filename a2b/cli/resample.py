@@ -201,8 +201,9 @@ def _new_times(rate, reference, times_file, choices):
             raise InputFileError(f"{path.name}: the reference has no poses")
     else:
         times = _read_times(times_file)
-    source = getattr(reference or times_file, "name", "-")
-    return NewTimes(times=times, source="<stdin>" if source == "-" else source)
+    from ..io.jobscan import stream_name
+
+    return NewTimes(times=times, source=stream_name(reference or times_file, None))
 
 
 def _read_times(stream):
@@ -210,9 +211,9 @@ def _read_times(stream):
     import numpy as np
 
     from ..errors import InputFileError
+    from ..io.jobscan import stream_name
 
-    name = getattr(stream, "name", "-")
-    name = "<stdin>" if name == "-" else name
+    name = stream_name(stream, None)
     times, lines = [], []
     for number, raw in enumerate(stream.read().decode("utf-8", "replace").splitlines(), 1):
         text = raw.split("#", 1)[0].strip()
@@ -263,11 +264,8 @@ def _report(counts, made, repaired, times, clip, max_gap, verbose) -> None:
             err=True,
         )
         if repaired:
-            click.echo(
-                f"  • orthonormalized {counts['poses']} rotation blocks: largest max |R Rᵀ − I| "
-                f"was {max(repaired):.3g}",
-                err=True,
-            )
+            message = options.repaired(counts["poses"], max(repaired), "rotation block")
+            click.echo(f"  • {message}", err=True)
         for choice, count in made.most_common(20):
             click.echo(f"  • {count} segment(s): {choice}", err=True)
 

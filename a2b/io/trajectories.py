@@ -37,6 +37,7 @@ from typing import IO
 import numpy as np
 
 from ..errors import A2bError, InputFileError
+from .jobscan import stream_name
 
 __all__ = [
     "CSV_HEADER",
@@ -135,8 +136,7 @@ def read_trajectory(
 def opened(stream: IO, name: str | None = None, fmt: str | None = None) -> tuple:
     """``(name, bytes, format)`` of a trajectory file: its name for messages, its content, and
     its format (given, else from the suffix or the content: :func:`sniff_format`)."""
-    name = name or getattr(stream, "name", None) or "<stdin>"
-    name = "<stdin>" if name == "-" else str(name)
+    name = stream_name(stream, name)
     data = stream.read()
     if isinstance(data, str):
         data = data.encode()
