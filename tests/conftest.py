@@ -3,6 +3,11 @@
 from __future__ import annotations
 
 import io
+import os
+import shutil
+import subprocess
+import venv
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -66,3 +71,30 @@ class NonSeekableStream(io.RawIOBase):
 
     def tell(self):
         raise OSError("illegal seek")
+
+
+#: Where the tests install the real clients that conflict with a2b's own environment.
+TOOLS = Path(os.environ.get("A2B_TOOLS", Path.home() / ".cache" / "a2b-test-tools"))
+#: The Python clients, in one venv of their own (evo pins its own numpy): evo (which brings
+#: rosbags) and mcap-ros2-support.
+CLIENTS = ("evo", "mcap-ros2-support")
+
+
+@pytest.fixture(scope="session")
+def clients() -> Path:
+    """The ``bin`` directory of a venv with :data:`CLIENTS`, installed once from the package
+    index; the test is skipped, with the reason, when they cannot be installed."""
+    home = TOOLS / "evo"
+    python = home / "bin" / "python"
+    check = [str(python), "-c", "import evo, rosbags, mcap_ros2"]
+    if python.exists() and subprocess.run(check, capture_output=True).returncode == 0:
+        return home / "bin"
+    try:
+        if not python.exists():
+            venv.create(home, with_pip=True)
+        subprocess.run([str(home / "bin" / "pip"), "install", "-q", *CLIENTS], check=True,
+                       capture_output=True, timeout=900)  # fmt: skip
+    except (subprocess.SubprocessError, OSError) as e:
+        shutil.rmtree(home, ignore_errors=True)
+        pytest.skip(f"{', '.join(CLIENTS)} could not be installed from the package index: {e}")
+    return home / "bin"

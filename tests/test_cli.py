@@ -591,8 +591,8 @@ def test_batch_sample_file():
     assert lines[0] == "job,t,p0,p1,p2,p3,q0,q1,q2,q3"
     assert {line.split(",")[0] for line in lines[1:]} == {
         "lift",
-        "lift-offset",
-        "lift-cubic",
+        "lift_offset",
+        "lift_cubic",
         "slide",
     }
 
@@ -703,7 +703,7 @@ def test_verbose_batch_names_the_job_of_each_choice():
     assert result.stderr.splitlines() == [
         "Choices a2b made:",
         "  • format csv: the default (--format to change)",
-        "  • job lift-cubic: m defaults to pA + pB in canonical coordinates, so both weights are "
+        "  • job lift_cubic: m defaults to pA + pB in canonical coordinates, so both weights are "
         "equal",
         "  • job slide: pure translation (φ = 0): the axis is the line through A's origin along "
         "the translation",

@@ -9,10 +9,8 @@ from __future__ import annotations
 
 import io
 import os
-import shutil
 import subprocess
 import sys
-import venv
 import warnings
 from pathlib import Path
 
@@ -309,22 +307,11 @@ def test_a_repair_is_stated_under_v():
 
 # -- evo, a real client ------------------------------------------------------------------------
 
-EVO_VENV = Path(os.environ.get("A2B_TOOLS", Path.home() / ".cache" / "a2b-test-tools")) / "evo"
-
 
 @pytest.fixture(scope="session")
-def evo_ape():
-    """evo's ``evo_ape``, installed once into a venv of its own (evo pins its own numpy)."""
-    exe = EVO_VENV / "bin" / "evo_ape"
-    if not exe.exists():
-        try:
-            venv.create(EVO_VENV, with_pip=True)
-            subprocess.run([str(EVO_VENV / "bin" / "pip"), "install", "-q", "evo"], check=True,
-                           capture_output=True, timeout=900)  # fmt: skip
-        except (subprocess.SubprocessError, OSError) as e:
-            shutil.rmtree(EVO_VENV, ignore_errors=True)
-            pytest.skip(f"evo could not be installed from the package index: {e}")
-    return exe
+def evo_ape(clients):
+    """evo's ``evo_ape``, from the venv of the real clients (conftest.py)."""
+    return clients / "evo_ape"
 
 
 def test_evo_associates_every_pose_resampled_with_at(tmp_path, evo_ape):

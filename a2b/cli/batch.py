@@ -47,9 +47,10 @@ def _progress(total: int | None):
     type=click.Choice(options.FORMATS),
     help="csv, matrix, study: one CSV, the job column first (layouts as for a2b interpolate); "
     "tum, kitti: a file per job, DIR/NAME.tum or DIR/NAME.kitti, in the directory -o DIR; "
-    "mcap: one file, the poses of job NAME on topic /a2b/NAME/pose  "
-    "[default: from the -o suffix .mcap, else csv]",
+    "mcap: one file, the poses of job NAME on topic /a2b/NAME/pose; ros2: the same as "
+    "ROS 2 PoseStamped messages  [default: from the -o suffix .mcap, else csv]",
 )
+@options.profile_option
 @click.option(
     "--chunk-size",
     type=options.Count(min=1),
@@ -63,7 +64,7 @@ def _progress(total: int | None):
     "--frame-id",
     default="world",
     show_default=True,
-    help="mcap: the fixed frame of the poses.",
+    help="mcap, ros2: the fixed frame of the poses.",
 )
 @click.option(
     "-o",
@@ -77,8 +78,8 @@ def _progress(total: int | None):
 @options.verbose_option
 @options.orthonormalize_option
 def command(
-    jobs, mode, samples, fmt, chunk_size, duration, start_time, frame_id, output, verbose,
-    orthonormalize,
+    jobs, mode, samples, fmt, profile, chunk_size, duration, start_time, frame_id, output,
+    verbose, orthonormalize,
 ):  # fmt: skip
     """Sample every job in JOBS: into one CSV whose first column, job, names the motion, into
     a file per job (tum, kitti), or into one MCAP file with a topic per job.
@@ -89,8 +90,8 @@ def command(
     of one kind (mode and parameters given) all at once, with the results of building each
     alone; a progress bar shows on stderr when stderr is a terminal. A job that fails stops
     the run with a message that names it (by line and index for an error in the file, by
-    name for one of the mathematics), and with -o no file is written. tum, kitti and mcap
-    keep each job under its name, so names must differ (and, for tum and kitti, be file
+    name for one of the mathematics), and with -o no file is written. tum, kitti, mcap and
+    ros2 keep each job under its name, so names must differ (and, for tum and kitti, be file
     names); the files of a directory are moved into it only when every job is written,
     replacing files of the same name and leaving others alone.
     -v states every choice a2b makes, job by job.
@@ -122,6 +123,7 @@ def command(
     elif fmt is None:
         fmt = "csv"
         choices.append("format csv: the default (--format to change)")
+    fmt = options.format_from(fmt, output, None, profile)
     if mode is None:
         choices.append("mode darboux for jobs that name none: the default (--mode to change)")
     if samples is None:
@@ -157,7 +159,7 @@ def command(
                     representation=REPRESENTATION[fmt],
                     report=(lambda name, made: events.append((name, made))) if verbose else None,
                     advance=(lambda n: events.append(n)) if progress else None,
-                    unique_names=fmt in ("tum", "kitti", "mcap"),
+                    unique_names=fmt in ("tum", "kitti", *options.MCAP_FORMATS),
                 )
                 for piece in pieces:
                     yield from events
@@ -185,10 +187,11 @@ def command(
             try:
                 if fmt in ("tum", "kitti"):
                     write_batch_files(out, chunks, fmt, duration=duration, start_time=start_time)
-                elif fmt == "mcap":
+                elif fmt in options.MCAP_FORMATS:
                     write_batch_mcap(
-                        out, chunks, duration=duration, start_time=start_time, frame_id=frame_id
-                    )
+                        out, chunks, duration=duration, start_time=start_time, frame_id=frame_id,
+                        profile="ros2" if fmt == "ros2" else "foxglove",
+                    )  # fmt: skip
                 else:
                     write_batch_csv(out, chunks, fmt)
             finally:  # stops the computing process at once on an error

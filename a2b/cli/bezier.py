@@ -26,7 +26,17 @@ from . import CONTEXT_SETTINGS, options
 @options.offsets_option("study: κ-fiber offsets s, one per control pose (h + s εp).")
 @options.trajectory_input_options(rate=False)
 @options.trajectory_options
-def command(poses, space, samples, verbose, input_format, topic, orthonormalize, **parameters):
+def command(
+    poses,
+    space,
+    samples,
+    verbose,
+    input_format,
+    topic,
+    input_child_frame,
+    orthonormalize,
+    **parameters,
+):
     """Sample the Bézier motion of the control poses in POSES (a file, or - for stdin).
 
     POSES is JSON or YAML with a list `controls` of at least two poses, in any pose form of
@@ -56,7 +66,7 @@ def command(poses, space, samples, verbose, input_format, topic, orthonormalize,
     out = options.pop_trajectory(parameters)
     choices: list[str] = []
     curve = options.read_pose_list_option(
-        poses, "controls", input_format, topic, orthonormalize, choices
+        poses, "controls", input_format, topic, input_child_frame, orthonormalize, choices
     )
     parameters["alphas"] = parameters["alphas"] or None
     motion = options.curve_motion(curve, space, choices, parameters)

@@ -28,6 +28,7 @@ def command(poses, mode, samples, verbose, orthonormalize, **parameters):
       tum     time tx ty tz qx qy qz qw (time = t · duration + start_time)
       kitti   12 numbers of [R | t] per line
       mcap    foxglove.PoseInFrame on /a2b/pose and foxglove.FrameTransform on /tf
+      ros2    MCAP for ROS 2: PoseStamped on /a2b/pose, TFMessage on /tf, a Path at the end
 
     Pitches are screw-theory pitches: translation per radian, dz/dω. -v states on stderr
     every choice a2b makes for you: defaults, the sign of a quaternion, the screw axis of a
@@ -39,6 +40,7 @@ def command(poses, mode, samples, verbose, orthonormalize, **parameters):
       a2b interpolate samples/quarter-turn.yaml --delta 0.2 --format tum -o turn.tum
       a2b interpolate samples/half-turn.yaml --mode cubic --m 1,0,0,0.5 -o turn.mcap -v
       cat samples/quarter-turn.yaml | a2b interpolate - --format mcap | cat > turn.mcap
+      a2b interpolate samples/quarter-turn.yaml --format ros2 -o turn.mcap
     """
     import a2b
 

@@ -18,7 +18,9 @@ from ..errors import printable
 from ..names import MAX_SAMPLES, MIN_SAMPLES, MODES
 from ..parameters import BY_NAME, EXCLUSIVE, OF_MODE, TABLE
 
-FORMATS = ("csv", "matrix", "study", "tum", "kitti", "mcap")
+FORMATS = ("csv", "matrix", "study", "tum", "kitti", "mcap", "ros2")
+#: The formats that are MCAP files: ``ros2`` is MCAP with the ROS 2 profile.
+MCAP_FORMATS = ("mcap", "ros2")
 SPACES = ("matrix", "study")
 #: ``-o`` suffixes that choose a format when ``--format`` is not given.
 FORMAT_SUFFIXES = {".mcap": "mcap", ".tum": "tum", ".kitti": "kitti"}
@@ -253,25 +255,39 @@ samples_option = click.option(
     help="Number of samples, t evenly spaced in [0, 1], written as they are computed "
     "(any number streams in bounded memory)  [default: the file's samples, else 101]",
 )
-format_option = click.option(
+_format_option = click.option(
     "--format",
     "fmt",
     type=click.Choice(FORMATS),
-    help="Output format  [default: from the -o suffix (.mcap, .tum, .kitti), else csv]",
+    help="Output format; ros2 is MCAP that ros2 bag, rosbags and evo read  [default: from the "
+    "-o suffix (.mcap, .tum, .kitti), else csv]",
 )
+profile_option = click.option(
+    "--profile",
+    type=click.Choice(("foxglove", "ros2")),
+    help="mcap: foxglove (JSON foxglove.PoseInFrame and FrameTransform, the default) or ros2 "
+    "(CDR geometry_msgs/PoseStamped, tf2_msgs/TFMessage and nav_msgs/Path, as --format ros2).",
+)
+
+
+def format_option(f):
+    """``--format`` and ``--profile``; :func:`format_from` resolves the two."""
+    return _format_option(profile_option(f))
+
+
 _start_time_option = click.option(
     "--start-time",
     type=FLOAT,
     default=0.0,
     show_default=True,
-    help="tum, mcap: the time of t = 0, in seconds (e.g. a Unix time).",
+    help="tum, mcap, ros2: the time of t = 0, in seconds (e.g. a Unix time).",
 )
 _duration_option = click.option(
     "--duration",
     type=PositiveFloat(),
     default=1.0,
     show_default=True,
-    help="tum, mcap: seconds from t = 0 to t = 1; time = t · duration + start_time.",
+    help="tum, mcap, ros2: seconds from t = 0 to t = 1; time = t · duration + start_time.",
 )
 
 
@@ -297,13 +313,13 @@ _child_frame_option = click.option(
     "--child-frame-id",
     default="a2b",
     show_default=True,
-    help="mcap: the child frame of the /tf transforms (the moving body).",
+    help="mcap, ros2: the child frame of the /tf transforms (the moving body).",
 )
 _frame_option = click.option(
     "--frame-id",
     default="world",
     show_default=True,
-    help="mcap: the fixed frame of /a2b/pose and the parent frame of /tf.",
+    help="mcap, ros2: the fixed frame of /a2b/pose and the parent frame of /tf.",
 )
 
 
@@ -312,7 +328,9 @@ def frame_options(f):
 
 
 #: The options of :func:`trajectory_options` that :func:`write_motion` takes.
-TRAJECTORY_OPTIONS = ("fmt", "output", "duration", "start_time", "frame_id", "child_frame_id")
+TRAJECTORY_OPTIONS = (
+    "fmt", "profile", "output", "duration", "start_time", "frame_id", "child_frame_id"
+)  # fmt: skip
 
 
 def trajectory_options(f):
@@ -362,13 +380,25 @@ def merge_parameters(from_file: dict, from_command_line: dict, mode: str | None 
     return merged
 
 
-def format_from(fmt: str | None, output: str, choices: list | None = None) -> str:
-    """``--format`` if given, else the format the ``-o`` suffix names, else ``csv``.
+def format_from(
+    fmt: str | None, output: str, choices: list | None = None, profile: str | None = None
+) -> str:
+    """``--format`` if given, else the format the ``-o`` suffix names, else ``csv``; then
+    ``--profile ros2`` makes ``mcap`` into ``ros2``.
 
     A format a2b picks is stated in ``choices`` when given.
     """
-    if fmt:
+    fmt = fmt or _format_from_suffix(output, choices)
+    if profile is None:
         return fmt
+    if fmt not in MCAP_FORMATS:
+        raise click.UsageError(f"--profile is for MCAP output, not {fmt}")
+    if fmt == "ros2" and profile == "foxglove":
+        raise click.UsageError("--format ros2 writes the ros2 profile, not foxglove")
+    return "ros2" if profile == "ros2" else "mcap"
+
+
+def _format_from_suffix(output: str, choices: list | None) -> str:
     for suffix, name in FORMAT_SUFFIXES.items():
         if str(output).lower().endswith(suffix):
             if choices is not None:
@@ -422,7 +452,8 @@ def sample_and_write(motion, samples, from_file, choices: list, verbose: bool, o
     else the file's, else 101) and the format, state the choices with ``-v``, then
     :func:`write_motion` with the options ``out`` of :func:`pop_trajectory`."""
     samples = pick("samples", samples, from_file, 101, choices, "--samples")
-    out = dict(out, fmt=format_from(out["fmt"], out["output"], choices))
+    out = dict(out)
+    out["fmt"] = format_from(out["fmt"], out["output"], choices, out.pop("profile"))
     state_choices(choices + list(motion.choices), verbose)
     write_motion(motion, samples, **out)
 
@@ -493,7 +524,8 @@ def check_output(fmt: str, output: str, samples: int, duration: float, start_tim
 
     MCAP: binary, so not to a terminal; at most 2**32 messages per topic (uint32 sequence
     numbers); log times ``t · duration + start_time`` from 0 to 2**63 − 1 nanoseconds (the
-    year 2262). tum and mcap: times that overflow a double.
+    year 2262); ros2 stamps up to 2**31 − 1 s (2038). tum and MCAP: times that overflow a
+    double.
     """
     import math
     import sys
@@ -502,11 +534,11 @@ def check_output(fmt: str, output: str, samples: int, duration: float, start_tim
 
     from ..errors import ParameterError
 
-    if fmt == "mcap" and str(output) == "-" and sys.stdout.isatty():
+    if fmt in MCAP_FORMATS and str(output) == "-" and sys.stdout.isatty():
         raise click.UsageError(
             "MCAP is binary: write it with -o FILE or into a pipe, not to a terminal"
         )
-    if fmt not in ("tum", "mcap"):
+    if fmt not in ("tum", *MCAP_FORMATS):
         return
     last = duration + start_time  # the time of t = 1, the latest (duration > 0)
     if not math.isfinite(last):
@@ -523,7 +555,7 @@ def check_output(fmt: str, output: str, samples: int, duration: float, start_tim
             f"{resolution:.3g} s): the time stamps would repeat; give a smaller --start-time or "
             "fewer samples"
         )
-    if fmt != "mcap":
+    if fmt not in MCAP_FORMATS:
         return
     if samples > MCAP_MAX_SAMPLES:
         raise ParameterError(
@@ -537,6 +569,10 @@ def check_output(fmt: str, output: str, samples: int, duration: float, start_tim
             f"MCAP log times are nanoseconds below 2**63 (the year 2262); the time of t = 1, "
             f"duration + start_time, is {last:g} s"
         )
+    if fmt == "ros2":
+        from ..io.ros2 import split_stamps
+
+        split_stamps(np.array([round(last * 1e9)]))
 
 
 #: The formats of trajectory files (:mod:`a2b.io.trajectories`), without importing it (a test
@@ -545,8 +581,9 @@ TRAJECTORY_FORMATS = ("tum", "kitti", "euroc", "csv", "matrix", "study", "mcap")
 
 
 def trajectory_input_options(rate: bool = True):
-    """``--input-format``, ``--topic``, ``--orthonormalize`` and (with ``rate``) ``--input-rate``
-    for a trajectory file (:func:`a2b.io.trajectories.read_trajectory`)."""
+    """``--input-format``, ``--topic``, ``--input-child-frame``, ``--orthonormalize`` and (with
+    ``rate``) ``--input-rate`` for a trajectory file
+    (:func:`a2b.io.trajectories.read_trajectory`)."""
     options = [
         click.option(
             "--input-format",
@@ -555,11 +592,17 @@ def trajectory_input_options(rate: bool = True):
             "from the content]",
         ),
         click.option("--topic", help="mcap input: the topic of the poses, if several."),
+        click.option(
+            "--input-child-frame",
+            metavar="FRAME",
+            help="mcap input, a ROS 2 tf2_msgs/TFMessage topic: the poses are its transforms "
+            "to FRAME  [default: its only child frame]",
+        ),
         orthonormalize_option,
     ]
     if rate:
         options.insert(
-            2,
+            3,
             click.option(
                 "--input-rate",
                 type=PositiveFloat(),
@@ -608,7 +651,9 @@ def repaired(count: int, residual: float, what: str) -> str:
     )
 
 
-def read_pose_list_option(stream, key: str, fmt, topic, orthonormalize: bool, choices: list):
+def read_pose_list_option(
+    stream, key: str, fmt, topic, child_frame, orthonormalize: bool, choices: list
+):
     """The poses of a pose-list file (``controls`` or ``poses``), or of a trajectory file: one
     given ``--input-format``, with a trajectory suffix, or whose content is a trajectory's."""
     import io
@@ -628,13 +673,13 @@ def read_pose_list_option(stream, key: str, fmt, topic, orthonormalize: bool, ch
         else:
             choices.append(f"input format {fmt}: a trajectory file (--input-format to change)")
     if fmt is None:
-        if topic:
-            raise click.UsageError("--topic is for trajectory files")
+        if topic or child_frame:
+            given = "--topic" if topic else "--input-child-frame"
+            raise click.UsageError(f"{given} is for trajectory files")
         with repairing(orthonormalize, choices):
             return read_pose_list(io.BytesIO(data), key, name)
-    path = read_trajectory(
-        io.BytesIO(data), name, fmt, topic=topic, orthonormalize=orthonormalize, minimum=2
-    )
+    path = read_trajectory(io.BytesIO(data), name, fmt, topic=topic, child_frame=child_frame,
+                           orthonormalize=orthonormalize, minimum=2)  # fmt: skip
     if path.repaired is not None:
         choices.append(repaired(len(path), path.repaired, "rotation block"))
     return PoseList(key, path.matrices)

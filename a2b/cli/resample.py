@@ -62,14 +62,15 @@ from . import CONTEXT_SETTINGS, options
 @options.format_option
 @options.frame_options
 @options.verbose_option
-def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, reference,
-            times_file, mode, clip, max_gap, mark, output, fmt, frame_id, child_frame_id,
-            verbose, **parameters):  # fmt: skip
+def command(trajectory, input_format, topic, input_child_frame, input_rate, orthonormalize,
+            rate, reference, times_file, mode, clip, max_gap, mark, output, fmt, profile, frame_id,
+            child_frame_id, verbose, **parameters):  # fmt: skip
     """Sample TRAJECTORY (a file, or - for stdin) at new times.
 
     TRAJECTORY is TUM, KITTI, EuRoC, a2b's csv, matrix or study output, or MCAP with
-    foxglove.PoseInFrame or FrameTransform (JSON); the format comes from --input-format, the
-    suffix or the content. Its times must increase.
+    foxglove.PoseInFrame or FrameTransform (JSON) or ROS 2 PoseStamped, TFMessage, Odometry
+    or Path (CDR); the format comes from --input-format, the suffix or the content. Its times
+    must increase.
 
     The new times come from exactly one of --rate, --at and --times. A time in the segment
     between two neighbouring poses is the pose of that segment's motion, at the fraction of
@@ -110,7 +111,7 @@ def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, r
             "the spline takes no motion parameters; give --mode darboux or cubic"
         )
     parameters = options.merge_parameters({}, given) if given else {}
-    fmt = options.format_from(fmt, output, choices)
+    fmt = options.format_from(fmt, output, choices, profile)
     if mark and fmt not in ("csv", "matrix", "study"):
         raise click.UsageError(f"--mark adds a column to csv, matrix and study, not to {fmt}")
     new_times = _new_times(rate, reference, times_file, choices)
@@ -129,6 +130,7 @@ def command(trajectory, input_format, topic, input_rate, orthonormalize, rate, r
         made, repaired, resampler = Counter(), [], None
         whole = {"size": len(data) + 1} if mode == "spline" else {}  # one piece: every pose
         pieces = trajectory_pieces(data, name, in_fmt, rate=input_rate, topic=topic,
+                                   child_frame=input_child_frame,
                                    orthonormalize=orthonormalize, **whole)  # fmt: skip
         for window in windows(pieces, repaired):
             counts["poses"] = window["last"]

@@ -16,7 +16,9 @@ from . import CONTEXT_SETTINGS, options
 )
 @options.trajectory_input_options(rate=False)
 @options.trajectory_options
-def command(poses, space, m, samples, verbose, input_format, topic, orthonormalize, **out):
+def command(
+    poses, space, m, samples, verbose, input_format, topic, input_child_frame, orthonormalize, **out
+):
     """Sample the C¹ spline through the key poses in POSES (a file, or - for stdin).
 
     POSES is JSON or YAML with a list `poses` of at least two poses, in any pose form of
@@ -44,7 +46,7 @@ def command(poses, space, m, samples, verbose, input_format, topic, orthonormali
     """
     choices: list[str] = []
     curve = options.read_pose_list_option(
-        poses, "poses", input_format, topic, orthonormalize, choices
+        poses, "poses", input_format, topic, input_child_frame, orthonormalize, choices
     )
     motion = options.curve_motion(curve, space, choices, {"m": m})
     options.sample_and_write(motion, samples, curve.samples, choices, verbose, out)

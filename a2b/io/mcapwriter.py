@@ -1,20 +1,28 @@
 """MCAP files of poses, built a whole chunk at a time with array operations.
 
-The ``mcap`` package's writer costs about 10 µs per message in Python. Here the JSON
-payloads of thousands of messages are formatted at once (:mod:`a2b.io.floatrepr`), the
-headers of the Message records and the entries of the Message Index records packed with
-numpy, and each chunk compressed with zstd in a thread of its own, which gives several hundred
-thousand poses per second (docs/benchmarks.md). Every other record (Header, Schema, Channel,
-Chunk, Chunk Index, Statistics, Summary Offset, Data End, Footer) is one of the ``mcap``
-package's record classes, serialised by its own code.
+The ``mcap`` package's writer costs about 10 µs per message in Python. Here the messages of
+thousands of poses are made at once, in one of two profiles:
+
+* ``foxglove``: JSON ``foxglove.PoseInFrame`` and ``foxglove.FrameTransform``, their text
+  formatted in bulk (:mod:`a2b.io.floatrepr`) — several hundred thousand poses per second;
+* ``ros2``: CDR ``geometry_msgs/msg/PoseStamped``, ``tf2_msgs/msg/TFMessage`` and, once at the
+  end, ``nav_msgs/msg/Path``, whose layout is fixed, so that a chunk is a numpy structured array
+  filled column by column (:mod:`a2b.io.ros2`) — over a million poses per second.
+
+The headers of the Message records and the entries of the Message Index records are packed
+with numpy, and each chunk is compressed with zstd in a thread of its own
+(docs/benchmarks.md). Every other record (Header, Schema, Channel, Chunk, Chunk Index,
+Statistics, Summary Offset, Data End, Footer) is one of the ``mcap`` package's record classes,
+serialised by its own code.
 
 What is written, in the order of the MCAP specification (https://mcap.dev/spec):
 
-* magic, Header (profile ``""``, library ``a2b <version>``);
+* magic, Header (profile ``""`` or ``ros2``, library ``a2b <version>``);
 * in the data section, one Schema record per message type and one Channel record per topic
   (:func:`write_topic_mcap`: each just before the chunk of its first message), then for each
   chunk of :data:`CHUNK_POSES` poses a Chunk record (zstd, with the CRC-32 of its records), followed
-  by one Message Index record per channel; then Data End with the CRC-32 of the data section;
+  by one Message Index record per channel; then Data End, without a CRC of the data section
+  (0, as the MCAP C++ writer that rosbag2 uses writes by default: each chunk has its own);
 * in the summary section: the Schema and Channel records again, a Statistics record, and a
   Chunk Index record per chunk; then one Summary Offset record per group of the summary;
 * Footer (with the CRC-32 of the summary) and magic.
@@ -48,6 +56,8 @@ _MESSAGE_INDEX, _CHUNK_INDEX, _STATISTICS, _SUMMARY_OFFSET, _DATA_END = 0x07, 0x
 CHUNK_POSES = 4096
 #: At most this many bytes of message text in one chunk: a long frame id means fewer poses.
 CHUNK_BYTES = 8 << 20
+#: Chunks of more bytes (a long Path) are compressed on two threads.
+BIG_CHUNK = 16 << 20
 #: zstd's fastest regular level; on these messages it also compresses best (about 10:1).
 ZSTD_LEVEL = 1
 
@@ -101,35 +111,216 @@ class _Message:
         self.row = np.concatenate(row)
 
 
-@dataclass
-class _Layout:
-    """The messages of a pose, side by side in one row of words.
+class JsonLayout:
+    """The messages of a pose as JSON text, side by side in one row of words.
 
     ``pose`` (a ``foxglove.PoseInFrame``) and, when there is a child frame, ``tf`` (a
     ``foxglove.FrameTransform`` from the fixed frame to it).
     """
 
-    messages: list
+    profile = ""
+    encoding = "json"
 
-    @classmethod
-    def create(cls, frame_id: str, child_frame_id: str | None) -> _Layout:
+    def __init__(self, frame_id: str, child_frame_id: str | None):
         frame = json.dumps(frame_id).encode()
         stamp = [b'{"timestamp":{"sec":', "sec", b',"nsec":', "nsec"]
         xyz = [0, b',"y":', 1, b',"z":', 2]
         xyzw = [3, b',"y":', 4, b',"z":', 5, b',"w":', 6]
         pose = stamp + [b'},"frame_id":' + frame + b',"pose":{"position":{"x":', *xyz]
         pose += [b'},"orientation":{"x":', *xyzw, b"}}}"]
-        messages = [_Message(pose)]
+        self.messages = [_Message(pose)]
+        names = ["foxglove.PoseInFrame"]
         if child_frame_id is not None:
             child = json.dumps(child_frame_id).encode()
             tf = stamp + [b'},"parent_frame_id":' + frame + b',"child_frame_id":' + child]
             tf += [b',"translation":{"x":', *xyz, b'},"rotation":{"x":', *xyzw, b"}}"]
-            messages.append(_Message(tf, start=len(messages[0].row)))
-        return cls(messages)
+            self.messages.append(_Message(tf, start=len(self.messages[0].row)))
+            names.append("foxglove.FrameTransform")
+        self.row = np.concatenate([message.row for message in self.messages])
+        self.schemas = [(name, "jsonschema", _json_schema(name)) for name in names]
+        self.chunk_poses = max(1, min(CHUNK_POSES, CHUNK_BYTES // self.row.nbytes))
 
-    @property
-    def row(self) -> np.ndarray:
-        return np.concatenate([message.row for message in self.messages])
+    def records(self, sequence, ns, numbers, channels):
+        """The Message records of a chunk: their bytes, and per message its offset in them
+        and its log time."""
+        n, per = len(ns), len(self.messages)
+        sec, nsec = np.divmod(ns, 1_000_000_000)
+        number_cells, number_length = number_words(numbers.reshape(-1), lengths=True)
+        number_cells = number_cells.reshape(n, 7, 4)
+        sec_cells, sec_length = integer_words(sec, lengths=True)
+        nsec_cells, nsec_length = integer_words(nsec, lengths=True)
+        cells = np.empty((n, len(self.row)), _U64)
+        cells[:] = self.row
+        for message in self.messages:
+            cells[:, message.sec : message.sec + 2] = sec_cells
+            cells[:, message.nsec : message.nsec + 2] = nsec_cells
+            for j, column in enumerate(message.numbers):
+                cells[:, column : column + 4] = number_cells[:, j]
+        records = np.frombuffer(without_zero_bytes(cells), np.uint8).copy()
+        variable = number_length.reshape(n, 7).sum(axis=1) + sec_length + nsec_length
+        data_length = np.empty((n, per), np.int64)  # messages in order: pose, tf, pose, tf, …
+        for k, message in enumerate(self.messages):
+            data_length[:, k] = message.const_length + variable
+        data_length = data_length.reshape(-1)
+        record_length = data_length + _HEAD_SIZE
+        offset = np.cumsum(record_length) - record_length
+        if offset[-1] + record_length[-1] != records.size:  # pragma: no cover - a bug if so
+            raise AssertionError("MCAP message lengths disagree with the formatted text")
+        head = np.empty(n * per, _MESSAGE_HEAD)
+        head["opcode"] = _MESSAGE
+        head["length"] = data_length + (_HEAD_SIZE - 9)
+        head["channel"] = channels.reshape(-1)
+        head["sequence"] = np.repeat(sequence, per)
+        head["log_time"] = head["publish_time"] = np.repeat(ns, per)
+        records[offset[:, None] + np.arange(_HEAD_SIZE)] = head.view(np.uint8).reshape(
+            n * per, _HEAD_SIZE
+        )
+        return records, offset, head["log_time"]
+
+
+def _json_schema(name: str) -> bytes:
+    from importlib.resources import files
+
+    return (files("a2b") / "schemas" / f"{name}.json").read_bytes()
+
+
+def _record_dtype(parts: list) -> tuple[np.dtype, bytes]:
+    """A structured dtype over consecutive MCAP Message records with CDR data, and the bytes
+    of one row: ``parts`` are :class:`a2b.io.ros2.Cdr` layouts with room for the record head.
+
+    The fields of record ``k`` are ``k`` + the head's names and the layout's columns.
+    """
+    fields, template, shift = {}, bytearray(), 0
+    for k, cdr in enumerate(parts):
+        head = np.zeros((), _MESSAGE_HEAD)
+        head["opcode"] = _MESSAGE
+        head["length"] = len(cdr.template) - 9
+        for name in _MESSAGE_HEAD.names[1:]:
+            dtype, offset = _MESSAGE_HEAD.fields[name][:2]
+            fields[f"{k}{name}"] = (dtype, shift + offset)
+        fields.update(cdr.fields(shift, prefix=str(k)))
+        template += head.tobytes() + cdr.template[_HEAD_SIZE:]
+        shift += len(cdr.template)
+    return _structured(fields, shift), bytes(template)
+
+
+def _structured(fields: dict, itemsize: int) -> np.dtype:
+    """The numpy dtype of ``fields`` ``{name: (dtype, offset)}`` in rows of ``itemsize``."""
+    names = list(fields)
+    return np.dtype(
+        {"names": names, "formats": [fields[n][0] for n in names],
+         "offsets": [fields[n][1] for n in names], "itemsize": itemsize}
+    )  # fmt: skip
+
+
+def _rows(template: bytes, dtype: np.dtype, n: int) -> np.ndarray:
+    """``n`` copies of ``template``, as a structured array of ``dtype`` over fresh bytes."""
+    return np.tile(np.frombuffer(template, np.uint8), n).view(dtype)
+
+
+def _fill(rows: np.ndarray, prefix: str, ns: np.ndarray, numbers: np.ndarray) -> None:
+    """The ``stamp`` and ``pose`` columns of ``rows``: times ``ns`` and ``numbers``."""
+    _fill_stamp(rows, prefix, ns)
+    rows[prefix + "pose"] = numbers
+
+
+def _fill_stamp(rows: np.ndarray, prefix: str, ns: np.ndarray) -> None:
+    from .ros2 import stamp_words
+
+    rows[prefix + "stamp"] = stamp_words(ns)
+
+
+def _fill_head(rows: np.ndarray, prefix: str, sequence, ns, channel) -> None:
+    rows[prefix + "channel"] = channel
+    rows[prefix + "sequence"] = sequence
+    rows[prefix + "log_time"] = rows[prefix + "publish_time"] = ns
+
+
+class CdrLayout:
+    """The messages of a pose as ROS 2 CDR: ``geometry_msgs/msg/PoseStamped`` and, when there
+    is a child frame, ``tf2_msgs/msg/TFMessage`` with one transform to it. With a ``path``
+    (:class:`PathLayout`), each chunk also makes the Path's entries of its poses."""
+
+    profile = "ros2"
+    encoding = "cdr"
+
+    def __init__(self, frame_id: str, child_frame_id: str | None, path: PathLayout | None = None):
+        from . import ros2
+
+        parts = [ros2.pose_stamped(frame_id, lead=_HEAD_SIZE)]
+        types = ["geometry_msgs/PoseStamped"]
+        if child_frame_id is not None:
+            parts.append(ros2.tf_message(frame_id, child_frame_id, lead=_HEAD_SIZE))
+            types.append("tf2_msgs/TFMessage")
+        self.dtype, self.template = _record_dtype(parts)
+        self.starts = np.cumsum([0] + [len(p.template) for p in parts[:-1]])
+        self.schemas = _ros2_schemas(types) + (path.schemas if path else [])
+        self.chunk_poses = max(1, min(CHUNK_POSES, CHUNK_BYTES // len(self.template)))
+        self.path = path
+
+    def records(self, sequence, ns, numbers, channels):
+        """As :meth:`JsonLayout.records`."""
+        rows = _rows(self.template, self.dtype, len(ns))
+        for k in range(len(self.starts)):
+            _fill_head(rows, str(k), sequence, ns, channels[:, k])
+            _fill(rows, str(k), ns, numbers)
+        offset = (np.arange(len(ns))[:, None] * self.dtype.itemsize + self.starts).reshape(-1)
+        return rows.view(np.uint8), offset, np.repeat(ns, len(self.starts))
+
+
+def _ros2_schemas(types: list) -> list:
+    from .ros2 import schema_name, schema_text
+
+    return [(schema_name(name), "ros2msg", schema_text(name)) for name in types]
+
+
+class PathLayout:
+    """One ``nav_msgs/msg/Path`` of all the poses, at the last pose's time.
+
+    Made in two steps: :meth:`entries` of each chunk's poses (in the writer's threads, as
+    the chunks are built), kept in :attr:`parts` in order; then :meth:`records` at the end.
+    Every entry but the first starts 8-aligned; the first, whose alignment depends on the
+    length of the frame id, is made again at the end from :attr:`first`.
+    """
+
+    profile = "ros2"
+    encoding = "cdr"
+
+    def __init__(self, frame_id: str):
+        from .ros2 import pose_stamped
+
+        self.frame_id = frame_id
+        self.schemas = _ros2_schemas(["nav_msgs/Path"])
+        self.entry = pose_stamped(frame_id, phase=0)
+        self.entry_dtype = _structured(self.entry.fields(), len(self.entry.template))
+        self.parts: list = []  # the entries of each chunk, in order
+        self.first = None  # (ns, numbers) of the first pose
+        self.count = 0
+
+    def entries(self, ns: np.ndarray, numbers: np.ndarray) -> np.ndarray:
+        """The bytes of the 8-aligned PoseStamped entries of poses ``ns``, ``numbers``."""
+        rows = _rows(self.entry.template, self.entry_dtype, len(ns))
+        _fill(rows, "", ns, numbers)
+        return rows.view(np.uint8)
+
+    def records(self, sequence, ns, numbers, channels):
+        """The Message record of the Path (``ns[-1]``: its time), its offset 0 and log time."""
+        from .ros2 import path_message
+
+        head, first = path_message(self.frame_id, _HEAD_SIZE, self.count)
+        head_dtype, head_template = _record_dtype([head])
+        first_dtype = _structured(first.fields(), len(first.template))
+        first_row = _rows(first.template, first_dtype, 1)
+        _fill(first_row, "", *self.first)
+        rest = self.parts[0][len(self.entry.template) :]
+        length = len(head_template) + len(first.template) + len(rest)
+        length += sum(part.size for part in self.parts[1:])
+        head_row = _rows(head_template, head_dtype, 1)
+        head_row["0length"] = length - 9
+        _fill_head(head_row, "0", sequence[:1], ns[-1:], channels[:1])
+        _fill_stamp(head_row, "0", ns[-1:])
+        parts = [head_row.view(np.uint8), first_row.view(np.uint8), rest, *self.parts[1:]]
+        return np.concatenate(parts), np.zeros(1, np.int64), ns[-1:]
 
 
 @dataclass
@@ -144,6 +335,7 @@ class _Built:
     compressed_size: int
     message_indexes: list  # (channel id, Message Index record)
     message_counts: dict  # channel id: messages
+    path_entries: np.ndarray | None = None  # ros2: the Path's entries of these poses
 
 
 def _nanoseconds(t, duration: float, start_time: float) -> np.ndarray:
@@ -180,51 +372,23 @@ def _message_index(channel: int, log_time: np.ndarray, offset: np.ndarray) -> by
     return _record(_MESSAGE_INDEX, struct.pack("<HI", channel, entries.nbytes), entries.tobytes())
 
 
-def _build_chunk(item, layout: _Layout, row: np.ndarray) -> _Built:
+def _build_chunk(item) -> _Built:
     """The Chunk record and the Message Index records of ``item``.
 
-    ``item = (sequence, ns, numbers, channels)``: per pose its sequence number, log time,
-    the 7 numbers ``x y z qx qy qz qw`` and the channel id of each message of the layout.
+    ``item = (layout, sequence, ns, numbers, channels)``: per pose its sequence number, log
+    time, the 7 numbers ``x y z qx qy qz qw`` and the channel id of each message of the layout.
     """
     from mcap.records import Chunk
 
-    sequence, ns, numbers, channels = item
-    n, per = len(ns), len(layout.messages)
-    sec, nsec = np.divmod(ns, 1_000_000_000)
-    number_cells, number_length = number_words(numbers.reshape(-1), lengths=True)
-    number_cells = number_cells.reshape(n, 7, 4)
-    sec_cells, sec_length = integer_words(sec, lengths=True)
-    nsec_cells, nsec_length = integer_words(nsec, lengths=True)
-    cells = np.empty((n, len(row)), _U64)
-    cells[:] = row
-    for message in layout.messages:
-        cells[:, message.sec : message.sec + 2] = sec_cells
-        cells[:, message.nsec : message.nsec + 2] = nsec_cells
-        for j, column in enumerate(message.numbers):
-            cells[:, column : column + 4] = number_cells[:, j]
-    records = np.frombuffer(without_zero_bytes(cells), np.uint8).copy()
-    variable = number_length.reshape(n, 7).sum(axis=1) + sec_length + nsec_length
-    data_length = np.empty((n, per), np.int64)  # messages in order: pose, tf, pose, tf, …
-    for k, message in enumerate(layout.messages):
-        data_length[:, k] = message.const_length + variable
-    data_length = data_length.reshape(-1)
-    record_length = data_length + _HEAD_SIZE
-    offset = np.cumsum(record_length) - record_length
-    if offset[-1] + record_length[-1] != records.size:  # pragma: no cover - a bug if it happens
-        raise AssertionError("MCAP message lengths disagree with the formatted text")
-    head = np.empty(n * per, _MESSAGE_HEAD)
-    head["opcode"] = _MESSAGE
-    head["length"] = data_length + (_HEAD_SIZE - 9)
-    head["channel"] = channels.reshape(-1)
-    head["sequence"] = np.repeat(sequence, per)
-    head["log_time"] = head["publish_time"] = np.repeat(ns, per)
-    records[offset[:, None] + np.arange(_HEAD_SIZE)] = head.view(np.uint8).reshape(
-        n * per, _HEAD_SIZE
-    )
+    layout, sequence, ns, numbers, channels = item
+    records, offset, log_time = layout.records(sequence, ns, numbers, channels)
+    channel = np.asarray(channels).reshape(-1)
     import zstandard
 
-    compressed = zstandard.ZstdCompressor(level=ZSTD_LEVEL).compress(records)
-    start, end = int(ns.min()), int(ns.max())
+    threads = 2 if records.size > BIG_CHUNK else 0  # a Path of many poses: zstd's own threads
+    compressed = zstandard.ZstdCompressor(level=ZSTD_LEVEL, threads=threads).compress(records)
+    start, end = int(log_time.min()), int(log_time.max())
+    path = getattr(layout, "path", None)
     record = Chunk(
         message_start_time=start,
         message_end_time=end,
@@ -233,38 +397,36 @@ def _build_chunk(item, layout: _Layout, row: np.ndarray) -> _Built:
         compression="zstd",
         data=compressed,
     )
-    log_time = head["log_time"]
     order = np.argsort(log_time, kind="stable")  # Message Index entries go by log time
-    ids, counts = np.unique(head["channel"], return_counts=True)
-    by_channel = head["channel"][order]
+    ids, counts = np.unique(channel, return_counts=True)
+    by_channel = channel[order]
     message_indexes = []
-    for channel in ids.tolist():
-        mine = order[by_channel == channel]
-        message_indexes.append((channel, _message_index(channel, log_time[mine], offset[mine])))
+    for k in ids.tolist():
+        mine = order[by_channel == k]
+        message_indexes.append((k, _message_index(k, log_time[mine], offset[mine])))
     return _Built(
         _serialise(record),
-        n,
+        len(ns),
         start,
         end,
         int(records.size),
         len(compressed),
         message_indexes,
         dict(zip(ids.tolist(), counts.tolist())),
+        None if path is None else path.entries(ns, numbers),
     )
 
 
 class _Output:
-    """A stream that counts its bytes and their CRC-32: offsets without ``tell``."""
+    """A stream that counts its bytes: offsets without ``tell``."""
 
     def __init__(self, stream: IO):
         self.stream = stream
         self.position = 0
-        self.crc = 0
 
     def write(self, data) -> None:
         self.stream.write(data)
         self.position += len(data)
-        self.crc = zlib.crc32(data, self.crc)
 
 
 def write_pose_mcap(
@@ -275,12 +437,13 @@ def write_pose_mcap(
     start_time: float = 0.0,
     frame_id: str = "world",
     child_frame_id: str = "a2b",
+    profile: str = "foxglove",
     pose_topic: str = "/a2b/pose",
     tf_topic: str = "/tf",
-    schemas: dict[str, bytes],
+    path_topic: str = "/a2b/path",
     library: str = "a2b",
 ) -> None:
-    """Write poses as ``foxglove.PoseInFrame`` and ``foxglove.FrameTransform`` JSON messages.
+    """Write each pose as a message on ``pose_topic`` and a transform on ``tf_topic``.
 
     Parameters
     ----------
@@ -289,45 +452,68 @@ def write_pose_mcap(
     samples : iterable of (t, trans, quat_wxyz)
         Arrays of shapes ``(n,)``, ``(n, 3)`` and ``(n, 4)``.
     duration, start_time : float
-        Log and publish time of sample ``t``: ``t · duration + start_time`` seconds.
+        Log and publish time (and stamp) of sample ``t``: ``t · duration + start_time`` s.
     frame_id, child_frame_id : str
         The pose's frame (also the transform's parent) and the transform's child frame.
-    pose_topic, tf_topic : str
+    profile : str
+        ``foxglove``: JSON ``foxglove.PoseInFrame`` and ``foxglove.FrameTransform``. ``ros2``:
+        CDR ``geometry_msgs/msg/PoseStamped`` and ``tf2_msgs/msg/TFMessage``, then one
+        ``nav_msgs/msg/Path`` of every pose on ``path_topic`` at the last pose's time (so
+        72 bytes per pose are kept until the end).
+    pose_topic, tf_topic, path_topic : str
         The topics; the messages of one sample share its sequence number.
-    schemas : dict
-        JSON schema text of ``foxglove.PoseInFrame`` and ``foxglove.FrameTransform``.
     library : str
         The Header record's library field.
 
     Raises
     ------
     ParameterError
-        If a time is negative, not finite, or beyond 2**63 ns, or a pose is not finite.
+        If a time is negative, not finite, or beyond 2**63 ns (ros2: 2**31 s), or a pose is not
+        finite.
     """
-    from mcap.records import Channel
-
-    channels = [
-        Channel(id=1, schema_id=1, topic=pose_topic, message_encoding="json", metadata={}),
-        Channel(id=2, schema_id=2, topic=tf_topic, message_encoding="json", metadata={}),
-    ]
-
-    layout = _Layout.create(frame_id, child_frame_id)
-    size = _chunk_poses(layout)
+    ros2 = profile == "ros2"
+    path = PathLayout(frame_id) if ros2 else None
+    layout = CdrLayout(frame_id, child_frame_id, path) if ros2 else None
+    layout = layout or JsonLayout(frame_id, child_frame_id)
+    topics = [(pose_topic, 10, 2), (tf_topic, 100, 2)] + [(path_topic, 1, 1)] * ros2
+    channels = _channels(layout, topics)
 
     def items():
         sequence = 0
         for t, trans, quat_wxyz in samples:
-            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time, size):
+            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time, layout):
                 n = len(ns)
                 if sequence + n > 2**32:
                     raise ParameterError(
                         "MCAP numbers messages with 32-bit sequence numbers: at most 2**32 samples"
                     )
                 ids = np.broadcast_to(np.array([1, 2], np.uint16), (n, 2))
-                yield np.arange(sequence, sequence + n, dtype=np.uint64), ns, numbers, ids, []
+                yield layout, np.arange(sequence, sequence + n, dtype=np.uint64), ns, numbers, ids
+                if path is not None:
+                    path.first = path.first or (ns[:1], numbers[:1])
+                    path.count += n
                 sequence += n
 
-    _write_file(stream, layout, schemas, library, channels, items())
+    _write_file(stream, layout, library, channels, ((item, []) for item in items()))
+
+
+def _channels(layout, topics: list) -> list:
+    """The Channel records of ``topics``, ``(topic, QoS depth, durability)`` (ros2), one per
+    schema of the layout, in order."""
+    from mcap.records import Channel
+
+    from .ros2 import qos_profiles
+
+    channels = []
+    for k, (topic, depth, durability) in enumerate(topics):
+        metadata = {}
+        if layout.profile == "ros2":
+            metadata = {"offered_qos_profiles": qos_profiles(depth, durability)}
+        channels.append(
+            Channel(id=k + 1, schema_id=k + 1, topic=topic, message_encoding=layout.encoding,
+                    metadata=metadata)
+        )  # fmt: skip
+    return channels
 
 
 def write_topic_mcap(
@@ -337,20 +523,18 @@ def write_topic_mcap(
     duration: float = 1.0,
     start_time: float = 0.0,
     frame_id: str = "world",
-    schemas: dict[str, bytes],
+    profile: str = "foxglove",
     library: str = "a2b",
 ) -> None:
-    """Write poses as ``foxglove.PoseInFrame`` JSON messages, each run of rows on its topic.
+    """Write poses as ``foxglove.PoseInFrame`` (JSON) or ``geometry_msgs/msg/PoseStamped``
+    (ros2) messages, each run of rows on its topic.
 
     ``samples`` yields ``(t, trans, quat_wxyz, topics, counts)``: the first ``counts[0]``
     rows go to ``topics[0]``, the next ``counts[1]`` to ``topics[1]``, and so on. A topic's
     Channel record is written before its first message, and each topic counts its own
-    sequence numbers from 0. Otherwise as :func:`write_pose_mcap` (no ``/tf``).
+    sequence numbers from 0. Otherwise as :func:`write_pose_mcap` (no ``/tf``, no Path).
     """
-    from mcap.records import Channel
-
-    layout = _Layout.create(frame_id, None)
-    size = _chunk_poses(layout)
+    layout = (CdrLayout if profile == "ros2" else JsonLayout)(frame_id, None)
     ids: dict[str, int] = {}  # topic: channel id
     sequences: dict[str, int] = {}  # topic: messages so far
 
@@ -363,15 +547,9 @@ def write_topic_mcap(
                         raise ParameterError("MCAP has room for at most 65535 topics")
                     ids[topic] = len(ids) + 1
                     sequences[topic] = 0
-                    new.append(
-                        Channel(
-                            id=ids[topic],
-                            schema_id=1,
-                            topic=topic,
-                            message_encoding="json",
-                            metadata={},
-                        )
-                    )
+                    channel = _channels(layout, [(topic, 10, 2)])[0]
+                    channel.id = ids[topic]
+                    new.append(channel)
                 first.append(sequences[topic])
                 sequences[topic] += count
             counts = np.asarray(counts, np.int64)
@@ -379,19 +557,20 @@ def write_topic_mcap(
             offset = np.asarray(first, np.int64) - (np.cumsum(counts) - counts)
             sequence = (np.arange(len(channel)) + np.repeat(offset, counts)).astype(np.uint64)
             lo = 0
-            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time, size):
+            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time, layout):
                 n = len(ns)
-                yield sequence[lo : lo + n], ns, numbers, channel[lo : lo + n, None], new
+                item = (layout, sequence[lo : lo + n], ns, numbers, channel[lo : lo + n, None])
+                yield item, new
                 new, lo = [], lo + n
 
-    _write_file(stream, layout, schemas, library, [], items())
+    _write_file(stream, layout, library, [], items())
 
 
-def _write_file(stream: IO, layout: _Layout, schemas: dict, library: str, channels, items):
+def _write_file(stream: IO, layout, library: str, channels, items):
     """Header, the schemas of ``layout``, ``channels``, then a chunk of each of ``items``
-    (after the channels it brings), then the summary and the footer.
+    (after the channels it brings), then (ros2) the Path's chunk, the summary and the footer.
 
-    ``items`` yields ``(sequence, ns, numbers, channel ids, new Channel records)``.
+    ``items`` yields ``((layout, sequence, ns, numbers, channel ids), new Channel records)``.
     """
     from mcap.records import (
         ChunkIndex,
@@ -405,24 +584,35 @@ def _write_file(stream: IO, layout: _Layout, schemas: dict, library: str, channe
 
     out = _Output(stream)
     out.write(MAGIC)
-    out.write(_serialise(Header(profile="", library=library)))
-    names = ("foxglove.PoseInFrame", "foxglove.FrameTransform")[: len(layout.messages)]
+    out.write(_serialise(Header(profile=layout.profile, library=library)))
     schema_records = [
-        _serialise(Schema(id=k + 1, name=name, encoding="jsonschema", data=schemas[name]))
-        for k, name in enumerate(names)
+        _serialise(Schema(id=k + 1, name=name, encoding=encoding, data=data))
+        for k, (name, encoding, data) in enumerate(layout.schemas)
     ]
     channel_records = [_serialise(channel) for channel in channels]
     for record in schema_records + channel_records:
         out.write(record)
 
     def build(item):
-        *chunk, new = item
-        return [_serialise(channel) for channel in new], _build_chunk(chunk, layout, layout.row)
+        chunk, new = item
+        return [_serialise(channel) for channel in new], _build_chunk(chunk)
+
+    def built_chunks():
+        path = getattr(layout, "path", None)
+        last = None
+        for new, built in in_order(build, items):
+            if path is not None:
+                path.parts.append(built.path_entries)
+            last = built.end
+            yield new, built
+        if path is not None and path.count:
+            item = (path, np.zeros(1, np.uint64), np.array([last]), None, np.array([3]))
+            yield [], _build_chunk(item)
 
     chunk_indexes = []
     counts: dict[int, int] = {}
     first, last = None, None
-    for new, built in in_order(build, items):
+    for new, built in built_chunks():
         for record in new:
             out.write(record)
         channel_records += new
@@ -449,7 +639,7 @@ def _write_file(stream: IO, layout: _Layout, schemas: dict, library: str, channe
             counts[channel] = counts.get(channel, 0) + count
         first = built.start if first is None else min(first, built.start)
         last = built.end if last is None else max(last, built.end)
-    out.write(_serialise(DataEnd(data_section_crc=out.crc)))
+    out.write(_serialise(DataEnd(data_section_crc=0)))  # not computed: each chunk has its CRC
     statistics = Statistics(
         message_count=sum(counts.values()),
         schema_count=len(schema_records),
@@ -491,17 +681,17 @@ def _write_file(stream: IO, layout: _Layout, schemas: dict, library: str, channe
     out.write(MAGIC)
 
 
-def _pieces(t, trans, quat_wxyz, duration: float, start_time: float, size: int) -> Iterator[tuple]:
-    """``(log times in ns, numbers x y z qx qy qz qw)`` of at most ``size`` poses."""
+def _pieces(t, trans, quat_wxyz, duration: float, start_time: float, layout) -> Iterator[tuple]:
+    """``(log times in ns, numbers x y z qx qy qz qw)`` of at most ``layout.chunk_poses``
+    poses."""
     ns = _nanoseconds(np.asarray(t, float), duration, start_time)
     numbers = np.column_stack([trans, np.asarray(quat_wxyz)[:, [1, 2, 3, 0]]])
     if not np.isfinite(numbers).all():
         raise ParameterError("MCAP poses must be finite; a sample is NaN or infinite")
+    if layout.profile == "ros2":
+        from .ros2 import split_stamps
+
+        split_stamps(ns[-1:])  # a time past 2038 is refused before its chunk is built
+    size = layout.chunk_poses
     for lo in range(0, len(ns), size):
         yield ns[lo : lo + size], numbers[lo : lo + size]
-
-
-def _chunk_poses(layout: _Layout) -> int:
-    """Poses per chunk: :data:`CHUNK_POSES`, fewer where the messages are long (a long frame
-    id), so that a chunk's text stays within :data:`CHUNK_BYTES`."""
-    return max(1, min(CHUNK_POSES, CHUNK_BYTES // layout.row.nbytes))

@@ -10,7 +10,8 @@ euroc    ``#timestamp [ns],p_x,p_y,p_z,q_w,q_x,q_y,q_z[,more]``            nanos
 csv      a2b's ``t,tx,ty,tz,qw,qx,qy,qz``                                  the ``t`` column
 matrix   a2b's ``t,r11,r12,r13,tx,r21,…,tz``                               the ``t`` column
 study    a2b's ``t,p0,p1,p2,p3,q0,q1,q2,q3``                               the ``t`` column
-mcap     ``foxglove.PoseInFrame`` or ``foxglove.FrameTransform`` (JSON)    the message stamps
+mcap     ``foxglove.PoseInFrame`` or ``foxglove.FrameTransform`` (JSON);   the message stamps
+         ROS 2 ``PoseStamped``, ``TFMessage``, ``Odometry``, ``Path`` (CDR)
 =======  ================================================================  ======================
 
 The format comes from the caller, else the file's suffix (``.tum``, ``.kitti``, ``.mcap``),
@@ -113,17 +114,20 @@ def read_trajectory(
     *,
     rate: float | None = None,
     topic: str | None = None,
+    child_frame: str | None = None,
     orthonormalize: bool = False,
     minimum: int = 1,
 ) -> Trajectory:
     """Read a trajectory file (see the module's table) from a binary ``stream``.
 
     ``rate`` gives KITTI poses the times ``i / rate``; ``topic`` picks the MCAP topic when the
-    file has several; ``orthonormalize`` repairs rotation blocks that are orthogonal only to a
+    file has several, and ``child_frame`` the transforms of a ROS 2 ``/tf`` topic when they go
+    to several frames; ``orthonormalize`` repairs rotation blocks that are orthogonal only to a
     few digits (:func:`a2b.poses.orthonormalize`); ``minimum`` is the fewest poses accepted.
     """
     name, data, fmt = opened(stream, name, fmt)
     pieces = list(trajectory_pieces(data, name, fmt, rate=rate, topic=topic,
+                                    child_frame=child_frame,
                                     orthonormalize=orthonormalize))  # fmt: skip
     trajectory = _joined(pieces, name, fmt)
     if len(trajectory) < minimum:
@@ -157,6 +161,7 @@ def trajectory_pieces(
     *,
     rate: float | None = None,
     topic: str | None = None,
+    child_frame: str | None = None,
     orthonormalize: bool = False,
     size: int = PIECE_BYTES,
 ) -> Iterator[Trajectory]:
@@ -167,7 +172,7 @@ def trajectory_pieces(
     computes the first segments while the file is parsed.
     """
     if fmt == "mcap":
-        times, quat, trans = _mcap(data, name, topic)
+        times, quat, trans = _mcap(data, name, topic, child_frame)
         piece = _from_quaternions(times, quat, trans, name, fmt, None)
         _check_times(piece.times, name, None)
         yield piece
@@ -507,14 +512,15 @@ def _check_times(times: np.ndarray, name: str, lines, previous: float | None = N
 # -- MCAP --------------------------------------------------------------------------------------
 
 
-def _mcap(data: bytes, name: str, topic: str | None):
-    """Times (s), quaternions and translations of the pose messages of one MCAP topic.
+def _mcap(data: bytes, name: str, topic: str | None, child_frame: str | None = None):
+    """Times (s), quaternions and translations of the pose messages of one MCAP topic: JSON
+    (Foxglove) or CDR (ROS 2, :func:`a2b.io.ros2.decode_poses`).
 
     Whatever the ``mcap`` package raises on a damaged file (its own errors, ``struct`` and
     zstd errors, undecodable text) becomes one :class:`InputFileError`.
     """
     try:
-        return _mcap_poses(data, name, topic)
+        return _mcap_poses(data, name, topic, child_frame)
     except InputFileError:
         raise
     except Exception as e:  # noqa: BLE001 - a damaged file, in the words of the mcap package
@@ -523,8 +529,10 @@ def _mcap(data: bytes, name: str, topic: str | None):
         ) from None
 
 
-def _mcap_poses(data: bytes, name: str, topic: str | None):
+def _mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | None):
     from mcap.reader import make_reader
+
+    from .ros2 import POSE_TYPES, decode_poses
 
     reader = make_reader(io.BytesIO(data))
     summary = reader.get_summary()
@@ -542,7 +550,7 @@ def _mcap_poses(data: bytes, name: str, topic: str | None):
         candidates = []
         for channel in channels.values():
             schema = schemas.get(channel.schema_id) if schemas else None
-            if schema is None or schema.name in POSE_SCHEMAS:
+            if schema is None or schema.name in POSE_SCHEMAS + POSE_TYPES:
                 candidates.append(channel.topic)
         candidates = sorted(set(candidates))
         if "/a2b/pose" in candidates:
@@ -557,13 +565,17 @@ def _mcap_poses(data: bytes, name: str, topic: str | None):
         raise InputFileError(
             f"{name}: no topic {topic!r}; the file has {', '.join(topics) or 'none'}"
         )
-    times, quats, trans = [], [], []
+    times, quats, trans, cdr = [], [], [], []
     for schema, channel, message in reader.iter_messages(topics=[topic]):
         where = f"{name}: {topic} message {len(times) + 1}"
+        if channel.message_encoding == "cdr" and schema is not None:
+            cdr.append(message.data)
+            continue
         if channel.message_encoding != "json":
             raise InputFileError(
                 f"{where}: encoding {channel.message_encoding!r}; a2b reads JSON-encoded "
-                "foxglove.PoseInFrame and foxglove.FrameTransform"
+                "foxglove.PoseInFrame and foxglove.FrameTransform, and CDR-encoded ROS 2 "
+                "messages"
             )
         try:
             msg = json.loads(message.data)
@@ -579,10 +591,19 @@ def _mcap_poses(data: bytes, name: str, topic: str | None):
             raise InputFileError(
                 f"{where}: not a PoseInFrame or FrameTransform message ({e!r})"
             ) from None
+    if cdr:
+        where = f"{name}: {topic}"
+        return _finite(*decode_poses(schema.name, cdr, where, child_frame), where)
+    if child_frame is not None:
+        raise InputFileError(f"{name}: --input-child-frame is for ROS 2 TFMessage topics")
     quat, translation = np.array(quats).reshape(-1, 4), np.array(trans).reshape(-1, 3)
+    return _finite(np.array(times), quat, translation, f"{name}: {topic}")
+
+
+def _finite(times, quat, translation, where: str):
     if not (np.isfinite(quat).all() and np.isfinite(translation).all()):
-        raise InputFileError(f"{name}: {topic}: a pose is not finite")
-    return np.array(times), quat, translation
+        raise InputFileError(f"{where}: a pose is not finite")
+    return times, quat, translation
 
 
 # -- the layouts of the writers, for tests and scripts ------------------------------------------

@@ -16,9 +16,12 @@ study      ``t,p0,p1,p2,p3,q0,q1,q2,q3``: unit Study parameters
 tum        ``time tx ty tz qx qy qz qw``, space-separated (evo, TUM RGB-D tools)
 kitti      12 numbers of ``[R | t]`` row by row, space-separated, no time
 mcap       ``foxglove.PoseInFrame`` on ``/a2b/pose``, ``foxglove.FrameTransform`` on ``/tf``
+ros2       MCAP for ROS 2: ``geometry_msgs/msg/PoseStamped`` on ``/a2b/pose``,
+           ``tf2_msgs/msg/TFMessage`` on ``/tf``, one ``nav_msgs/msg/Path`` on ``/a2b/path``
 =========  ===========================================================================
 
-In ``tum`` and ``mcap`` the time of sample ``t`` is ``t · duration + start_time`` seconds.
+In ``tum``, ``mcap`` and ``ros2`` the time of sample ``t`` is ``t · duration + start_time``
+seconds.
 """
 
 from __future__ import annotations
@@ -132,6 +135,7 @@ REPRESENTATION = {
     "tum": "quat_trans",
     "kitti": "matrices",
     "mcap": "quat_trans",
+    "ros2": "quat_trans",
 }
 FORMATS = tuple(REPRESENTATION)
 
@@ -424,18 +428,35 @@ def write_batch_mcap(
     duration: float = 1.0,
     start_time: float = 0.0,
     frame_id: str = "world",
+    profile: str = "foxglove",
 ) -> None:
-    """Write an MCAP file with one topic per job: ``foxglove.PoseInFrame`` messages in
-    ``frame_id`` on ``/a2b/NAME/pose`` (:data:`JOB_TOPIC`), each job's times
-    ``t · duration + start_time``. Otherwise as :func:`write_mcap`.
+    """Write an MCAP file with one topic per job: ``foxglove.PoseInFrame`` (``ros2``:
+    ``geometry_msgs/msg/PoseStamped``) messages in ``frame_id`` on ``/a2b/NAME/pose``
+    (:data:`JOB_TOPIC`), each job's times ``t · duration + start_time``. Otherwise as
+    :func:`write_mcap`.
+
+    Raises
+    ------
+    ParameterError
+        ros2: if a job's topic is not a ROS 2 topic name, or ``frame_id`` not a frame id.
     """
     from .. import __version__
     from .mcapwriter import write_topic_mcap
+    from .ros2 import check_frame_id, check_topic
+
+    if profile == "ros2":
+        check_frame_id(frame_id)
+
+    def topic(name: str) -> str:
+        topic = JOB_TOPIC.format(name=name)
+        if profile == "ros2":
+            check_topic(topic, f"job {name!r}: the topic")
+        return topic
 
     def samples():
         for c in chunks:
             names, counts = _runs(c)
-            yield c.t, c.trans, c.quat_wxyz, [JOB_TOPIC.format(name=n) for n in names], counts
+            yield c.t, c.trans, c.quat_wxyz, [topic(n) for n in names], counts
 
     write_topic_mcap(
         stream,
@@ -443,15 +464,9 @@ def write_batch_mcap(
         duration=duration,
         start_time=start_time,
         frame_id=frame_id,
-        schemas={"foxglove.PoseInFrame": _schema("foxglove.PoseInFrame")},
+        profile=profile,
         library=f"a2b {__version__}",
     )
-
-
-def _schema(name: str) -> bytes:
-    from importlib.resources import files
-
-    return (files("a2b") / "schemas" / f"{name}.json").read_bytes()
 
 
 def write_mcap(
@@ -463,25 +478,38 @@ def write_mcap(
     child_frame_id: str = "a2b",
     pose_topic: str = "/a2b/pose",
     tf_topic: str = "/tf",
+    profile: str = "foxglove",
 ) -> None:
-    """Write an MCAP file that Foxglove opens without plugins.
+    """Write an MCAP file that Foxglove opens without plugins, or (``profile="ros2"``) that
+    ``ros2 bag``, rosbags and evo read.
 
-    Each sample becomes a ``foxglove.PoseInFrame`` (in ``frame_id``) on ``pose_topic`` and a
-    ``foxglove.FrameTransform`` (``frame_id`` → ``child_frame_id``) on ``tf_topic``, JSON-encoded
-    with the JSON schemas shipped in ``a2b/schemas``. Log and publish times are
-    ``t · duration + start_time`` in nanoseconds. The file is chunked (zstd) and carries only
-    chunk and message indexes. The stream needs no ``seek`` or ``tell``: pipes work. The
-    chunks are built in bulk by :mod:`a2b.io.mcapwriter`.
+    Each sample becomes a pose in ``frame_id`` on ``pose_topic`` and a transform ``frame_id``
+    → ``child_frame_id`` on ``tf_topic``:
+
+    * ``foxglove``: ``foxglove.PoseInFrame`` and ``foxglove.FrameTransform``, JSON-encoded with
+      the JSON schemas shipped in ``a2b/schemas``;
+    * ``ros2``: ``geometry_msgs/msg/PoseStamped`` and ``tf2_msgs/msg/TFMessage`` in CDR, and at
+      the end one ``nav_msgs/msg/Path`` of every pose on ``/a2b/path``; the frame ids must be
+      ROS 2 frame ids (:func:`a2b.io.ros2.check_frame_id`).
+
+    Log and publish times (and stamps) are ``t · duration + start_time`` in nanoseconds. The
+    file is chunked (zstd) and carries only chunk and message indexes. The stream needs no
+    ``seek`` or ``tell``: pipes work. The chunks are built in bulk by :mod:`a2b.io.mcapwriter`.
 
     Raises
     ------
     ParameterError
-        If a time is negative (MCAP times are unsigned) or a pose is not finite.
+        If a time is negative (MCAP times are unsigned) or, for ros2, past 2**31 − 1 s, a pose
+        is not finite, or a ros2 frame id has a leading ``/`` or whitespace.
     """
     from .. import __version__
     from .mcapwriter import write_pose_mcap
 
-    names = ("foxglove.PoseInFrame", "foxglove.FrameTransform")
+    if profile == "ros2":
+        from .ros2 import check_frame_id
+
+        check_frame_id(frame_id)
+        check_frame_id(child_frame_id, "--child-frame-id")
     write_pose_mcap(
         stream,
         ((c.t, c.trans, c.quat_wxyz) for c in chunks),
@@ -489,9 +517,9 @@ def write_mcap(
         start_time=start_time,
         frame_id=frame_id,
         child_frame_id=child_frame_id,
+        profile=profile,
         pose_topic=pose_topic,
         tf_topic=tf_topic,
-        schemas={name: _schema(name) for name in names},
         library=f"a2b {__version__}",
     )
 
@@ -507,15 +535,17 @@ _TABLE_WRITERS = {
 def write_samples(stream: IO, fmt: str, chunks: Iterable[Chunk], **options) -> None:
     """Write ``chunks`` in format ``fmt`` (one of :data:`FORMATS`).
 
-    ``options``: ``duration`` and ``start_time`` for ``tum`` and ``mcap``; ``frame_id`` and
-    ``child_frame_id`` for ``mcap``. Options a format does not use are ignored.
+    ``options``: ``duration`` and ``start_time`` for ``tum``, ``mcap`` and ``ros2``;
+    ``frame_id`` and ``child_frame_id`` for ``mcap`` and ``ros2``. Options a format does not
+    use are ignored.
     """
     if fmt in _TABLE_WRITERS:
         _TABLE_WRITERS[fmt](stream, chunks)
     elif fmt == "tum":
         write_tum(stream, chunks, options.get("duration", 1.0), options.get("start_time", 0.0))
-    elif fmt == "mcap":
+    elif fmt in ("mcap", "ros2"):
         keys = ("duration", "start_time", "frame_id", "child_frame_id")
-        write_mcap(stream, chunks, **{k: options[k] for k in keys if k in options})
+        profile = "ros2" if fmt == "ros2" else "foxglove"
+        write_mcap(stream, chunks, profile=profile, **{k: options[k] for k in keys if k in options})
     else:
         raise ValueError(f"unknown format {fmt!r}; expected one of {', '.join(FORMATS)}")

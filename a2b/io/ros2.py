@@ -1,0 +1,409 @@
+"""ROS 2 messages for MCAP: their definitions, CDR built and read with numpy, and ROS 2 names.
+
+A ROS 2 MCAP file (profile ``ros2``) carries each message type as a Schema of encoding
+``ros2msg`` whose data is the type's full definition, its dependencies appended after lines of
+80 ``=`` (:func:`schema_text`), and each message as CDR, little endian: a 4-byte encapsulation
+header ``00 01 00 00``, then the fields in order, each aligned to its own size counted from the
+end of that header (the DDS XCDR1 rules ROS 2 uses). A string is a ``uint32`` length that counts
+a final NUL, its bytes and the NUL.
+
+The messages a2b writes have no field of varying length once the frame ids are fixed, so every
+message of a topic has one layout (:class:`Cdr`): the byte offset of each number and a template
+with the constant bytes. A chunk of messages is then a numpy structured array filled column by
+column, and reading is the same offsets gathered for all messages at once
+(:func:`decode_poses`).
+
+Stamps are ``builtin_interfaces/Time``: ``int32 sec`` and ``uint32 nanosec`` in
+``[0, 10**9)`` (:func:`split_stamps`).
+"""
+
+from __future__ import annotations
+
+import re
+import struct
+
+import numpy as np
+
+from ..errors import InputFileError, ParameterError
+
+__all__ = [
+    "POSE_TYPES",
+    "Cdr",
+    "check_frame_id",
+    "check_topic",
+    "decode_poses",
+    "qos_profiles",
+    "schema_name",
+    "schema_text",
+    "split_stamps",
+]
+
+#: The fields of each message type, as in its ``.msg`` file (comments and defaults left out).
+DEFINITIONS = {
+    "builtin_interfaces/Time": "int32 sec\nuint32 nanosec\n",
+    "std_msgs/Header": "builtin_interfaces/Time stamp\nstring frame_id\n",
+    "geometry_msgs/Point": "float64 x\nfloat64 y\nfloat64 z\n",
+    "geometry_msgs/Vector3": "float64 x\nfloat64 y\nfloat64 z\n",
+    "geometry_msgs/Quaternion": "float64 x\nfloat64 y\nfloat64 z\nfloat64 w\n",
+    "geometry_msgs/Pose": "geometry_msgs/Point position\ngeometry_msgs/Quaternion orientation\n",
+    "geometry_msgs/PoseStamped": "std_msgs/Header header\ngeometry_msgs/Pose pose\n",
+    "geometry_msgs/Transform": (
+        "geometry_msgs/Vector3 translation\ngeometry_msgs/Quaternion rotation\n"
+    ),
+    "geometry_msgs/TransformStamped": (
+        "std_msgs/Header header\nstring child_frame_id\ngeometry_msgs/Transform transform\n"
+    ),
+    "tf2_msgs/TFMessage": "geometry_msgs/TransformStamped[] transforms\n",
+    "nav_msgs/Path": "std_msgs/Header header\ngeometry_msgs/PoseStamped[] poses\n",
+}
+
+#: The message types a2b reads poses from, by their schema names.
+POSE_TYPES = (
+    "geometry_msgs/msg/PoseStamped",
+    "tf2_msgs/msg/TFMessage",
+    "nav_msgs/msg/Odometry",
+    "nav_msgs/msg/Path",
+)
+
+
+def schema_name(type_name: str) -> str:
+    """``geometry_msgs/PoseStamped`` → ``geometry_msgs/msg/PoseStamped``, the schema name."""
+    package, name = type_name.split("/")
+    return f"{package}/msg/{name}"
+
+
+def schema_text(type_name: str) -> bytes:
+    """The full definition of ``type_name`` (``package/Name``): its fields, then each type it
+    uses, depth first in order of first use, as ``MSG: package/Name`` after 80 ``=``."""
+    used: list[str] = []
+
+    def visit(name: str) -> None:
+        for line in DEFINITIONS[name].splitlines():
+            field_type = line.split()[0].removesuffix("[]")
+            if "/" in field_type and field_type not in used:
+                used.append(field_type)
+                visit(field_type)
+
+    visit(type_name)
+    parts = [DEFINITIONS[type_name]]
+    parts += [f"{'=' * 80}\nMSG: {name}\n{DEFINITIONS[name]}" for name in used]
+    return "".join(parts).encode()
+
+
+# -- names ROS 2 accepts --------------------------------------------------------------------------
+
+_TOKEN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*", re.ASCII)
+
+
+def check_topic(topic: str, what: str = "topic") -> str:
+    """``topic`` if ROS 2 accepts it as a fully qualified topic name, else a ParameterError.
+
+    The rules of ``rmw_validate_full_topic_name``: it starts with ``/``, and each ``/``-separated
+    token is ASCII letters, digits and ``_``, not empty and not starting with a digit.
+    """
+    tokens = topic.split("/")[1:]
+    if not topic.startswith("/") or not tokens or not all(map(_TOKEN.fullmatch, tokens)):
+        raise ParameterError(
+            f"{what} {topic!r} is not a ROS 2 topic name: it must start with /, and each part "
+            "between slashes must be letters, digits and _, not empty, not starting with a digit"
+        )
+    return topic
+
+
+def check_frame_id(frame_id: str, option: str = "--frame-id") -> str:
+    """``frame_id`` if tf2 accepts it, else a ParameterError: not empty, no leading ``/`` (tf2
+    drops it with a warning), no whitespace or control characters."""
+    if (
+        not frame_id
+        or frame_id.startswith("/")
+        or not frame_id.isprintable()
+        or any(ch.isspace() for ch in frame_id)
+    ):
+        raise ParameterError(
+            f"{option} {frame_id!r} is not a ROS 2 frame id: it must not be empty, start with /, "
+            "or hold whitespace"
+        )
+    return frame_id
+
+
+def qos_profiles(depth: int, durability: int = 2) -> str:
+    """The ``offered_qos_profiles`` of a channel, as rosbag2 stores them (YAML, the numbers of
+    rmw's enums): keep last ``depth``, reliable, ``durability`` 2 volatile or 1 transient local,
+    automatic liveliness, no deadline, lifespan or lease (rmw's infinite duration)."""
+    infinite = "\n    sec: 9223372036\n    nsec: 854775807"
+    return (
+        f"- history: 1\n  depth: {depth}\n  reliability: 1\n  durability: {durability}\n"
+        f"  deadline:{infinite}\n  lifespan:{infinite}\n  liveliness: 1\n"
+        f"  liveliness_lease_duration:{infinite}\n  avoid_ros_namespace_conventions: false"
+    )
+
+
+#: The latest time a ``builtin_interfaces/Time`` holds: its ``sec`` is an int32.
+MAX_SECONDS = 2**31 - 1
+
+
+def split_stamps(ns: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(sec, nanosec)`` of times in integer nanoseconds, ``0 <= nanosec < 10**9``.
+
+    Raises
+    ------
+    ParameterError
+        If a time is later than ``2**31 − 1`` s (January 2038), which ``int32 sec`` cannot hold.
+    """
+    sec, nanosec = np.divmod(np.asarray(ns, np.int64), 1_000_000_000)
+    if sec.size and sec.max() > MAX_SECONDS:
+        raise ParameterError(
+            f"ROS 2 stamps hold seconds in an int32: at most 2**31 − 1 = {MAX_SECONDS} s "
+            f"(January 2038); a time is {int(sec.max())} s"
+        )
+    return sec, nanosec
+
+
+# -- CDR with a fixed layout ----------------------------------------------------------------------
+
+
+class Cdr:
+    """The fixed layout of CDR messages whose strings are known in advance.
+
+    Parts are added in field order: :meth:`number` (a column, filled per message),
+    :meth:`uint32` and :meth:`string` (constants). :attr:`template` holds the constant bytes
+    and zeros for the columns; :attr:`columns` maps each column's name to its byte offset and
+    numpy type. ``lead`` bytes come before the encapsulation header (room for an MCAP record
+    head); ``phase`` is the CDR offset of the first part, for a struct inside a message.
+    """
+
+    ENCAPSULATION = b"\x00\x01\x00\x00"  # CDR, little endian
+
+    def __init__(self, lead: int = 0, *, phase: int | None = None):
+        self.data = bytearray(lead)
+        if phase is None:
+            self.data += self.ENCAPSULATION
+            self.origin, self.phase = len(self.data), 0
+        else:
+            self.origin, self.phase = lead, phase
+        self.columns: dict[str, tuple[int, str]] = {}
+
+    def _align(self, size: int) -> None:
+        self.data += bytes(-(self.phase + len(self.data) - self.origin) % size)
+
+    def number(self, name: str, dtype, align: int | None = None) -> Cdr:
+        """A column of ``dtype`` (a numpy type, possibly with a shape), aligned to ``align``
+        bytes (default: its item's size)."""
+        dtype = np.dtype(dtype)
+        self._align(align or dtype.base.itemsize)
+        self.columns[name] = (len(self.data), dtype)
+        self.data += bytes(dtype.itemsize)
+        return self
+
+    def uint32(self, value: int) -> Cdr:
+        self._align(4)
+        self.data += struct.pack("<I", value)
+        return self
+
+    def string(self, text: str) -> Cdr:
+        raw = text.encode()
+        self.uint32(len(raw) + 1)
+        self.data += raw + b"\0"
+        return self
+
+    def header(self, frame_id: str) -> Cdr:
+        """A ``std_msgs/Header``: the column ``stamp`` (``int32 sec`` and ``uint32 nanosec``,
+        as one little-endian ``uint64``: :func:`stamp_words`), a constant frame id."""
+        return self.number("stamp", "<u8", align=4).string(frame_id)
+
+    @property
+    def template(self) -> bytes:
+        return bytes(self.data)
+
+    @property
+    def end_phase(self) -> int:
+        """The CDR offset after the last part: the phase of what follows."""
+        return self.phase + len(self.data) - self.origin
+
+    def fields(self, shift: int = 0, prefix: str = "") -> dict:
+        """The columns as ``{prefix + name: (dtype, offset + shift)}``, the fields of a numpy
+        structured dtype."""
+        return {
+            prefix + name: (np.dtype(dtype), offset + shift)
+            for name, (offset, dtype) in self.columns.items()
+        }
+
+
+#: A pose in ROS messages: 7 doubles, the position (or translation) x y z, then the quaternion
+#: x y z w (a ``Pose`` and a ``Transform`` alike).
+POSE = ("<f8", (7,))
+
+
+def stamp_words(ns: np.ndarray) -> np.ndarray:
+    """The ``builtin_interfaces/Time`` of times in nanoseconds as little-endian ``uint64``
+    words: ``sec`` in the low half, ``nanosec`` in the high (:func:`split_stamps`)."""
+    sec, nanosec = split_stamps(ns)
+    return sec.astype(np.uint64) | (nanosec.astype(np.uint64) << np.uint64(32))
+
+
+def pose_stamped(frame_id: str, lead: int = 0, phase: int | None = None) -> Cdr:
+    """``geometry_msgs/PoseStamped``: columns ``stamp`` and ``pose`` (:data:`POSE`)."""
+    return Cdr(lead, phase=phase).header(frame_id).number("pose", POSE)
+
+
+def tf_message(frame_id: str, child_frame_id: str, lead: int = 0) -> Cdr:
+    """``tf2_msgs/TFMessage`` with one transform ``frame_id`` → ``child_frame_id``."""
+    cdr = Cdr(lead).uint32(1).header(frame_id).string(child_frame_id)
+    return cdr.number("pose", POSE)
+
+
+def path_message(frame_id: str, lead: int, count: int) -> tuple[Cdr, Cdr]:
+    """``nav_msgs/Path`` of ``count`` poses: the layouts of its header (through the sequence
+    length) and of its first PoseStamped. Every later one starts 8-aligned (after doubles):
+    ``pose_stamped(frame_id, phase=0)``."""
+    head = Cdr(lead).header(frame_id).uint32(count)
+    return head, pose_stamped(frame_id, phase=head.end_phase)
+
+
+# -- reading CDR ----------------------------------------------------------------------------------
+
+
+class _Messages:
+    """The CDR messages of one topic, side by side in one buffer, read at arrays of offsets."""
+
+    def __init__(self, datas: list, where: str):
+        lengths = np.fromiter(map(len, datas), np.int64, len(datas))
+        self.buffer = np.frombuffer(b"".join(datas), np.uint8)
+        self.start = np.cumsum(lengths) - lengths
+        self.end = self.start + lengths
+        self.where = where
+        short = lengths < 4
+        head = self.buffer[self.start[~short, None] + np.arange(2)] if (~short).any() else None
+        bad = short.copy()
+        if head is not None:
+            bad[~short] = (head[:, 0] != 0) | (head[:, 1] != 1)
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise InputFileError(
+                f"{where} message {k + 1}: not little-endian plain CDR (encapsulation "
+                f"{bytes(datas[k][:4]).hex(' ') or 'missing'}; a2b reads 00 01)"
+            )
+        self.origin = self.start + 4
+
+    def read(self, rows: np.ndarray, at: np.ndarray, dtype: str, count: int = 1) -> np.ndarray:
+        """``count`` values of ``dtype`` at CDR offset ``at`` (aligned here) of messages ``rows``;
+        returns the values and the offset after them."""
+        size = np.dtype(dtype).itemsize
+        at = at + (-at % size)
+        stop = self.origin[rows] + at + size * count
+        if (stop > self.end[rows]).any():
+            k = int(rows[np.argmax(stop > self.end[rows])])
+            raise InputFileError(f"{self.where} message {k + 1}: the message ends too soon")
+        index = (self.origin[rows] + at)[:, None] + np.arange(size * count)
+        values = self.buffer[index].view(dtype).reshape(len(rows), count)
+        return (values[:, 0] if count == 1 else values), at + size * count
+
+    def string(self, rows: np.ndarray, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The strings at ``at`` as fixed-width bytes (NUL dropped), and the offset after them."""
+        length, at = self.read(rows, at, "<u4")
+        length = length.astype(np.int64)
+        bad = (length < 1) | (self.origin[rows] + at + length > self.end[rows])
+        if bad.any():
+            k = int(rows[np.argmax(bad)])
+            raise InputFileError(f"{self.where} message {k + 1}: a string overruns the message")
+        width = max(int(length.max(initial=1)) - 1, 1)
+        index = (self.origin[rows] + at)[:, None] + np.arange(width)
+        chars = self.buffer[np.minimum(index, len(self.buffer) - 1)]
+        chars = np.where(np.arange(width) < (length - 1)[:, None], chars, 0)
+        return chars.copy().view(f"S{width}").reshape(-1), at + length
+
+    def header(self, rows: np.ndarray, at: np.ndarray):
+        """``(sec, nanosec, frame_id, offset after)`` of a ``std_msgs/Header`` at ``at``."""
+        sec, at = self.read(rows, at, "<i4")
+        nanosec, at = self.read(rows, at, "<u4")
+        frame, at = self.string(rows, at)
+        return sec, nanosec, frame, at
+
+
+def decode_poses(type_name: str, datas: list, where: str, child_frame: str | None = None):
+    """``(times in s, quat_wxyz (N, 4), translations (N, 3))`` of the CDR messages ``datas``.
+
+    ``type_name`` is one of :data:`POSE_TYPES`; the time of a pose is its header's stamp,
+    ``sec + nanosec · 1e-9``. ``geometry_msgs/PoseStamped`` and ``nav_msgs/Odometry`` give one
+    pose per message; ``nav_msgs/Path`` the poses of its last message (the latest plan);
+    ``tf2_msgs/TFMessage`` every transform to ``child_frame``, which may be left out when there
+    is one child frame. ``where`` starts every error message.
+    """
+    messages = _Messages(datas, where)
+    rows = np.arange(len(datas))
+    zero = np.zeros(len(datas), np.int64)
+    if type_name == "nav_msgs/msg/Path":
+        sec, nanosec, numbers = _path(messages, where)
+    elif type_name == "geometry_msgs/msg/PoseStamped":
+        sec, nanosec, _frame, at = messages.header(rows, zero)
+        numbers, _ = messages.read(rows, at, "<f8", 7)
+    elif type_name == "nav_msgs/msg/Odometry":  # header, child_frame_id, then the pose
+        sec, nanosec, _frame, at = messages.header(rows, zero)
+        _child, at = messages.string(rows, at)
+        numbers, _ = messages.read(rows, at, "<f8", 7)
+    elif type_name == "tf2_msgs/msg/TFMessage":
+        sec, nanosec, numbers = _transforms(messages, rows, where, child_frame)
+    else:
+        raise InputFileError(f"{where}: a2b reads {', '.join(POSE_TYPES)}, not {type_name}")
+    numbers = numbers.reshape(-1, 7)
+    times = sec.astype(float) + nanosec.astype(float) * 1e-9
+    return times, numbers[:, [6, 3, 4, 5]], numbers[:, :3].copy()
+
+
+def _transforms(messages: _Messages, rows, where: str, child_frame: str | None):
+    """The stamps and numbers of the transforms to ``child_frame`` in TFMessages, in order."""
+    count, at = messages.read(rows, np.zeros(len(rows), np.int64), "<u4")
+    found = []  # per transform: (message, place in it, sec, nanosec, child, numbers)
+    k = 0
+    while (count > k).any():
+        active = count > k
+        here = rows[active]
+        sec, nanosec, _frame, after = messages.header(here, at[active])
+        child, after = messages.string(here, after)
+        numbers, after = messages.read(here, after, "<f8", 7)
+        found.append((here, np.full(len(here), k), sec, nanosec, child, numbers))
+        at[active] = after
+        k += 1
+    if not found:
+        return np.empty(0, np.int32), np.empty(0, np.uint32), np.empty((0, 7))
+    message, place, sec, nanosec, child, numbers = (
+        np.concatenate([part[i] for part in found]) for i in range(6)
+    )
+    children = sorted(name.decode(errors="replace") for name in np.unique(child))
+    if child_frame is None:
+        if len(children) != 1:
+            raise InputFileError(
+                f"{where}: transforms to {len(children)} child frames ({', '.join(children)}); "
+                "choose one with --input-child-frame"
+            )
+        child_frame = children[0]
+    mine = child == child_frame.encode()
+    if not mine.any():
+        raise InputFileError(
+            f"{where}: no transform to the child frame {child_frame!r}; the frames are "
+            f"{', '.join(children) or 'none'}"
+        )
+    order = np.lexsort((place[mine], message[mine]))
+    return sec[mine][order], nanosec[mine][order], numbers[mine][order]
+
+
+def _path(messages: _Messages, where: str):
+    """The stamps and numbers of the poses of the last ``nav_msgs/Path`` message."""
+    if not len(messages.start):
+        return np.empty(0, np.int32), np.empty(0, np.uint32), np.empty((0, 7))
+    last = len(messages.start) - 1
+    _sec, _nanosec, _frame, at = messages.header(np.array([last]), np.zeros(1, np.int64))
+    count, at = messages.read(np.array([last]), at, "<u4")
+    starts = np.empty(int(count[0]), np.int64)
+    offset, origin = int(at[0]), int(messages.origin[last])
+    for i in range(len(starts)):  # each pose's offset depends on the length of its frame id
+        starts[i] = offset
+        length_at = origin + offset + 8
+        if length_at + 4 > messages.end[last]:
+            raise InputFileError(f"{where} message {last + 1}: the message ends too soon")
+        offset += 12 + int(messages.buffer[length_at : length_at + 4].view("<u4")[0])
+        offset += -offset % 8 + 56
+    rows = np.full(len(starts), last)
+    sec, nanosec, _frame, at = messages.header(rows, starts)
+    numbers, _ = messages.read(rows, at, "<f8", 7)
+    return sec, nanosec, numbers
