@@ -75,7 +75,7 @@ import numpy as np
 import a2b
 from a2b.poses import matrices_from_quat_trans, study_from_matrices
 
-SECTIONS = ("library", "motions", "resample", "csv", "mcap", "startup", "batch")
+SECTIONS = ("library", "motions", "resample", "csv", "mcap", "ros2", "startup", "batch")
 A2B_MODES = [
     ("darboux", "darboux", {}),
     ("cubic (canonical)", "cubic", {}),
@@ -259,6 +259,8 @@ def interleaved_processes(
     for round_ in range(repeats):
         for name in names[round_ % len(names) :] + names[: round_ % len(names)]:
             if outputs and name in outputs:
+                if outputs[name].is_dir():  # rosbags writes a bag directory
+                    shutil.rmtree(outputs[name])
                 outputs[name].unlink(missing_ok=True)
             seconds, peak = run_process(commands[name], rss)
             times[name].append(seconds)
@@ -933,7 +935,7 @@ import numpy as np
 from mcap.writer import CompressionType, Writer
 import a2b
 from a2b.io.readers import read_poses
-from a2b.io.writers import _schema
+from a2b.io.mcapwriter import _json_schema as _schema
 
 job = read_poses(open(sys.argv[1], "rb"))
 n = int(sys.argv[2])
@@ -1025,6 +1027,128 @@ def mcap_section(n: int, repeats: int, work: Path, exe: list[str]) -> list[Row]:
             per_second / peer_rate >= 2,
         )
     )
+    return rows
+
+
+#: The same ROS 2 messages (PoseStamped on /a2b/pose, TFMessage on /tf) with a peer's writer:
+#: a2b samples the motion, as in a2b's own command, then the peer serialises and writes every
+#: message. argv: poses.json, samples, output, rosbags|mcap_ros2.
+ROS2_PEERS = """
+import sys
+import numpy as np
+import a2b
+from a2b.io.readers import read_poses
+from a2b.io.ros2 import schema_text
+
+job = read_poses(open(sys.argv[1], "rb"))
+n, out, peer = int(sys.argv[2]), sys.argv[3], sys.argv[4]
+quat, trans = a2b.motion(job.start, job.end, "darboux").quat_trans(np.linspace(0.0, 1.0, n))
+ns = np.rint(np.linspace(0.0, 1.0, n) * 1e9).astype(np.int64).tolist()
+rows = zip(ns, trans.tolist(), quat.tolist())
+if peer == "rosbags":
+    from pathlib import Path
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    T = {name.split("/")[-1]: kind for name, kind in store.types.items()}
+    pose_t, tf_t = "geometry_msgs/msg/PoseStamped", "tf2_msgs/msg/TFMessage"
+    with Writer(Path(out), version=8, storage_plugin=StoragePlugin.MCAP) as w:
+        pose_c = w.add_connection("/a2b/pose", pose_t, typestore=store)
+        tf_c = w.add_connection("/tf", tf_t, typestore=store)
+        for t, (x, y, z), (qw, qx, qy, qz) in rows:
+            stamp = T["Time"](sec=t // 1_000_000_000, nanosec=t % 1_000_000_000)
+            header = T["Header"](stamp=stamp, frame_id="world")
+            q = T["Quaternion"](x=qx, y=qy, z=qz, w=qw)
+            p = T["Pose"](position=T["Point"](x=x, y=y, z=z), orientation=q)
+            pose = T["PoseStamped"](header=header, pose=p)
+            transform = T["Transform"](translation=T["Vector3"](x=x, y=y, z=z), rotation=q)
+            stamped = T["TransformStamped"](
+                header=header, child_frame_id="a2b", transform=transform
+            )
+            tf = T["TFMessage"](transforms=[stamped])
+            w.write(pose_c, t, store.serialize_cdr(pose, pose_t))
+            w.write(tf_c, t, store.serialize_cdr(tf, tf_t))
+else:
+    from mcap_ros2.writer import Writer
+
+    with open(out, "wb") as f:
+        w = Writer(f)
+        schemas = [
+            w.register_msgdef(name.replace("/", "/msg/"), schema_text(name).decode())
+            for name in ("geometry_msgs/PoseStamped", "tf2_msgs/TFMessage")
+        ]
+        pose_s, tf_s = schemas
+        for i, (t, (x, y, z), (qw, qx, qy, qz)) in enumerate(rows):
+            stamp = {"sec": t // 1_000_000_000, "nanosec": t % 1_000_000_000}
+            header = {"stamp": stamp, "frame_id": "world"}
+            q, xyz = {"x": qx, "y": qy, "z": qz, "w": qw}, {"x": x, "y": y, "z": z}
+            pose = {"header": header, "pose": {"position": xyz, "orientation": q}}
+            transform = {"translation": xyz, "rotation": q}
+            stamped = {"header": header, "child_frame_id": "a2b", "transform": transform}
+            tf = {"transforms": [stamped]}
+            w.write_message("/a2b/pose", pose_s, pose, log_time=t, publish_time=t, sequence=i)
+            w.write_message("/tf", tf_s, tf, log_time=t, publish_time=t, sequence=i)
+        w.finish()
+"""
+
+
+def ros2_section(n: int, repeats: int, work: Path, exe: list[str]) -> list[Row]:
+    """``--format ros2`` (whole process) against ``--format mcap`` (JSON) in the same
+    interleaved runs, and against rosbags' and mcap-ros2-support's writers (whole processes
+    that sample with a2b, then serialise and write with the peer)."""
+    start, end = test_poses()
+    poses = work / "poses.json"
+    poses.write_text(json.dumps(poses_document(start, end)))
+    commands, outputs = {}, {}
+    for fmt in ("ros2", "mcap"):
+        outputs[fmt] = work / f"{fmt}.mcap"
+        commands[fmt] = exe + ["interpolate", str(poses), "--samples", str(n), "--format", fmt,
+                               "-o", str(outputs[fmt])]  # fmt: skip
+    log(f"ros2: {n} poses, ros2 and mcap (JSON) interleaved, {repeats} repeats")
+    seconds = {k: v[0] for k, v in interleaved_processes(commands, repeats, outputs).items()}
+    rows = [
+        Row(
+            "ros2",
+            f"a2b interpolate --samples {n} --format ros2 (whole process: PoseStamped, "
+            "TFMessage, and the Path of every pose)",
+            f"{seconds['ros2']:.2f} s, {rate(n, seconds['ros2'])} poses",
+            "",
+            "≥ 1 M/s",
+            n / seconds["ros2"] >= 1_000_000,
+        ),
+        Row(
+            "ros2",
+            f"a2b interpolate --samples {n} --format mcap (JSON, same run)",
+            f"{seconds['mcap']:.2f} s, {rate(n, seconds['mcap'])} poses",
+            f"ros2 {seconds['mcap'] / seconds['ros2']:.1f}× faster",
+        ),
+    ]
+    peer_n = max(n // 10, 1000)  # the peers take 10 to 50 µs a pose: a tenth of the poses
+    script = work / "ros2_peer.py"
+    script.write_text(ROS2_PEERS)
+    for peer, name in (("rosbags", "rosbags' Writer (serialize_cdr)"),
+                       ("mcap_ros2", "mcap-ros2-support's Writer")):  # fmt: skip
+        out = work / f"{peer}.out"
+        try:
+            __import__(peer)
+        except ImportError:
+            rows.append(Row("ros2", name, "not installed (pip install -e '.[bench]')"))
+            continue
+        argv = [sys.executable, str(script), str(poses), str(peer_n), str(out), peer]
+        log(f"ros2: {name}, {peer_n} poses, {repeats} repeats")
+        peer_seconds = interleaved_processes({peer: argv}, repeats, outputs={peer: out})[peer][0]
+        shutil.rmtree(out, ignore_errors=True)
+        out.unlink(missing_ok=True)
+        ratio = (n / seconds["ros2"]) / (peer_n / peer_seconds)
+        rows.append(
+            Row(
+                "ros2",
+                f"{name}, same messages ({peer_n} poses, whole process)",
+                f"{peer_seconds:.2f} s, {rate(peer_n, peer_seconds)} poses",
+                f"a2b {ratio:.0f}× faster",
+            )
+        )
     return rows
 
 
@@ -1199,6 +1323,8 @@ def main(argv: list[str] | None = None) -> int:
                 rows += csv_section(args.samples, args.process_repeats, work, exe)[0]
             elif section == "mcap":
                 rows += mcap_section(args.samples, args.process_repeats, work, exe)
+            elif section == "ros2":
+                rows += ros2_section(args.samples, args.process_repeats, work, exe)
             elif section == "startup":
                 rows += startup_section(max(11, 4 * args.repeats), exe)
             elif section == "batch":

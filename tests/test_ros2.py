@@ -76,7 +76,7 @@ def test_rosbags_and_mcap_ros2_read_every_message_bit_for_bit(tmp_path, clients,
     for k in range(n):
         want.append(["/a2b/pose", int(ns[k]), poses[k]])
         want.append(["/tf", int(ns[k]), [[poses[k][0], child, poses[k][1]]]])
-    want.append(["/a2b/path", int(ns[-1]), [[int(sec[-1]), int(nanosec[-1]), frame_id], poses]])
+    want.append(["/a2b/path", int(ns[0]), [[int(sec[0]), int(nanosec[0]), frame_id], poses]])
     by_topic = sorted(got["rosbags"], key=lambda m: (m[1], m[0] != "/a2b/pose", m[0]))
     assert by_topic == sorted(want, key=lambda m: (m[1], m[0] != "/a2b/pose", m[0]))
     assert sorted(got["mcap_ros2"]) == sorted(want)

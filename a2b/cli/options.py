@@ -727,4 +727,5 @@ def write_motion(
         start_time=start_time,
         frame_id=frame_id,
         child_frame_id=child_frame_id,
+        count=samples,
     )

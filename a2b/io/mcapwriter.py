@@ -5,13 +5,14 @@ thousands of poses are made at once, in one of two profiles:
 
 * ``foxglove``: JSON ``foxglove.PoseInFrame`` and ``foxglove.FrameTransform``, their text
   formatted in bulk (:mod:`a2b.io.floatrepr`) — several hundred thousand poses per second;
-* ``ros2``: CDR ``geometry_msgs/msg/PoseStamped``, ``tf2_msgs/msg/TFMessage`` and, once at the
-  end, ``nav_msgs/msg/Path``, whose layout is fixed, so that a chunk is a numpy structured array
+* ``ros2``: CDR ``geometry_msgs/msg/PoseStamped``, ``tf2_msgs/msg/TFMessage`` and, once,
+  ``nav_msgs/msg/Path``, whose layout is fixed, so that a chunk is a numpy structured array
   filled column by column (:mod:`a2b.io.ros2`) — over a million poses per second.
 
 The headers of the Message records and the entries of the Message Index records are packed
 with numpy, and each chunk is compressed with zstd in a thread of its own
-(docs/benchmarks.md). Every other record (Header, Schema, Channel, Chunk, Chunk Index,
+(docs/benchmarks.md). The Chunk records' heads are packed here too (so that the compressed
+data is written without a copy); every other record (Header, Schema, Channel, Chunk Index,
 Statistics, Summary Offset, Data End, Footer) is one of the ``mcap`` package's record classes,
 serialised by its own code.
 
@@ -20,9 +21,11 @@ What is written, in the order of the MCAP specification (https://mcap.dev/spec):
 * magic, Header (profile ``""`` or ``ros2``, library ``a2b <version>``);
 * in the data section, one Schema record per message type and one Channel record per topic
   (:func:`write_topic_mcap`: each just before the chunk of its first message), then for each
-  chunk of :data:`CHUNK_POSES` poses a Chunk record (zstd, with the CRC-32 of its records), followed
-  by one Message Index record per channel; then Data End, without a CRC of the data section
-  (0, as the MCAP C++ writer that rosbag2 uses writes by default: each chunk has its own);
+  chunk of :data:`CHUNK_POSES` (JSON) or :data:`CDR_CHUNK_POSES` poses a Chunk record (zstd,
+  with the CRC-32 of its records), followed by one Message Index record per channel; ros2:
+  last, the Path's chunk (its log time is the first pose's, so chunks are not in time order,
+  which the chunk indexes allow); then Data End, without a CRC of the data section (0, as the
+  MCAP C++ writer that rosbag2 uses writes by default: each chunk has its own);
 * in the summary section: the Schema and Channel records again, a Statistics record, and a
   Chunk Index record per chunk; then one Summary Offset record per group of the summary;
 * Footer (with the CRC-32 of the summary) and magic.
@@ -52,10 +55,16 @@ MAGIC = b"\x89MCAP0\r\n"
 _HEADER, _FOOTER, _SCHEMA, _CHANNEL, _MESSAGE, _CHUNK = 0x01, 0x02, 0x03, 0x04, 0x05, 0x06
 _MESSAGE_INDEX, _CHUNK_INDEX, _STATISTICS, _SUMMARY_OFFSET, _DATA_END = 0x07, 0x08, 0x0B, 0x0E, 0x0F
 
-#: Poses per chunk: two JSON messages of about 280 bytes each, so chunks of about 2 MB.
+#: Poses per chunk of JSON: two messages of about 280 bytes each, so chunks of about 2 MB.
 CHUNK_POSES = 4096
+#: Poses per chunk of CDR: about 4 MB (240 bytes a pose); 1.15x faster than 4096, for fewer
+#: chunks to handle.
+CDR_CHUNK_POSES = 16384
 #: At most this many bytes of message text in one chunk: a long frame id means fewer poses.
 CHUNK_BYTES = 8 << 20
+#: CDR is compressed at zstd's fast level -1: 1.3x faster than level 1 on these messages, for
+#: 5% more bytes.
+CDR_ZSTD_LEVEL = -1
 #: Chunks of more bytes (a long Path) are compressed on two threads.
 BIG_CHUNK = 16 << 20
 #: zstd's fastest regular level; on these messages it also compresses best (about 10:1).
@@ -120,6 +129,7 @@ class JsonLayout:
 
     profile = ""
     encoding = "json"
+    zstd_level = ZSTD_LEVEL
 
     def __init__(self, frame_id: str, child_frame_id: str | None):
         frame = json.dumps(frame_id).encode()
@@ -204,15 +214,6 @@ def _record_dtype(parts: list) -> tuple[np.dtype, bytes]:
     return _structured(fields, shift), bytes(template)
 
 
-def _structured(fields: dict, itemsize: int) -> np.dtype:
-    """The numpy dtype of ``fields`` ``{name: (dtype, offset)}`` in rows of ``itemsize``."""
-    names = list(fields)
-    return np.dtype(
-        {"names": names, "formats": [fields[n][0] for n in names],
-         "offsets": [fields[n][1] for n in names], "itemsize": itemsize}
-    )  # fmt: skip
-
-
 def _rows(template: bytes, dtype: np.dtype, n: int) -> np.ndarray:
     """``n`` copies of ``template``, as a structured array of ``dtype`` over fresh bytes."""
     return np.tile(np.frombuffer(template, np.uint8), n).view(dtype)
@@ -243,6 +244,7 @@ class CdrLayout:
 
     profile = "ros2"
     encoding = "cdr"
+    zstd_level = CDR_ZSTD_LEVEL
 
     def __init__(self, frame_id: str, child_frame_id: str | None, path: PathLayout | None = None):
         from . import ros2
@@ -255,7 +257,7 @@ class CdrLayout:
         self.dtype, self.template = _record_dtype(parts)
         self.starts = np.cumsum([0] + [len(p.template) for p in parts[:-1]])
         self.schemas = _ros2_schemas(types) + (path.schemas if path else [])
-        self.chunk_poses = max(1, min(CHUNK_POSES, CHUNK_BYTES // len(self.template)))
+        self.chunk_poses = max(1, min(CDR_CHUNK_POSES, CHUNK_BYTES // len(self.template)))
         self.path = path
 
     def records(self, sequence, ns, numbers, channels):
@@ -275,27 +277,36 @@ def _ros2_schemas(types: list) -> list:
 
 
 class PathLayout:
-    """One ``nav_msgs/msg/Path`` of all the poses, at the last pose's time.
+    """One ``nav_msgs/msg/Path`` of all the poses, at the first pose's time, in a chunk of its
+    own at the end of the data.
 
-    Made in two steps: :meth:`entries` of each chunk's poses (in the writer's threads, as
-    the chunks are built), kept in :attr:`parts` in order; then :meth:`records` at the end.
+    Each chunk's PoseStamped entries are made with the chunk (:meth:`entries`, in the
+    writer's threads) and handed over in order (:meth:`add`). Once the number of poses is
+    known (``count``, given in advance, else at :meth:`finish`), the message's head is made
+    and the entries are compressed as they come, one zstd stream, without joining them.
     Every entry but the first starts 8-aligned; the first, whose alignment depends on the
-    length of the frame id, is made again at the end from :attr:`first`.
+    length of the frame id, is made again with the head.
     """
 
     profile = "ros2"
     encoding = "cdr"
+    zstd_level = CDR_ZSTD_LEVEL
 
-    def __init__(self, frame_id: str):
+    def __init__(self, frame_id: str, channel: int, count: int | None = None):
         from .ros2 import pose_stamped
 
         self.frame_id = frame_id
+        self.channel = channel
+        self.expected = count
         self.schemas = _ros2_schemas(["nav_msgs/Path"])
         self.entry = pose_stamped(frame_id, phase=0)
         self.entry_dtype = _structured(self.entry.fields(), len(self.entry.template))
-        self.parts: list = []  # the entries of each chunk, in order
         self.first = None  # (ns, numbers) of the first pose
-        self.count = 0
+        self.count = 0  # poses added
+        self.waiting: list = []  # entries added before the head could be made
+        self.compressor = None
+        self.compressed: list = []
+        self.size = self.crc = 0
 
     def entries(self, ns: np.ndarray, numbers: np.ndarray) -> np.ndarray:
         """The bytes of the 8-aligned PoseStamped entries of poses ``ns``, ``numbers``."""
@@ -303,31 +314,82 @@ class PathLayout:
         _fill(rows, "", ns, numbers)
         return rows.view(np.uint8)
 
-    def records(self, sequence, ns, numbers, channels):
-        """The Message record of the Path (``ns[-1]``: its time), its offset 0 and log time."""
+    def add(self, ns: np.ndarray, numbers: np.ndarray, entries: np.ndarray) -> None:
+        """The entries of the next poses, ``ns`` and ``numbers``, made by :meth:`entries`."""
+        if self.first is None:
+            self.first = (ns[:1], numbers[:1])
+            entries = entries[len(self.entry.template) :]  # made again with the head
+            if self.expected is not None:
+                self._start(self.expected)
+        self.count += len(ns)
+        if self.compressor is None:
+            self.waiting.append(entries)
+        else:
+            self._feed(entries)
+
+    def _start(self, count: int) -> None:
+        """Begin the message: the record head, the Path's header and the first entry."""
+        import zstandard
+
         from .ros2 import path_message
 
-        head, first = path_message(self.frame_id, _HEAD_SIZE, self.count)
+        head, first = path_message(self.frame_id, _HEAD_SIZE, count)
         head_dtype, head_template = _record_dtype([head])
-        first_dtype = _structured(first.fields(), len(first.template))
-        first_row = _rows(first.template, first_dtype, 1)
+        first_row = _rows(first.template, _structured(first.fields(), len(first.template)), 1)
         _fill(first_row, "", *self.first)
-        rest = self.parts[0][len(self.entry.template) :]
-        length = len(head_template) + len(first.template) + len(rest)
-        length += sum(part.size for part in self.parts[1:])
+        length = len(head_template) + len(first.template) + (count - 1) * len(self.entry.template)
         head_row = _rows(head_template, head_dtype, 1)
         head_row["0length"] = length - 9
-        _fill_head(head_row, "0", sequence[:1], ns[-1:], channels[:1])
-        _fill_stamp(head_row, "0", ns[-1:])
-        parts = [head_row.view(np.uint8), first_row.view(np.uint8), rest, *self.parts[1:]]
-        return np.concatenate(parts), np.zeros(1, np.int64), ns[-1:]
+        _fill_head(head_row, "0", 0, self.first[0], self.channel)
+        _fill_stamp(head_row, "0", self.first[0])
+        threads = 2 if length > BIG_CHUNK else 0
+        compressor = zstandard.ZstdCompressor(level=self.zstd_level, threads=threads)
+        self.compressor = compressor.compressobj(size=length)
+        self.start, self.length = int(self.first[0][0]), length
+        for part in (head_row.view(np.uint8), first_row.view(np.uint8), *self.waiting):
+            self._feed(part)
+        self.waiting.clear()
+
+    def _feed(self, data: np.ndarray) -> None:
+        self.size += data.size
+        self.crc = zlib.crc32(data, self.crc)
+        self.compressed.append(self.compressor.compress(data))
+
+    def finish(self) -> _Built | None:
+        """The Path's chunk, or None without poses."""
+        if self.first is None:
+            return None
+        if self.compressor is None:
+            self._start(self.count)
+        self.compressed.append(self.compressor.flush())
+        if self.count != (self.expected or self.count) or self.size != self.length:
+            raise AssertionError(
+                f"a Path of {self.expected} poses was announced, {self.count} came"
+            )
+        size, start = sum(map(len, self.compressed)), self.start
+        index = _message_index(self.channel, np.array([start]), np.zeros(1, np.int64))
+        return _Built(
+            _chunk_head(start, start, self.size, self.crc, size), self.compressed, 1, start,
+            start, self.size, size, [(self.channel, index)], {self.channel: 1},
+        )  # fmt: skip
+
+
+def _structured(fields: dict, itemsize: int) -> np.dtype:
+    """The numpy dtype of ``fields`` ``{name: (dtype, offset)}`` in rows of ``itemsize``."""
+    names = list(fields)
+    return np.dtype(
+        {"names": names, "formats": [fields[n][0] for n in names],
+         "offsets": [fields[n][1] for n in names], "itemsize": itemsize}
+    )  # fmt: skip
 
 
 @dataclass
 class _Built:
-    """One chunk, ready to write: its record, and what its indexes need."""
+    """One chunk, ready to write: its record (a head, then the compressed records), and what
+    its indexes need."""
 
-    record: bytes
+    head: bytes
+    data: list  # the compressed records, in pieces
     poses: int
     start: int
     end: int
@@ -335,7 +397,11 @@ class _Built:
     compressed_size: int
     message_indexes: list  # (channel id, Message Index record)
     message_counts: dict  # channel id: messages
-    path_entries: np.ndarray | None = None  # ros2: the Path's entries of these poses
+    path_entries: tuple | None = None  # ros2: (ns, numbers, the Path's entries) of the poses
+
+    @property
+    def length(self) -> int:
+        return len(self.head) + self.compressed_size
 
 
 def _nanoseconds(t, duration: float, start_time: float) -> np.ndarray:
@@ -372,31 +438,30 @@ def _message_index(channel: int, log_time: np.ndarray, offset: np.ndarray) -> by
     return _record(_MESSAGE_INDEX, struct.pack("<HI", channel, entries.nbytes), entries.tobytes())
 
 
+def _chunk_head(start: int, end: int, size: int, crc: int, compressed: int) -> bytes:
+    """A zstd Chunk record up to its data, which is written after it without another copy."""
+    head = struct.pack("<QQQI", start, end, size, crc)
+    head += struct.pack("<I", 4) + b"zstd" + struct.pack("<Q", compressed)
+    return struct.pack("<BQ", _CHUNK, len(head) + compressed) + head
+
+
 def _build_chunk(item) -> _Built:
     """The Chunk record and the Message Index records of ``item``.
 
     ``item = (layout, sequence, ns, numbers, channels)``: per pose its sequence number, log
     time, the 7 numbers ``x y z qx qy qz qw`` and the channel id of each message of the layout.
     """
-    from mcap.records import Chunk
-
     layout, sequence, ns, numbers, channels = item
     records, offset, log_time = layout.records(sequence, ns, numbers, channels)
     channel = np.asarray(channels).reshape(-1)
     import zstandard
 
     threads = 2 if records.size > BIG_CHUNK else 0  # a Path of many poses: zstd's own threads
-    compressed = zstandard.ZstdCompressor(level=ZSTD_LEVEL, threads=threads).compress(records)
+    level = layout.zstd_level
+    compressed = zstandard.ZstdCompressor(level=level, threads=threads).compress(records)
     start, end = int(log_time.min()), int(log_time.max())
     path = getattr(layout, "path", None)
-    record = Chunk(
-        message_start_time=start,
-        message_end_time=end,
-        uncompressed_size=int(records.size),
-        uncompressed_crc=zlib.crc32(records),
-        compression="zstd",
-        data=compressed,
-    )
+    head = _chunk_head(start, end, records.size, zlib.crc32(records), len(compressed))
     order = np.argsort(log_time, kind="stable")  # Message Index entries go by log time
     ids, counts = np.unique(channel, return_counts=True)
     by_channel = channel[order]
@@ -405,7 +470,8 @@ def _build_chunk(item) -> _Built:
         mine = order[by_channel == k]
         message_indexes.append((k, _message_index(k, log_time[mine], offset[mine])))
     return _Built(
-        _serialise(record),
+        head,
+        [compressed],
         len(ns),
         start,
         end,
@@ -413,7 +479,7 @@ def _build_chunk(item) -> _Built:
         len(compressed),
         message_indexes,
         dict(zip(ids.tolist(), counts.tolist())),
-        None if path is None else path.entries(ns, numbers),
+        None if path is None else (ns, numbers, path.entries(ns, numbers)),
     )
 
 
@@ -442,6 +508,7 @@ def write_pose_mcap(
     tf_topic: str = "/tf",
     path_topic: str = "/a2b/path",
     library: str = "a2b",
+    count: int | None = None,
 ) -> None:
     """Write each pose as a message on ``pose_topic`` and a transform on ``tf_topic``.
 
@@ -457,13 +524,16 @@ def write_pose_mcap(
         The pose's frame (also the transform's parent) and the transform's child frame.
     profile : str
         ``foxglove``: JSON ``foxglove.PoseInFrame`` and ``foxglove.FrameTransform``. ``ros2``:
-        CDR ``geometry_msgs/msg/PoseStamped`` and ``tf2_msgs/msg/TFMessage``, then one
-        ``nav_msgs/msg/Path`` of every pose on ``path_topic`` at the last pose's time (so
-        72 bytes per pose are kept until the end).
+        CDR ``geometry_msgs/msg/PoseStamped`` and ``tf2_msgs/msg/TFMessage``, and one
+        ``nav_msgs/msg/Path`` of every pose on ``path_topic`` at the first pose's time, in a
+        last chunk (:class:`PathLayout`).
     pose_topic, tf_topic, path_topic : str
         The topics; the messages of one sample share its sequence number.
     library : str
         The Header record's library field.
+    count : int, optional
+        ros2: the number of poses, if known in advance: the Path is then compressed as the
+        poses come; else its entries wait in memory, 80 bytes a pose, until the end.
 
     Raises
     ------
@@ -472,7 +542,7 @@ def write_pose_mcap(
         finite.
     """
     ros2 = profile == "ros2"
-    path = PathLayout(frame_id) if ros2 else None
+    path = PathLayout(frame_id, 3, count) if ros2 else None
     layout = CdrLayout(frame_id, child_frame_id, path) if ros2 else None
     layout = layout or JsonLayout(frame_id, child_frame_id)
     topics = [(pose_topic, 10, 2), (tf_topic, 100, 2)] + [(path_topic, 1, 1)] * ros2
@@ -489,9 +559,6 @@ def write_pose_mcap(
                     )
                 ids = np.broadcast_to(np.array([1, 2], np.uint16), (n, 2))
                 yield layout, np.arange(sequence, sequence + n, dtype=np.uint64), ns, numbers, ids
-                if path is not None:
-                    path.first = path.first or (ns[:1], numbers[:1])
-                    path.count += n
                 sequence += n
 
     _write_file(stream, layout, library, channels, ((item, []) for item in items()))
@@ -599,15 +666,13 @@ def _write_file(stream: IO, layout, library: str, channels, items):
 
     def built_chunks():
         path = getattr(layout, "path", None)
-        last = None
         for new, built in in_order(build, items):
             if path is not None:
-                path.parts.append(built.path_entries)
-            last = built.end
+                path.add(*built.path_entries)
             yield new, built
-        if path is not None and path.count:
-            item = (path, np.zeros(1, np.uint64), np.array([last]), None, np.array([3]))
-            yield [], _build_chunk(item)
+        last = path.finish() if path is not None else None
+        if last is not None:
+            yield [], last
 
     chunk_indexes = []
     counts: dict[int, int] = {}
@@ -617,7 +682,9 @@ def _write_file(stream: IO, layout, library: str, channels, items):
             out.write(record)
         channel_records += new
         chunk_start = out.position
-        out.write(built.record)
+        out.write(built.head)
+        for piece in built.data:
+            out.write(piece)
         index_offsets = {}
         for channel, record in built.message_indexes:
             index_offsets[channel] = out.position
@@ -627,9 +694,9 @@ def _write_file(stream: IO, layout, library: str, channels, items):
                 message_start_time=built.start,
                 message_end_time=built.end,
                 chunk_start_offset=chunk_start,
-                chunk_length=len(built.record),
+                chunk_length=built.length,
                 message_index_offsets=index_offsets,
-                message_index_length=out.position - chunk_start - len(built.record),
+                message_index_length=out.position - chunk_start - built.length,
                 compression="zstd",
                 compressed_size=built.compressed_size,
                 uncompressed_size=built.uncompressed_size,

@@ -271,19 +271,22 @@ class _Messages:
         self.buffer = np.frombuffer(b"".join(datas), np.uint8)
         self.start = np.cumsum(lengths) - lengths
         self.end = self.start + lengths
+        self.origin = self.start + 4
         self.where = where
+        uniform = len(datas) and (lengths == lengths[0]).all()
+        self.grid = self.buffer.reshape(len(datas), -1) if uniform else None
         short = lengths < 4
-        head = self.buffer[self.start[~short, None] + np.arange(2)] if (~short).any() else None
         bad = short.copy()
-        if head is not None:
-            bad[~short] = (head[:, 0] != 0) | (head[:, 1] != 1)
+        if not short.all():
+            rows = np.flatnonzero(~short)
+            head = self._bytes(rows, np.full(len(rows), -4), 2)  # before the CDR origin
+            bad[rows] = (head[:, 0] != 0) | (head[:, 1] != 1)
         if bad.any():
             k = int(np.argmax(bad))
             raise InputFileError(
                 f"{where} message {k + 1}: not little-endian plain CDR (encapsulation "
                 f"{bytes(datas[k][:4]).hex(' ') or 'missing'}; a2b reads 00 01)"
             )
-        self.origin = self.start + 4
 
     def read(self, rows: np.ndarray, at: np.ndarray, dtype: str, count: int = 1) -> np.ndarray:
         """``count`` values of ``dtype`` at CDR offset ``at`` (aligned here) of messages ``rows``;
@@ -294,9 +297,23 @@ class _Messages:
         if (stop > self.end[rows]).any():
             k = int(rows[np.argmax(stop > self.end[rows])])
             raise InputFileError(f"{self.where} message {k + 1}: the message ends too soon")
-        index = (self.origin[rows] + at)[:, None] + np.arange(size * count)
-        values = self.buffer[index].view(dtype).reshape(len(rows), count)
+        values = self._bytes(rows, at, size * count).view(dtype).reshape(len(rows), count)
         return (values[:, 0] if count == 1 else values), at + size * count
+
+    def _bytes(self, rows: np.ndarray, at: np.ndarray, size: int) -> np.ndarray:
+        """``size`` bytes at CDR offset ``at`` of messages ``rows``, one row each: a slice of
+        the messages side by side when they are all as long and ``at`` is the same in all
+        (the usual case, 20x faster), else gathered byte by byte."""
+        first = self.origin[rows] + at
+        if self.grid is not None and len(rows) and (at == at[0]).all():
+            column = int(first[0] - self.start[rows[0]])
+            whole = len(rows) == len(self.grid)  # every message, in order
+            return (
+                self.grid[:, column : column + size]
+                if whole
+                else self.grid[rows, column : column + size]
+            )
+        return self.buffer[first[:, None] + np.arange(size)]
 
     def string(self, rows: np.ndarray, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The strings at ``at`` as fixed-width bytes (NUL dropped), and the offset after them."""
@@ -307,10 +324,13 @@ class _Messages:
             k = int(rows[np.argmax(bad)])
             raise InputFileError(f"{self.where} message {k + 1}: a string overruns the message")
         width = max(int(length.max(initial=1)) - 1, 1)
-        index = (self.origin[rows] + at)[:, None] + np.arange(width)
-        chars = self.buffer[np.minimum(index, len(self.buffer) - 1)]
-        chars = np.where(np.arange(width) < (length - 1)[:, None], chars, 0)
-        return chars.copy().view(f"S{width}").reshape(-1), at + length
+        if len(rows) and (length == length[0]).all() and length[0] > 1:  # one length: a slice
+            chars = np.ascontiguousarray(self._bytes(rows, at, width))
+        else:
+            index = (self.origin[rows] + at)[:, None] + np.arange(width)
+            chars = self.buffer[np.minimum(index, len(self.buffer) - 1)]
+            chars = np.where(np.arange(width) < (length - 1)[:, None], chars, 0)
+        return chars.view(f"S{width}").reshape(-1), at + length
 
     def header(self, rows: np.ndarray, at: np.ndarray):
         """``(sec, nanosec, frame_id, offset after)`` of a ``std_msgs/Header`` at ``at``."""
@@ -367,9 +387,12 @@ def _transforms(messages: _Messages, rows, where: str, child_frame: str | None):
     if not found:
         return np.empty(0, np.int32), np.empty(0, np.uint32), np.empty((0, 7))
     message, place, sec, nanosec, child, numbers = (
-        np.concatenate([part[i] for part in found]) for i in range(6)
+        found[0][i] if len(found) == 1 else np.concatenate([part[i] for part in found])
+        for i in range(6)
     )
-    children = sorted(name.decode(errors="replace") for name in np.unique(child))
+    one = len(child) and (child == child[0]).all()  # the usual case: no sort needed
+    names = child[:1] if one else np.unique(child)
+    children = sorted(name.decode(errors="replace") for name in names)
     if child_frame is None:
         if len(children) != 1:
             raise InputFileError(
@@ -383,6 +406,8 @@ def _transforms(messages: _Messages, rows, where: str, child_frame: str | None):
             f"{where}: no transform to the child frame {child_frame!r}; the frames are "
             f"{', '.join(children) or 'none'}"
         )
+    if len(found) == 1:  # one transform per message: already in order
+        return (sec, nanosec, numbers) if one else (sec[mine], nanosec[mine], numbers[mine])
     order = np.lexsort((place[mine], message[mine]))
     return sec[mine][order], nanosec[mine][order], numbers[mine][order]
 

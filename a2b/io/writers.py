@@ -479,9 +479,11 @@ def write_mcap(
     pose_topic: str = "/a2b/pose",
     tf_topic: str = "/tf",
     profile: str = "foxglove",
+    count: int | None = None,
 ) -> None:
     """Write an MCAP file that Foxglove opens without plugins, or (``profile="ros2"``) that
-    ``ros2 bag``, rosbags and evo read.
+    ``ros2 bag``, rosbags and evo read. ``count``, the number of samples if known in advance,
+    lets the ros2 Path be compressed as the samples come.
 
     Each sample becomes a pose in ``frame_id`` on ``pose_topic`` and a transform ``frame_id``
     → ``child_frame_id`` on ``tf_topic``:
@@ -489,7 +491,8 @@ def write_mcap(
     * ``foxglove``: ``foxglove.PoseInFrame`` and ``foxglove.FrameTransform``, JSON-encoded with
       the JSON schemas shipped in ``a2b/schemas``;
     * ``ros2``: ``geometry_msgs/msg/PoseStamped`` and ``tf2_msgs/msg/TFMessage`` in CDR, and at
-      the end one ``nav_msgs/msg/Path`` of every pose on ``/a2b/path``; the frame ids must be
+      the end one ``nav_msgs/msg/Path`` of every pose on ``/a2b/path`` at the first pose's
+      time; the frame ids must be
       ROS 2 frame ids (:func:`a2b.io.ros2.check_frame_id`).
 
     Log and publish times (and stamps) are ``t · duration + start_time`` in nanoseconds. The
@@ -521,6 +524,7 @@ def write_mcap(
         pose_topic=pose_topic,
         tf_topic=tf_topic,
         library=f"a2b {__version__}",
+        count=count,
     )
 
 
@@ -536,15 +540,15 @@ def write_samples(stream: IO, fmt: str, chunks: Iterable[Chunk], **options) -> N
     """Write ``chunks`` in format ``fmt`` (one of :data:`FORMATS`).
 
     ``options``: ``duration`` and ``start_time`` for ``tum``, ``mcap`` and ``ros2``;
-    ``frame_id`` and ``child_frame_id`` for ``mcap`` and ``ros2``. Options a format does not
-    use are ignored.
+    ``frame_id``, ``child_frame_id`` and ``count`` (of samples, if known) for ``mcap`` and
+    ``ros2``. Options a format does not use are ignored.
     """
     if fmt in _TABLE_WRITERS:
         _TABLE_WRITERS[fmt](stream, chunks)
     elif fmt == "tum":
         write_tum(stream, chunks, options.get("duration", 1.0), options.get("start_time", 0.0))
     elif fmt in ("mcap", "ros2"):
-        keys = ("duration", "start_time", "frame_id", "child_frame_id")
+        keys = ("duration", "start_time", "frame_id", "child_frame_id", "count")
         profile = "ros2" if fmt == "ros2" else "foxglove"
         write_mcap(stream, chunks, profile=profile, **{k: options[k] for k in keys if k in options})
     else:
