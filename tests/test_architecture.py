@@ -22,7 +22,7 @@ LAYERS = [
     ("api", ["a2b.api"]),
     ("jobs", ["a2b.jobs", "a2b.resample"]),
     ("io", ["a2b.io"]),
-    ("plot", ["a2b.plot"]),
+    ("plot", ["a2b.plot", "a2b.view"]),
     ("cli", ["a2b.cli", "a2b.__main__"]),
 ]  # fmt: skip
 RANK = {prefix: rank for rank, (_, prefixes) in enumerate(LAYERS) for prefix in prefixes}

@@ -41,6 +41,10 @@ COMMANDS = {
         "a2b.cli.plot",
         "Draw a motion or curve: moving frame, trajectories, transmission curve.",
     ),
+    "view": (
+        "a2b.cli.view",
+        "Write an interactive 3D page of a motion, curve or trajectory (one HTML file).",
+    ),
     "bezier": ("a2b.cli.bezier", "Sample the Bézier motion of control poses (μ_[m] or κ)."),
     "spline": ("a2b.cli.spline", "Sample a C¹ spline through many key poses."),
     "resample": (

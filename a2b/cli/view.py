@@ -1,0 +1,164 @@
+"""``a2b view``: an interactive 3D page of a motion, a curve or a trajectory."""
+
+from __future__ import annotations
+
+import click
+
+from . import CONTEXT_SETTINGS, options
+from .plot import ModeList, PointList
+
+
+@click.command(context_settings=CONTEXT_SETTINGS)
+@click.argument("poses", type=options.INPUT)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(allow_dash=True, dir_okay=False),
+    help="The page to write (HTML), to a temporary file renamed into place; '-' writes it to "
+    "standard output, which must not be a terminal  [default with --open: a new file in the "
+    "temporary directory]",
+)
+@click.option("--open", "open_", is_flag=True, help="Open the page in the default browser.")
+@options.motion_options
+@options.space_option
+@click.option(
+    "--compare",
+    type=ModeList(),
+    help="One body per mode, each with its own colour and legend entry, e.g. "
+    "darboux,cubic,screw (instead of --mode).",
+)
+@click.option(
+    "--points",
+    type=PointList(),
+    help="Body points whose trajectories are drawn, in the moving frame  [default: the tips of "
+    "its unit axes]",
+)
+@click.option(
+    "--angle-unit",
+    type=click.Choice(["deg", "rad"]),
+    default="deg",
+    show_default=True,
+    help="Unit of ω in the transmission curve.",
+)
+@click.option("--length-unit", metavar="NAME", help="Name of the length unit, e.g. m.")
+@click.option(
+    "--samples",
+    type=options.Count(min=2, max=100_000),
+    help="Samples per motion (at most 201 are animation frames)  [default: the file's "
+    "samples, else 101]",
+)
+@options.trajectory_input_options(rate=True)
+@options.verbose_option
+def command(poses, output, open_, mode, space, compare, points, angle_unit, length_unit,
+            samples, input_format, topic, input_child_frame, input_rate, orthonormalize,
+            verbose, **parameters):  # fmt: skip
+    """Write one self-contained HTML page that shows the motion between the poses in POSES
+    (a file, or - for stdin) in 3D: the moving frame animated along t (play, pause, a
+    slider), the trajectories of its axis tips, the screw axis, A and B, the transmission
+    curve with a marker that follows t, and the parameters of each motion in a side panel.
+
+    POSES is a poses file, a `controls:` or `poses:` list (a Bézier motion or spline, as for
+    a2b bezier and a2b spline, with --space), or a trajectory file (as a2b resample reads:
+    its poses are shown in order, t running over them). The page inlines plotly.js and
+    loads nothing from the network, so it works offline and can be mailed. Needs plotly:
+    pip install 'a2b-motions[view]'.
+
+    \b
+    Example:
+      a2b view samples/quarter-turn.yaml -o turn.html
+      a2b view samples/quarter-turn.yaml --compare darboux,cubic,screw -o compare.html
+      a2b view samples/spline.yaml --space study -o spline.html
+      a2b view samples/reference.tum -o reference.html
+    """
+    import io
+    import os
+    import sys
+    import tempfile
+
+    from ..api import PARAMETERS
+    from ..errors import InputFileError, ParameterError
+    from ..io.atomic import atomic_output
+    from ..io.jobscan import stream_name
+    from ..io.readers import PoseList, read_motion_file
+    from ..io.trajectories import read_trajectory, sniff_format
+    from ..view import require_plotly, view_page
+
+    require_plotly()
+    if output is None and not open_:
+        raise click.UsageError("give -o FILE.html (or - for standard output), or --open")
+    if output == "-" and sys.stdout.isatty():
+        raise click.UsageError("the page is 5 MB of HTML: write it with -o FILE, or use --open")
+    if output == "-" and open_:
+        raise click.UsageError("--open opens a file: give -o FILE.html, or leave -o out")
+    if compare and mode:
+        raise click.UsageError("give --mode or --compare, not both")
+    choices: list[str] = []
+    name = stream_name(poses, None)
+    data = poses.read()
+    fmt = input_format
+    if fmt is None:
+        try:
+            fmt = sniff_format(data, name)
+        except InputFileError:
+            fmt = None  # a poses file or a pose list
+    style = {"points": points, "angle_unit": angle_unit, "length_unit": length_unit}
+    if fmt is not None:  # a trajectory: its poses in order
+        given = {"--mode": mode, "--compare": compare, "--space": space, **parameters}
+        named = [k for k, v in given.items() if v not in (None, False, ())]
+        if named:
+            raise click.UsageError(f"{named[0]} is for poses files; this is a trajectory")
+        path = read_trajectory(io.BytesIO(data), name, fmt, rate=input_rate, topic=topic,
+                               child_frame=input_child_frame, orthonormalize=orthonormalize,
+                               minimum=2)  # fmt: skip
+        mats = path.matrices
+        page = view_page(mats[0], mats[-1], [("trajectory", mats)], samples=len(mats),
+                         title=f"{name}: {len(mats)} poses", **style)  # fmt: skip
+    else:
+        if topic or input_child_frame or input_rate:
+            raise click.UsageError("--topic, --input-child-frame and --input-rate are for "
+                                   "trajectory files")  # fmt: skip
+        with options.repairing(orthonormalize, choices):
+            job = read_motion_file(io.BytesIO(data), name)
+        samples = options.pick("samples", samples, job.samples, 101, choices, "--samples")
+        if isinstance(job, PoseList):
+            options.only_for_two_poses(job, mode=mode, compare=compare, **parameters)
+            motion = options.curve_motion(job, space, choices)
+            prefix = "C" if job.key == "controls" else "P"
+            marks = [(f"{prefix}{i}", pose) for i, pose in enumerate(job.poses)][1:-1]
+            page = view_page(job.poses[0], job.poses[-1], motion, samples=samples, marks=marks,
+                             **style)  # fmt: skip
+            choices += list(motion.choices)
+        else:
+            if space:
+                raise click.UsageError("--space is for a list of controls or poses")
+            if compare:
+                given = [k for k, v in parameters.items() if v is not None]
+                unused = sorted(k for k in given if not any(k in PARAMETERS[m] for m in compare))
+                if unused:
+                    raise ParameterError(
+                        f"{', '.join('--' + k.replace('_', '-') for k in unused)} applies to "
+                        f"none of the compared modes {', '.join(compare)}"
+                    )
+            parameters = options.merge_parameters(job.parameters, parameters, mode)
+            if compare:
+                motions = [
+                    (m, {k: v for k, v in parameters.items() if k in PARAMETERS[m]})
+                    for m in compare
+                ]
+            else:
+                picked = options.pick("mode", mode, job.mode, "darboux", choices, "--mode")
+                motions = [(picked, parameters)]
+            page = view_page(job.start, job.end, motions, samples=samples, **style)
+    if output is None:
+        handle, output = tempfile.mkstemp(prefix="a2b-view-", suffix=".html")
+        os.close(handle)
+        choices.append(f"output {output}: a new file, as -o was not given")
+    options.state_choices(choices, verbose)
+    with atomic_output(output) as stream:
+        stream.write(page.encode())
+    if open_:
+        import pathlib
+        import webbrowser
+
+        if not webbrowser.open(pathlib.Path(output).resolve().as_uri()):
+            raise click.ClickException(f"no browser could be opened; the page is {output}")
