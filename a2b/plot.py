@@ -51,6 +51,10 @@ _OTHER_COLOURS = ("#1b9e77", "#a6761d", "#e7298a", "#386cb0", "#666600")
 AXIS_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")
 A_COLOUR, B_COLOUR = "#b2182b", "#2166ac"
 
+#: Font sizes (points) of tick labels, axis labels, panel titles, legends and the figure's title:
+#: readable at the default sizes, 15 × 5.2 and (compare) 15 × 9.6 inches, at 100 dpi.
+TICK_SIZE, LABEL_SIZE, TITLE_SIZE, LEGEND_SIZE, SUPTITLE_SIZE = 9, 11, 13, 10, 15
+
 #: Relative tolerance for a sampled motion to count as a motion in the cylinder group of A and B.
 CYLINDER_TOL = 1e-8
 
@@ -496,10 +500,10 @@ def _set_equal_3d(ax, points: np.ndarray, length_label: str) -> tuple[np.ndarray
     from matplotlib.ticker import MaxNLocator
 
     for axis, name in ((ax.xaxis, "x"), (ax.yaxis, "y"), (ax.zaxis, "z")):
-        axis.set_major_locator(MaxNLocator(5))
-        axis.set_label_text(f"{name}{length_label}", fontsize=9)
-        axis.labelpad = 0
-    ax.tick_params(labelsize=7, pad=0)
+        axis.set_major_locator(MaxNLocator(4))
+        axis.set_label_text(f"{name}{length_label}", fontsize=LABEL_SIZE)
+        axis.labelpad = 9
+    ax.tick_params(labelsize=TICK_SIZE, pad=1)
     return centre - half, centre + half
 
 
@@ -611,7 +615,7 @@ def plot_motions(
         Unit of ω on the transmission panel's axis and of the angles in the title.
     length_unit : str, optional
         Name of the poses' length unit for the axis labels, e.g. ``"m"``. Default: the labels
-        say "pose length unit".
+        name only the coordinate (x, y, z) and the poses' own unit is meant.
     samples : int
         Number of equally spaced parameters ``ts = linspace(0, 1, samples)`` at which each
         motion is sampled for the trajectories and the transmission samples (at least 2).
@@ -690,22 +694,41 @@ def plot_motions(
     single = len(tracks) == 1
     in_group = [in_cylinder_group(frame, t.mats) for t in tracks]
     has_transmission = any(in_group)
-    length_label = f" [{length_unit}]" if length_unit else " (pose length unit)"
+    length_label = f" [{length_unit}]" if length_unit else ""
 
-    n_panels = 3 if has_transmission else 2
+    # One motion: three panels in a row. Several: a small frame panel per motion above the
+    # trajectories and the transmission curve (their frames in one panel would be a tangle).
     if figsize is None:
-        figsize = (15.0, 5.2) if has_transmission else (10.5, 5.2)
+        if single:
+            figsize = (15.0, 5.2) if has_transmission else (10.5, 5.2)
+        else:
+            figsize = (max(15.0, 5.0 * len(tracks)), 9.6)
     fig = Figure(figsize=figsize, layout="constrained")
+    # 3D panels draw their z label outside the box the layout knows: room between panels
+    width, height = figsize
+    fig.get_layout_engine().set(w_pad=min(0.12, 0.008 * width), h_pad=min(0.25, 0.05 * height),
+                                wspace=0.06, hspace=0.06)  # fmt: skip
     FigureCanvasAgg(fig)
-    ax_frames = fig.add_subplot(1, n_panels, 1, projection="3d")
-    ax_traj = fig.add_subplot(1, n_panels, 2, projection="3d")
-    ax_trans = fig.add_subplot(1, n_panels, 3) if has_transmission else None
+    if single:
+        grid = fig.add_gridspec(1, 3 if has_transmission else 2)
+        frame_axes = [fig.add_subplot(grid[0, 0], projection="3d")]
+        ax_traj = fig.add_subplot(grid[0, 1], projection="3d")
+        ax_trans = fig.add_subplot(grid[0, 2]) if has_transmission else None
+    else:
+        n = len(tracks)
+        grid = fig.add_gridspec(2, 2 * n)
+        frame_axes = [fig.add_subplot(grid[0, 2 * k : 2 * k + 2], projection="3d")
+                      for k in range(n)]  # fmt: skip
+        ax_traj = fig.add_subplot(grid[1, : n if has_transmission else 2 * n], projection="3d")
+        ax_trans = fig.add_subplot(grid[1, n:]) if has_transmission else None
+    ax_frames = frame_axes[0]
 
     # Panel 1: the moving frame at the instants, and panel 2: trajectories of body points.
     frame_pts, traj_pts = [], []
     styles = ("-", "--", ":", "-.")
-    for track in tracks:
-        frame_pts += _draw_frames(ax_frames, track, (a, b), float(axis_length), single)
+    for k, track in enumerate(tracks):
+        frame_pts += _draw_frames(frame_axes[k % len(frame_axes)], track, (a, b),
+                                  float(axis_length), True)  # fmt: skip
         with np.errstate(over="ignore", invalid="ignore"):
             world = np.einsum("nij,kj->kni", track.mats[:, :3, :3], body)
             world += track.mats[None, :, :3, 3]
@@ -727,9 +750,10 @@ def plot_motions(
             line.set_gid(f"trajectory:{track.label}:{k}")
             traj_pts.append(path)
     for pose, name in ((a, "A"), (b, "B")):
-        frame_pts.append(
-            _draw_frame(ax_frames, pose, axis_length, AXIS_COLOURS, f"frame:{name}", linewidth=2.4)
-        )
+        for ax in frame_axes:
+            frame_pts.append(
+                _draw_frame(ax, pose, axis_length, AXIS_COLOURS, f"frame:{name}", linewidth=2.4)
+            )
         traj_pts.append(
             _draw_frame(
                 ax_traj,
@@ -741,7 +765,10 @@ def plot_motions(
                 alpha=0.6,
             )
         )
-    for pose_label, pose in marked:
+    for j, (pose_label, pose) in enumerate(marked):
+        # neighbouring marks label to alternate sides, so that close poses' labels do not meet
+        side = {"ha": "left", "va": "top"} if j % 2 else {"ha": "right", "va": "bottom"}
+        text = f"  {pose_label}" if j % 2 else f"{pose_label}  "
         for ax, pts, gid in ((ax_frames, frame_pts, "mark"), (ax_traj, traj_pts, "end-mark")):
             pts.append(
                 _draw_frame(
@@ -755,45 +782,35 @@ def plot_motions(
                 )
             )
             ax.scatter(*pose[:3, 3, None], color="0.25", s=14, depthshade=False, zorder=5)
-            ax.text(
-                *pose[:3, 3],
-                f"  {pose_label}",
-                color="0.25",
-                fontsize=10,
-                ha="left",
-                va="top",
-                zorder=6,
-            )
+            ax.text(*pose[:3, 3], text, color="0.25", fontsize=LABEL_SIZE, zorder=6, **side)
     # The screw axis of B A⁻¹ belongs to the modes and to motions about it, not to a curve
     # through other poses.
     show_axis = has_transmission or any(t.mode for t in tracks)
-    for ax, pts in ((ax_frames, frame_pts), (ax_traj, traj_pts)):
+    for ax, pts in [(ax, frame_pts) for ax in frame_axes] + [(ax_traj, traj_pts)]:
         lo, hi = _set_equal_3d(ax, np.concatenate(pts), length_label)
         axis_seg = _screw_axis_segment(frame, lo, hi) if show_axis else None
         if axis_seg is not None:
             (line,) = ax.plot(*axis_seg.T, color="0.45", linestyle=(0, (6, 3)), linewidth=1.0)
             line.set_gid("screw-axis")
-        for pose, name, colour in ((a, "A", A_COLOUR), (b, "B", B_COLOUR)):
+        # A's label left of its point, B's right: apart even where the two poses' origins meet
+        for pose, text, colour, ha in ((a, "A  ", A_COLOUR, "right"), (b, "  B", B_COLOUR, "left")):
             ax.scatter(*pose[:3, 3, None], color=colour, s=28, depthshade=False, zorder=5)
-            ax.text(
-                *pose[:3, 3],
-                f"  {name}",
-                color=colour,
-                fontsize=13,
-                fontweight="bold",
-                ha="left",
-                va="top",
-                zorder=6,
-            )
+            ax.text(*pose[:3, 3], text, color=colour, fontsize=13, fontweight="bold", ha=ha,
+                    va="top", zorder=6)  # fmt: skip
         ax.view_init(elev=22, azim=-58)
-    ax_frames.set_title(f"Moving frame at {int(instants)} instants", fontsize=11)
-    ax_traj.set_title("Trajectories of body points", fontsize=11)
+    if single:
+        ax_frames.set_title(f"Moving frame at {int(instants)} instants", fontsize=TITLE_SIZE)
+    else:
+        for ax, track in zip(frame_axes, tracks):
+            ax.set_title(f"{track.label}: moving frame at {int(instants)} instants",
+                         fontsize=TITLE_SIZE, color=track.colour)  # fmt: skip
+    ax_traj.set_title("Trajectories of body points", fontsize=TITLE_SIZE)
     legend_axis = [
         Line2D([], [], color=AXIS_COLOURS[j], label=f"{n} axis") for j, n in enumerate("xyz")
     ]
     if show_axis:
         legend_axis.append(Line2D([], [], color="0.45", linestyle=(0, (6, 3)), label="screw axis"))
-    ax_frames.legend(handles=legend_axis, loc="upper left", fontsize=8, frameon=False)
+    ax_frames.legend(handles=legend_axis, loc="upper left", fontsize=LEGEND_SIZE, frameon=False)
     if single:
         handles = [
             Line2D([], [], color=line.get_color(), label=name)
@@ -813,10 +830,10 @@ def plot_motions(
     ax_traj.legend(
         handles=handles,
         loc="upper left",
-        fontsize=8,
+        fontsize=LEGEND_SIZE,
         frameon=False,
         title=points_title,
-        title_fontsize=8,
+        title_fontsize=LEGEND_SIZE,
     )
 
     # Panel 3: the transmission curve in canonical coordinates.
@@ -841,15 +858,12 @@ def plot_motions(
             )
         else:
             title = f"{', '.join(t.label for t in tracks)} from A to B   ({angles})"
-    fig.suptitle(title, fontsize=13)
-    if not has_transmission and show_axis:
-        fig.text(
-            0.5,
-            0.01,
+    fig.suptitle(title, fontsize=SUPTITLE_SIZE)
+    if not has_transmission and show_axis:  # under the panels, in the room the layout keeps
+        fig.supxlabel(
             "no transmission curve: the motion is not in the cylinder group of A and B "
             "(rotations about and translations along their screw axis)",
-            ha="center",
-            fontsize=9,
+            fontsize=LEGEND_SIZE,
             color="0.3",
         )
     if not single:
@@ -871,10 +885,26 @@ def plot_motions(
             handles=handles,
             loc="outside lower center",
             ncol=min(len(handles), 3),
-            fontsize=10,
+            fontsize=LABEL_SIZE,
             frameon=False,
         )
+    _keep_inside(fig)
     return fig
+
+
+def _keep_inside(fig) -> None:
+    """Constrained layout places a 3D panel before its projection places the axis labels, so
+    a label can end up off the canvas: pad the layout by the overhang and draw again."""
+    engine = fig.get_layout_engine()
+    for _ in range(2):
+        fig.canvas.draw()
+        tight = fig.get_tightbbox(fig.canvas.get_renderer())  # inches
+        over_x = max(0.0, -tight.x0, tight.x1 - fig.get_figwidth())
+        over_y = max(0.0, -tight.y0, tight.y1 - fig.get_figheight())
+        if over_x == 0 and over_y == 0:
+            return
+        pads = engine.get()
+        engine.set(w_pad=pads["w_pad"] + over_x + 0.02, h_pad=pads["h_pad"] + over_y + 0.02)
 
 
 def _curve_title(track: _Track) -> str | None:
@@ -1011,17 +1041,17 @@ def _draw_transmission(ax, frame, tracks, in_group, family, angle_unit, length_l
             fontweight="bold",
         )
     unit = "°" if angle_unit == "deg" else "rad"
-    ax.set_xlabel(f"ω, rotation about the screw axis [{unit}]")
-    ax.set_ylabel(f"z, translation along the screw axis{length_label}")
-    ax.set_title("Transmission curve (canonical coordinates)", fontsize=11)
+    xlabel = f"ω, rotation about the screw axis [{unit}]"
+    if notes:  # under the axis label, where the layout keeps room for it
+        xlabel += "\n" + "\n".join(notes)
+    ax.set_xlabel(xlabel, fontsize=LABEL_SIZE)
+    ax.set_ylabel(f"z, translation along the screw axis{length_label}", fontsize=LABEL_SIZE)
+    ax.tick_params(labelsize=TICK_SIZE)
+    ax.set_title("Transmission curve (canonical coordinates)", fontsize=TITLE_SIZE)
     ax.grid(True, linewidth=0.4, alpha=0.5)
     ax.axhline(0.0, color="0.6", linewidth=0.6)
     ax.axvline(0.0, color="0.6", linewidth=0.6)
-    ax.legend(handles=handles, fontsize=8, loc="best", frameon=True, framealpha=0.85)
-    if notes:
-        ax.text(
-            0.01, -0.16, "\n".join(notes), transform=ax.transAxes, fontsize=8, color="0.3", va="top"
-        )
+    ax.legend(handles=handles, fontsize=LEGEND_SIZE - 1, loc="best", frameon=True, framealpha=0.85)
 
 
 __all__ = [

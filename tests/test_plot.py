@@ -17,6 +17,7 @@ import pytest
 import a2b
 from a2b.errors import A2bError, ParameterError
 from a2b.plot import (
+    AXIS_COLOURS,
     MissingDependencyError,
     closed_form_z,
     family_members,
@@ -32,7 +33,7 @@ from .conftest import pose_about_axis, random_pose
 pytest.importorskip("matplotlib")
 
 SAMPLES = 9
-SMALL = {"samples": SAMPLES, "instants": 4, "figsize": (6.0, 2.4)}
+SMALL = {"samples": SAMPLES, "instants": 4, "figsize": (12.0, 4.2)}
 MAGIC = {"png": b"\x89PNG\r\n\x1a\n", "pdf": b"%PDF-"}
 MODES = ("darboux", "cubic", "screw")
 
@@ -96,9 +97,10 @@ def test_every_mode_renders(poses, tmp_path, mode, fmt):
 
 @pytest.mark.parametrize("fmt", ["png", "svg", "pdf"])
 def test_compare_and_family_render(poses, tmp_path, fmt):
-    render(plot_motions(*poses, list(MODES), **SMALL), tmp_path / f"compare.{fmt}", fmt)
+    small = dict(SMALL, figsize=(12.0, 8.0))  # a panel per motion: room for five panels
+    render(plot_motions(*poses, list(MODES), **small), tmp_path / f"compare.{fmt}", fmt)
     render(
-        plot_motions(*poses, ["darboux", "cubic"], family=True, **SMALL),
+        plot_motions(*poses, ["darboux", "cubic"], family=True, **small),
         tmp_path / f"family.{fmt}",
         fmt,
     )
@@ -375,9 +377,9 @@ def test_samples_outside_the_cylinder_group_have_no_transmission_panel(poses):
     assert sum(g.startswith("frame:measured:") for g in lines_by_gid(fig)) == 2 * 3
     # With a motion that is in the group the panel is back, and the other one is named.
     fig = plot_motions(start, end, [("cubic", {"frame": "given"}), "darboux"], **SMALL)
-    assert len(fig.axes) == 3
+    assert len(fig.axes) == 4  # a frame panel each, the trajectories, the transmission curve
     assert "transmission-samples:cubic" not in lines_by_gid(fig)
-    assert any("cubic: not in the cylinder group" in t.get_text() for t in fig.axes[2].texts)
+    assert "cubic: not in the cylinder group" in fig.axes[-1].get_xlabel()
 
 
 def test_bezier_motion(rng):
@@ -402,15 +404,15 @@ def test_sampler_must_return_matrices(poses):
 def test_pure_translation_and_identical_poses():
     shift = np.eye(4)
     shift[:3, 3] = [1.0, 2.0, 0.5]
-    fig = plot_motions(np.eye(4), shift, list(MODES), family=True, **SMALL)
+    fig = plot_motions(np.eye(4), shift, list(MODES), family=True, **dict(SMALL, figsize=(12, 8)))
     x, y = line(fig, "transmission-samples:darboux").get_data()
     np.testing.assert_allclose(x, 0.0, atol=1e-12)
     np.testing.assert_allclose(y, np.linspace(0, math.sqrt(5.25), SAMPLES), atol=1e-12)
     assert not any(
         g.startswith(("family:", "transmission-closed-form:")) for g in lines_by_gid(fig)
     )
-    fig = plot_motions(np.eye(4), np.eye(4), list(MODES), **SMALL)
-    assert len(fig.axes) == 3
+    fig = plot_motions(np.eye(4), np.eye(4), list(MODES), **dict(SMALL, figsize=(12.0, 8.0)))
+    assert len(fig.axes) == 5  # a frame panel per motion, trajectories, transmission
 
 
 def test_large_scene_scales_the_axes(poses):
@@ -477,7 +479,7 @@ def calls(monkeypatch):
 
     def spy(*args, **kwargs):
         recorded.append((args, kwargs))
-        return original(*args, **{**kwargs, "figsize": (6.0, 2.4), "instants": 4})
+        return original(*args, **{**kwargs, "figsize": (12.0, 8.0), "instants": 4})
 
     monkeypatch.setattr(a2b.plot, "plot_motions", spy)
     return recorded
@@ -629,3 +631,126 @@ def test_command_help_does_not_load_matplotlib():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert "Example:" in out.stdout and out.stdout.strip().endswith("False")
+
+
+# -- a figure reads at a glance ----------------------------------------------------------------
+
+
+def drawn_texts(fig) -> list:
+    """``(text, window extent)`` of every text the figure draws, recorded as it draws."""
+    from matplotlib.text import Text
+
+    drawn, original = [], Text.draw
+
+    def draw(self, renderer):
+        original(self, renderer)
+        if self.get_visible() and self.get_text().strip():
+            drawn.append((self.get_text(), self.get_window_extent(renderer)))
+
+    Text.draw = draw
+    try:
+        fig.canvas.draw()
+    finally:
+        Text.draw = original
+    return drawn
+
+
+def _figures_a2b_plot_makes():
+    """Every kind of figure `a2b plot` draws, at the size it draws it: each mode, --compare,
+    --family (both kinds), the given frame (no transmission panel), units, custom points,
+    a Bézier motion and a spline with their marked poses, on the samples and generic poses."""
+    from a2b.cli.options import curve_motion
+    from a2b.io.readers import read_motion_file
+
+    root = Path(__file__).resolve().parent.parent / "samples"
+    with open(root / "quarter-turn.yaml", "rb") as f:
+        quarter = read_motion_file(f)
+    with open(root / "half-turn.yaml", "rb") as f:
+        half = read_motion_file(f)
+    rng = np.random.default_rng(17)
+    generic = []
+    for _ in range(2):
+        start = random_pose(rng)
+        generic.append((start, pose_about_axis(1.75, rng.normal(size=3), rng.normal(size=3), 0.8)
+                        @ start))  # fmt: skip
+    for name, (start, end) in [("quarter", (quarter.start, quarter.end)),
+                               ("half", (half.start, half.end)),
+                               ("generic 1", generic[0]), ("generic 2", generic[1])]:  # fmt: skip
+        for mode in MODES:
+            yield f"{name} {mode}", lambda s=start, e=end, m=mode: plot_motions(s, e, m)
+        yield f"{name} compare", lambda s=start, e=end: plot_motions(s, e, list(MODES))
+        yield (
+            f"{name} family",
+            lambda s=start, e=end: plot_motions(
+                s, e, ["darboux", "cubic"], family=True, angle_unit="rad", length_unit="mm"
+            ),
+        )
+        yield (
+            f"{name} family of m",
+            lambda s=start, e=end: plot_motions(
+                s, e, "cubic", family="m", points=[(0.5, 0.5, 0.0), (0.0, 0.0, 2.0)]
+            ),
+        )
+        yield (
+            f"{name} given frame",
+            lambda s=start, e=end: plot_motions(s, e, ("cubic", {"frame": "given"})),
+        )
+    for file in ("planar-bezier.yaml", "spline.yaml"):
+        with open(root / file, "rb") as f:
+            curve = read_motion_file(f)
+        prefix = "C" if curve.key == "controls" else "P"
+        marks = [(f"{prefix}{i}", pose) for i, pose in enumerate(curve.poses)][1:-1]
+        for space in ("matrix", "study"):
+            motion = curve_motion(curve, space, [])
+            yield (
+                f"{file} {space}",
+                lambda c=curve, m=motion, k=marks: plot_motions(
+                    c.poses[0], c.poses[-1], m, marks=k
+                ),
+            )
+
+
+@pytest.mark.parametrize("name, make", list(_figures_a2b_plot_makes()), ids=lambda v: v
+                         if isinstance(v, str) else "")  # fmt: skip
+def test_no_text_overlaps_another_or_leaves_the_canvas(name, make):
+    fig = make()
+    texts = drawn_texts(fig)
+    width, height = fig.bbox.width, fig.bbox.height
+    outside = [t for t, box in texts
+               if box.x0 < 0 or box.y0 < 0 or box.x1 > width or box.y1 > height]  # fmt: skip
+    assert outside == []
+    overlaps = [
+        (a, b)
+        for i, (a, box_a) in enumerate(texts)
+        for b, box_b in texts[i + 1 :]
+        if min(box_a.x1, box_b.x1) - max(box_a.x0, box_b.x0) > 1
+        and min(box_a.y1, box_b.y1) - max(box_a.y0, box_b.y0) > 1
+    ]
+    assert overlaps == []
+    sizes = {t: fig.dpi for t, _ in texts}  # drawn at the figure's dpi, 100
+    assert sizes and fig.get_size_inches()[0] >= 10
+
+
+def test_compare_draws_each_motion_in_a_panel_of_its_own(poses):
+    fig = plot_motions(*poses, list(MODES), samples=SAMPLES, instants=4)
+    titles = [ax.get_title() for ax in fig.axes]
+    assert titles[:3] == [f"{mode}: moving frame at 4 instants" for mode in MODES]
+    for ax, mode in zip(fig.axes[:3], MODES):
+        gids = {artist.get_gid() for artist in ax.get_children() if artist.get_gid()}
+        assert any(g.startswith(f"frame:{mode}:") for g in gids)  # its own frames only
+        assert not any(g.startswith("frame:") and g.split(":")[1] in set(MODES) - {mode}
+                       for g in gids)  # fmt: skip
+        arrows = [a for a in ax.get_children() if (a.get_gid() or "").endswith(":x")]
+        assert {tuple(np.round(a.get_edgecolor()[0][:3], 3)) for a in arrows} == {
+            tuple(np.round(matplotlib_rgb(AXIS_COLOURS[0]), 3))
+        }  # x axes red, as the legend says
+    assert titles[3:] == [
+        "Trajectories of body points",
+        "Transmission curve (canonical coordinates)",
+    ]
+
+
+def matplotlib_rgb(colour):
+    from matplotlib.colors import to_rgb
+
+    return to_rgb(colour)
