@@ -342,3 +342,12 @@ def test_ros2_streams_into_a_pipe_and_batches_alike(rng):
     for job, rows in (("a", slice(0, 2)), ("b", slice(2, 4))):
         tr = read_trajectory(io.BytesIO(bytes(batch.data)), topic=f"/a2b/{job}/pose")
         assert np.array_equal(tr.translations, trans[rows])
+
+
+def test_a_late_stamp_from_a_times_file_writes_no_byte(tmp_path):
+    times = tmp_path / "times.txt"
+    times.write_text("1700000000.25\n2147483648\n")
+    result = run("resample", SAMPLES / "reference.tum", "--times", times, "--clip",
+                 "--format", "ros2", "-o", "-")  # fmt: skip
+    assert result.exit_code == 1 and result.stdout_bytes == b""
+    assert "ROS 2 stamps hold seconds in an int32" in result.stderr

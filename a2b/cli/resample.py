@@ -116,6 +116,13 @@ def command(trajectory, input_format, topic, input_child_frame, input_rate, orth
         raise click.UsageError(f"--mark adds a column to csv, matrix and study, not to {fmt}")
     new_times = _new_times(rate, reference, times_file, choices)
     options.check_output(fmt, output, 2, 1.0, 0.0)
+    if fmt == "ros2" and new_times.times is not None and len(new_times.times):
+        import numpy as np
+
+        from ..io.ros2 import split_stamps
+
+        # the latest stamp is known: refused before a byte is written, into a pipe too
+        split_stamps(np.rint(np.maximum(new_times.times[-1:], 0) * 1e9).astype(np.int64))
 
     def computed():  # in a process of its own: see a2b.io.parallel.produced_apart
         """The samples, as the trajectory is parsed: each piece of it, with the last pose of
