@@ -894,13 +894,24 @@ def plot_motions(
 
 def _keep_inside(fig) -> None:
     """Constrained layout places a 3D panel before its projection places the axis labels, so
-    a label can end up off the canvas: pad the layout by the overhang and draw again."""
+    a label can end up off the canvas: pad the layout by the overhang and draw again. (The
+    labels are measured one by one: not every matplotlib counts them in a 3D panel's tight
+    box.)"""
+    from matplotlib.transforms import Bbox
+
     engine = fig.get_layout_engine()
     for _ in range(2):
         fig.canvas.draw()
-        tight = fig.get_tightbbox(fig.canvas.get_renderer())  # inches
-        over_x = max(0.0, -tight.x0, tight.x1 - fig.get_figwidth())
-        over_y = max(0.0, -tight.y0, tight.y1 - fig.get_figheight())
+        renderer = fig.canvas.get_renderer()
+        boxes = [fig.get_tightbbox(renderer).transformed(fig.dpi_scale_trans)]
+        for ax in fig.axes:
+            for axis in (ax.xaxis, ax.yaxis, getattr(ax, "zaxis", None)):
+                if axis is not None and axis.label.get_text():
+                    boxes.append(axis.label.get_window_extent(renderer))
+        tight = Bbox.union(boxes)  # pixels
+        width, height = fig.bbox.width, fig.bbox.height
+        over_x = max(0.0, -tight.x0, tight.x1 - width) / fig.dpi
+        over_y = max(0.0, -tight.y0, tight.y1 - height) / fig.dpi
         if over_x == 0 and over_y == 0:
             return
         pads = engine.get()

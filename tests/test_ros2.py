@@ -351,3 +351,79 @@ def test_a_late_stamp_from_a_times_file_writes_no_byte(tmp_path):
                  "--format", "ros2", "-o", "-")  # fmt: skip
     assert result.exit_code == 1 and result.stdout_bytes == b""
     assert "ROS 2 stamps hold seconds in an int32" in result.stderr
+
+
+# -- reading through the indexes ------------------------------------------------------------
+
+
+def _package_messages(path, topic):
+    from mcap.reader import make_reader
+
+    with open(path, "rb") as f:
+        return [m.data for _s, _c, m in make_reader(f).iter_messages(topics=[topic])]
+
+
+def test_the_indexed_reader_gives_what_the_mcap_package_reads(tmp_path, clients, rng):
+    """a2b's JSON and ros2 files, and a bag of rosbags' Writer (frame ids of several lengths,
+    so that messages differ in length), message by message."""
+    from mcap.reader import make_reader
+
+    from a2b.io.mcapreader import channel_messages
+
+    motion = _motion(rng)
+    _write(tmp_path / "r.mcap", motion, 5000)
+    with open(tmp_path / "j.mcap", "wb") as f:
+        write_mcap(f, sample_chunks(motion, np.linspace(0, 1, 5000), "quat_trans", size=777))
+    bag = _clients(clients, "write", tmp_path / "bag")["file"]
+    for path in (tmp_path / "r.mcap", tmp_path / "j.mcap", bag):
+        data = Path(path).read_bytes()
+        summary = make_reader(io.BytesIO(data)).get_summary()
+        for channel in summary.channels.values():
+            ours = channel_messages(data, summary, channel.id)
+            assert ours is not None
+            assert ours.as_bytes() == _package_messages(path, channel.topic), channel.topic
+
+
+def test_a_file_without_indexes_is_read_record_by_record(tmp_path, rng):
+    from mcap.reader import make_reader
+    from mcap.writer import IndexType, Writer
+
+    from a2b.io.mcapreader import channel_messages
+
+    motion = _motion(rng)
+    _write(tmp_path / "r.mcap", motion, 50)
+    with open(tmp_path / "r.mcap", "rb") as f:
+        reader = make_reader(f)
+        summary = reader.get_summary()
+        messages = list(reader.iter_messages())
+    with open(tmp_path / "plain.mcap", "wb") as f:  # the same messages, no indexes at all
+        writer = Writer(f, index_types=IndexType.NONE, use_statistics=False)
+        writer.start(profile="ros2", library="test")
+        ids = {}
+        for schema in summary.schemas.values():
+            ids[schema.id] = writer.register_schema(schema.name, schema.encoding, schema.data)
+        for channel in summary.channels.values():
+            writer.register_channel(channel.topic, channel.message_encoding,
+                                    ids[channel.schema_id], channel.metadata)  # fmt: skip
+        for _schema, channel, message in messages:
+            writer.add_message(channel.id, message.log_time, message.data, message.publish_time)
+        writer.finish()
+    data = (tmp_path / "plain.mcap").read_bytes()
+    plain = make_reader(io.BytesIO(data)).get_summary()
+    assert channel_messages(data, plain, 1) is None  # no chunk index: the package reads it
+    with open(tmp_path / "plain.mcap", "rb") as f:
+        tr = read_trajectory(f)
+    assert np.array_equal(tr.quat_wxyz, motion.quat_trans(np.linspace(0, 1, 50))[0])
+
+
+def test_a_damaged_index_is_one_error(tmp_path, rng):
+    from mcap.reader import make_reader
+
+    _write(tmp_path / "r.mcap", _motion(rng), 50)
+    data = bytearray((tmp_path / "r.mcap").read_bytes())
+    summary = make_reader(io.BytesIO(bytes(data))).get_summary()
+    index = summary.chunk_indexes[0]
+    at = index.message_index_offsets[1] + 15 + 8  # the first message's offset in its chunk
+    data[at : at + 8] = (10**6).to_bytes(8, "little")
+    with pytest.raises(InputFileError, match=r"r\.mcap: not a readable MCAP file \(ValueError: a"):
+        read_trajectory(io.BytesIO(bytes(data)), name="r.mcap", fmt="mcap")

@@ -25,6 +25,7 @@ import struct
 import numpy as np
 
 from ..errors import InputFileError, ParameterError
+from .mcapreader import cut
 
 __all__ = [
     "POSE_TYPES",
@@ -266,9 +267,15 @@ def path_message(frame_id: str, lead: int, count: int) -> tuple[Cdr, Cdr]:
 class _Messages:
     """The CDR messages of one topic, side by side in one buffer, read at arrays of offsets."""
 
-    def __init__(self, datas: list, where: str):
-        lengths = np.fromiter(map(len, datas), np.int64, len(datas))
-        self.buffer = np.frombuffer(b"".join(datas), np.uint8)
+    def __init__(self, datas, where: str):
+        rows = getattr(datas, "rows", None)  # a2b.io.mcapreader.Messages of one width
+        if rows is not None:
+            lengths = np.full(len(rows), rows.shape[1], np.int64)
+            self.buffer = np.ascontiguousarray(rows).reshape(-1)
+        else:
+            datas = getattr(datas, "datas", datas)
+            lengths = np.fromiter(map(len, datas), np.int64, len(datas))
+            self.buffer = np.frombuffer(b"".join(datas), np.uint8)
         self.start = np.cumsum(lengths) - lengths
         self.end = self.start + lengths
         self.origin = self.start + 4
@@ -283,9 +290,10 @@ class _Messages:
             bad[rows] = (head[:, 0] != 0) | (head[:, 1] != 1)
         if bad.any():
             k = int(np.argmax(bad))
+            first = self.buffer[self.start[k] : min(self.start[k] + 4, self.end[k])]
             raise InputFileError(
                 f"{where} message {k + 1}: not little-endian plain CDR (encapsulation "
-                f"{bytes(datas[k][:4]).hex(' ') or 'missing'}; a2b reads 00 01)"
+                f"{first.tobytes().hex(' ') or 'missing'}; a2b reads 00 01)"
             )
 
     def read(self, rows: np.ndarray, at: np.ndarray, dtype: str, count: int = 1) -> np.ndarray:
@@ -313,7 +321,7 @@ class _Messages:
                 if whole
                 else self.grid[rows, column : column + size]
             )
-        return self.buffer[first[:, None] + np.arange(size)]
+        return cut(self.buffer, first, size)
 
     def string(self, rows: np.ndarray, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The strings at ``at`` as fixed-width bytes (NUL dropped), and the offset after them."""
@@ -340,8 +348,9 @@ class _Messages:
         return sec, nanosec, frame, at
 
 
-def decode_poses(type_name: str, datas: list, where: str, child_frame: str | None = None):
-    """``(times in s, quat_wxyz (N, 4), translations (N, 3))`` of the CDR messages ``datas``.
+def decode_poses(type_name: str, datas, where: str, child_frame: str | None = None):
+    """``(times in s, quat_wxyz (N, 4), translations (N, 3))`` of the CDR messages ``datas``
+    (a list of bytes, or :class:`a2b.io.mcapreader.Messages`).
 
     ``type_name`` is one of :data:`POSE_TYPES`; the time of a pose is its header's stamp,
     ``sec + nanosec · 1e-9``. ``geometry_msgs/PoseStamped`` and ``nav_msgs/Odometry`` give one
@@ -412,6 +421,37 @@ def _transforms(messages: _Messages, rows, where: str, child_frame: str | None):
     return sec[mine][order], nanosec[mine][order], numbers[mine][order]
 
 
+def _entry_offsets(messages: _Messages, row: int, offset: int, count: int, where: str):
+    """The CDR offsets of the ``count`` PoseStamped entries of a Path from ``offset`` on: at
+    once where every frame id is as long as the first's (then every entry after the first is
+    as long), else one by one (each entry's place depends on the lengths before it)."""
+    origin, end, data = int(messages.origin[row]), int(messages.end[row]), messages.buffer
+
+    def length_at(at: int) -> int:  # the frame id's length field of the entry at ``at``
+        if origin + at + 12 > end:
+            raise InputFileError(f"{where} message {row + 1}: the message ends too soon")
+        return int(data[origin + at + 8 : origin + at + 12].view("<u4")[0])
+
+    def after(at: int) -> int:
+        at += 12 + length_at(at)
+        return at + (-at % 8) + 56
+
+    if count > 1:
+        second = after(offset)
+        step = after(second) - second if count > 2 else 0
+        starts = np.concatenate([[offset], second + step * np.arange(count - 1)])
+        fields = origin + starts[:, None] + np.arange(8, 12)
+        if (
+            fields.max() < end
+            and (data[fields].copy().view("<u4")[:, 0] == length_at(second)).all()
+        ):
+            return starts
+    starts = np.empty(count, np.int64)
+    for i in range(count):
+        starts[i], offset = offset, after(offset)
+    return starts
+
+
 def _path(messages: _Messages, where: str):
     """The stamps and numbers of the poses of the last ``nav_msgs/Path`` message."""
     if not len(messages.start):
@@ -419,15 +459,7 @@ def _path(messages: _Messages, where: str):
     last = len(messages.start) - 1
     _sec, _nanosec, _frame, at = messages.header(np.array([last]), np.zeros(1, np.int64))
     count, at = messages.read(np.array([last]), at, "<u4")
-    starts = np.empty(int(count[0]), np.int64)
-    offset, origin = int(at[0]), int(messages.origin[last])
-    for i in range(len(starts)):  # each pose's offset depends on the length of its frame id
-        starts[i] = offset
-        length_at = origin + offset + 8
-        if length_at + 4 > messages.end[last]:
-            raise InputFileError(f"{where} message {last + 1}: the message ends too soon")
-        offset += 12 + int(messages.buffer[length_at : length_at + 4].view("<u4")[0])
-        offset += -offset % 8 + 56
+    starts = _entry_offsets(messages, last, int(at[0]), int(count[0]), where)
     rows = np.full(len(starts), last)
     sec, nanosec, _frame, at = messages.header(rows, starts)
     numbers, _ = messages.read(rows, at, "<f8", 7)

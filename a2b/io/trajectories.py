@@ -565,20 +565,38 @@ def _mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | No
         raise InputFileError(
             f"{name}: no topic {topic!r}; the file has {', '.join(topics) or 'none'}"
         )
-    times, quats, trans, cdr = [], [], [], []
-    for schema, channel, message in reader.iter_messages(topics=[topic]):
-        where = f"{name}: {topic} message {len(times) + 1}"
-        if channel.message_encoding == "cdr" and schema is not None:
-            cdr.append(message.data)
-            continue
-        if channel.message_encoding != "json":
-            raise InputFileError(
-                f"{where}: encoding {channel.message_encoding!r}; a2b reads JSON-encoded "
-                "foxglove.PoseInFrame and foxglove.FrameTransform, and CDR-encoded ROS 2 "
-                "messages"
-            )
+    from .mcapreader import channel_messages
+
+    where = f"{name}: {topic}"
+    ids = [key for key, channel in channels.items() if channel.topic == topic]
+    fast = channel_messages(data, summary, ids[0]) if len(ids) == 1 and schemas else None
+    if fast is not None:  # through the indexes, with arrays (a2b.io.mcapreader)
+        channel = channels[ids[0]]
+        schema = schemas.get(channel.schema_id)
+        encoding, type_name, datas = channel.message_encoding, getattr(schema, "name", None), fast
+    else:  # record by record, with the mcap package's reader
+        encoding, type_name, datas = None, None, []
+        for schema, channel, message in reader.iter_messages(topics=[topic]):
+            encoding, type_name = channel.message_encoding, getattr(schema, "name", None)
+            datas.append(message.data)
+    if encoding == "cdr" and type_name is not None:
+        return _finite(*decode_poses(type_name, datas, where, child_frame), where)
+    if child_frame is not None:
+        raise InputFileError(f"{name}: --input-child-frame is for ROS 2 TFMessage topics")
+    if encoding not in ("json", None):
+        raise InputFileError(
+            f"{where} message 1: encoding {encoding!r}; a2b reads JSON-encoded "
+            "foxglove.PoseInFrame and foxglove.FrameTransform, and CDR-encoded ROS 2 messages"
+        )
+    return _finite(*_json_poses(getattr(datas, "as_bytes", lambda: datas)(), where), where)
+
+
+def _json_poses(datas: list, where: str):
+    """Times, quaternions and translations of JSON PoseInFrame or FrameTransform messages."""
+    times, quats, trans = [], [], []
+    for i, data in enumerate(datas):
         try:
-            msg = json.loads(message.data)
+            msg = json.loads(data)
             stamp = msg["timestamp"]
             times.append(int(stamp["sec"]) + int(stamp["nsec"]) * 1e-9)
             if "pose" in msg:
@@ -589,15 +607,10 @@ def _mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | No
             trans.append([float(position[k]) for k in "xyz"])
         except (ValueError, KeyError, TypeError) as e:
             raise InputFileError(
-                f"{where}: not a PoseInFrame or FrameTransform message ({e!r})"
+                f"{where} message {i + 1}: not a PoseInFrame or FrameTransform message ({e!r})"
             ) from None
-    if cdr:
-        where = f"{name}: {topic}"
-        return _finite(*decode_poses(schema.name, cdr, where, child_frame), where)
-    if child_frame is not None:
-        raise InputFileError(f"{name}: --input-child-frame is for ROS 2 TFMessage topics")
     quat, translation = np.array(quats).reshape(-1, 4), np.array(trans).reshape(-1, 3)
-    return _finite(np.array(times), quat, translation, f"{name}: {topic}")
+    return np.array(times), quat, translation
 
 
 def _finite(times, quat, translation, where: str):
