@@ -433,6 +433,46 @@ def only_for_two_poses(curve, **given) -> None:
         )
 
 
+def figure_motions(job, mode, compare, space, parameters: dict, choices: list, **two_poses):
+    """What `a2b plot` and `a2b view` draw: ``(start, end, motions, marks)``.
+
+    A pose list (``controls`` or ``poses``) gives its Bézier motion or spline and its inner
+    poses as marks (C1, C2, … or P1, P2, …); the options of ``two_poses`` and the motion
+    options are refused for it. A poses file gives its mode (``--mode``, the file's, else
+    darboux) or the ``--compare`` modes, each with the parameters meant for it.
+    """
+    from ..api import PARAMETERS
+    from ..errors import ParameterError
+    from ..io.readers import PoseList
+
+    if isinstance(job, PoseList):
+        only_for_two_poses(job, mode=mode, compare=compare, **two_poses, **parameters)
+        motion = curve_motion(job, space, choices)
+        choices += list(motion.choices)
+        prefix = "C" if job.key == "controls" else "P"
+        marks = [(f"{prefix}{i}", pose) for i, pose in enumerate(job.poses)][1:-1]
+        return job.poses[0], job.poses[-1], motion, marks
+    if space:
+        raise click.UsageError("--space is for a list of controls or poses; this is a poses file")
+    if compare:
+        given = [k for k, v in parameters.items() if v is not None]
+        unused = sorted(k for k in given if not any(k in PARAMETERS[m] for m in compare))
+        if unused:
+            raise ParameterError(
+                f"{', '.join('--' + k.replace('_', '-') for k in unused)} applies to none of the "
+                f"compared modes {', '.join(compare)}"
+            )
+    parameters = merge_parameters(job.parameters, parameters, mode)
+    if compare:  # each mode takes the parameters meant for it (from the file or the options)
+        motions = [
+            (m, {k: v for k, v in parameters.items() if k in PARAMETERS[m]}) for m in compare
+        ]
+    else:
+        picked = pick("mode", mode, job.mode, "darboux", choices, "--mode")
+        motions = [(picked, parameters)]
+    return job.start, job.end, motions, None
+
+
 def curve_motion(curve, space: str | None, choices: list, given: dict | None = None):
     """The Bézier motion (``controls``) or spline (``poses``) of a pose list.
 

@@ -49,6 +49,31 @@ class PointList(click.ParamType):
         return points
 
 
+points_option = click.option(
+    "--points",
+    type=PointList(),
+    help="Body points whose trajectories are drawn, in the moving frame  [default: the tips of "
+    "its unit axes]",
+)
+_angle_unit_option = click.option(
+    "--angle-unit",
+    type=click.Choice(["deg", "rad"]),
+    default="deg",
+    show_default=True,
+    help="Unit of the rotation angle ω in the transmission curve and of angles in the title.",
+)
+_length_unit_option = click.option(
+    "--length-unit",
+    metavar="NAME",
+    help="Name of the poses' length unit for the axis labels, e.g. m.",
+)
+
+
+def units_options(f):
+    """``--angle-unit`` and ``--length-unit`` (`a2b plot`, `a2b view`)."""
+    return _angle_unit_option(_length_unit_option(f))
+
+
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=options.INPUT)
 @click.option(
@@ -83,24 +108,8 @@ class PointList(click.ParamType):
     type=click.Choice(["ab", "m"]),
     help="cubic: vary a and b (ab, the default) or m3:m0 (m) in the family; implies --family.",
 )
-@click.option(
-    "--points",
-    type=PointList(),
-    help="Body points whose trajectories are drawn, in the moving frame  [default: the tips of "
-    "its unit axes]",
-)
-@click.option(
-    "--angle-unit",
-    type=click.Choice(["deg", "rad"]),
-    default="deg",
-    show_default=True,
-    help="Unit of the rotation angle ω in the transmission curve and of angles in the title.",
-)
-@click.option(
-    "--length-unit",
-    metavar="NAME",
-    help="Name of the poses' length unit for the axis labels, e.g. m.",
-)
+@points_option
+@units_options
 @click.option(
     "--samples",
     type=options.Count(min=2, max=PLOT_MAX_SAMPLES),
@@ -151,10 +160,8 @@ def command(
     """
     import sys
 
-    from ..api import PARAMETERS
-    from ..errors import ParameterError
     from ..io.atomic import atomic_output
-    from ..io.readers import PoseList, read_motion_file
+    from ..io.readers import read_motion_file
     from ..plot import figure_format, plot_motions, write_figure
 
     choices: list[str] = []
@@ -180,38 +187,10 @@ def command(
         "length_unit": length_unit,
         "samples": samples,
     }
-    if isinstance(job, PoseList):
-        options.only_for_two_poses(
-            job, mode=mode, compare=compare, family=family, family_of=family_of, **parameters
-        )
-        motion = options.curve_motion(job, space, choices)
-        options.state_choices(choices + list(motion.choices), verbose)
-        prefix = "C" if job.key == "controls" else "P"
-        inner = [(f"{prefix}{i}", pose) for i, pose in enumerate(job.poses)][1:-1]
-        figure = plot_motions(job.poses[0], job.poses[-1], motion, marks=inner, **style)
-        with atomic_output(output) as stream:
-            write_figure(figure, stream, fmt)
-        return
-    if space:
-        raise click.UsageError("--space is for a list of controls or poses; this is a poses file")
-    if compare:
-        given = [k for k, v in parameters.items() if v is not None]
-        unused = sorted(k for k in given if not any(k in PARAMETERS[m] for m in compare))
-        if unused:
-            raise ParameterError(
-                f"{', '.join('--' + k.replace('_', '-') for k in unused)} applies to none of the "
-                f"compared modes {', '.join(compare)}"
-            )
-    parameters = options.merge_parameters(job.parameters, parameters, mode)
-    if compare:
-        # Each mode takes the parameters meant for it (from the file or the command line).
-        motions = [
-            (m, {k: v for k, v in parameters.items() if k in PARAMETERS[m]}) for m in compare
-        ]
-    else:
-        picked = options.pick("mode", mode, job.mode, "darboux", choices, "--mode")
-        motions = [(picked, parameters)]
+    start, end, motions, marks = options.figure_motions(
+        job, mode, compare, space, parameters, choices, family=family, family_of=family_of
+    )
     options.state_choices(choices, verbose)
-    figure = plot_motions(job.start, job.end, motions, family=family_of or family, **style)
+    figure = plot_motions(start, end, motions, family=family_of or family, marks=marks, **style)
     with atomic_output(output) as stream:
         write_figure(figure, stream, fmt)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from . import CONTEXT_SETTINGS, options
-from .plot import ModeList, PointList
+from .plot import ModeList, points_option, units_options
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
@@ -27,20 +27,8 @@ from .plot import ModeList, PointList
     help="One body per mode, each with its own colour and legend entry, e.g. "
     "darboux,cubic,screw (instead of --mode).",
 )
-@click.option(
-    "--points",
-    type=PointList(),
-    help="Body points whose trajectories are drawn, in the moving frame  [default: the tips of "
-    "its unit axes]",
-)
-@click.option(
-    "--angle-unit",
-    type=click.Choice(["deg", "rad"]),
-    default="deg",
-    show_default=True,
-    help="Unit of ω in the transmission curve.",
-)
-@click.option("--length-unit", metavar="NAME", help="Name of the length unit, e.g. m.")
+@points_option
+@units_options
 @click.option(
     "--samples",
     type=options.Count(min=2, max=100_000),
@@ -75,11 +63,10 @@ def command(poses, output, open_, mode, space, compare, points, angle_unit, leng
     import sys
     import tempfile
 
-    from ..api import PARAMETERS
-    from ..errors import InputFileError, ParameterError
+    from ..errors import InputFileError
     from ..io.atomic import atomic_output
     from ..io.jobscan import stream_name
-    from ..io.readers import PoseList, read_motion_file
+    from ..io.readers import read_motion_file
     from ..io.trajectories import read_trajectory, sniff_format
     from ..view import require_plotly, view_page
 
@@ -120,35 +107,10 @@ def command(poses, output, open_, mode, space, compare, points, angle_unit, leng
         with options.repairing(orthonormalize, choices):
             job = read_motion_file(io.BytesIO(data), name)
         samples = options.pick("samples", samples, job.samples, 101, choices, "--samples")
-        if isinstance(job, PoseList):
-            options.only_for_two_poses(job, mode=mode, compare=compare, **parameters)
-            motion = options.curve_motion(job, space, choices)
-            prefix = "C" if job.key == "controls" else "P"
-            marks = [(f"{prefix}{i}", pose) for i, pose in enumerate(job.poses)][1:-1]
-            page = view_page(job.poses[0], job.poses[-1], motion, samples=samples, marks=marks,
-                             **style)  # fmt: skip
-            choices += list(motion.choices)
-        else:
-            if space:
-                raise click.UsageError("--space is for a list of controls or poses")
-            if compare:
-                given = [k for k, v in parameters.items() if v is not None]
-                unused = sorted(k for k in given if not any(k in PARAMETERS[m] for m in compare))
-                if unused:
-                    raise ParameterError(
-                        f"{', '.join('--' + k.replace('_', '-') for k in unused)} applies to "
-                        f"none of the compared modes {', '.join(compare)}"
-                    )
-            parameters = options.merge_parameters(job.parameters, parameters, mode)
-            if compare:
-                motions = [
-                    (m, {k: v for k, v in parameters.items() if k in PARAMETERS[m]})
-                    for m in compare
-                ]
-            else:
-                picked = options.pick("mode", mode, job.mode, "darboux", choices, "--mode")
-                motions = [(picked, parameters)]
-            page = view_page(job.start, job.end, motions, samples=samples, **style)
+        start, end, motions, marks = options.figure_motions(
+            job, mode, compare, space, parameters, choices
+        )
+        page = view_page(start, end, motions, samples=samples, marks=marks, **style)
     if output is None:
         handle, output = tempfile.mkstemp(prefix="a2b-view-", suffix=".html")
         os.close(handle)
