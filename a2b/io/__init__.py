@@ -2,8 +2,10 @@
 
 ``readers`` turns JSON or YAML into validated robotics-layout matrices and motion parameters,
 with errors that name the file, the key and the line; ``jobscan`` scans JSON Lines jobs files
-line by line, the common forms fast. ``writers`` turns sampled motions into CSV layouts, TUM,
-KITTI and MCAP, with numbers formatted by ``floatrepr`` and built into MCAP by
-``mcapwriter``, on a second thread (``parallel``). ``atomic`` puts output in place only when
-it is complete.
+line by line, the common forms fast; ``trajectories`` reads the trajectory files users keep
+(TUM, KITTI, EuRoC, a2b's CSV layouts, MCAP), MCAP through its indexes (``mcapreader``).
+``writers`` turns sampled motions into CSV layouts, TUM, KITTI and MCAP, with numbers
+formatted by ``floatrepr`` and built into MCAP by ``mcapwriter``, on a second thread
+(``parallel``); ``ros2`` holds ROS 2's message definitions, names and CDR, written and read
+with numpy. ``atomic`` puts output in place only when it is complete.
 """
