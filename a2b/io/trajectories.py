@@ -530,18 +530,20 @@ def _mcap(data: bytes, name: str, topic: str | None, child_frame: str | None = N
 
 
 def _mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | None):
-    from mcap.reader import make_reader
+    from mcap.reader import NonSeekingReader, make_reader
 
     from .ros2 import POSE_TYPES, decode_poses
 
     reader = make_reader(io.BytesIO(data))
     summary = reader.get_summary()
+    if summary is None or not summary.chunk_indexes:  # read record by record, from the start
+        reader = NonSeekingReader(io.BytesIO(data))  # (mcap 1.1's seeking one finds nothing)
     channels = summary.channels if summary is not None else None
     if channels is None:
         channels = {}
         for _schema, channel, _message in reader.iter_messages():
             channels.setdefault(channel.id, channel)
-        reader = make_reader(io.BytesIO(data))
+        reader = NonSeekingReader(io.BytesIO(data))
         schemas = None
     else:
         schemas = summary.schemas
