@@ -479,7 +479,7 @@ def calls(monkeypatch):
 
     def spy(*args, **kwargs):
         recorded.append((args, kwargs))
-        return original(*args, **{**kwargs, "figsize": (12.0, 8.0), "instants": 4})
+        return original(*args, **{**kwargs, "instants": 4})  # at the size the command draws
 
     monkeypatch.setattr(a2b.plot, "plot_motions", spy)
     return recorded
