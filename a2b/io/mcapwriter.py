@@ -758,7 +758,7 @@ def _pieces(t, trans, quat_wxyz, duration: float, start_time: float, layout) -> 
     if layout.profile == "ros2":
         from .ros2 import split_stamps
 
-        split_stamps(ns[-1:])  # a time past 2038 is refused before its chunk is built
+        split_stamps(ns.max(initial=0, keepdims=True))  # past 2038: refused before a chunk
     size = layout.chunk_poses
     for lo in range(0, len(ns), size):
         yield ns[lo : lo + size], numbers[lo : lo + size]

@@ -280,8 +280,6 @@ class _Messages:
         self.end = self.start + lengths
         self.origin = self.start + 4
         self.where = where
-        uniform = len(datas) and (lengths == lengths[0]).all()
-        self.grid = self.buffer.reshape(len(datas), -1) if uniform else None
         short = lengths < 4
         bad = short.copy()
         if not short.all():
@@ -309,19 +307,9 @@ class _Messages:
         return (values[:, 0] if count == 1 else values), at + size * count
 
     def _bytes(self, rows: np.ndarray, at: np.ndarray, size: int) -> np.ndarray:
-        """``size`` bytes at CDR offset ``at`` of messages ``rows``, one row each: a slice of
-        the messages side by side when they are all as long and ``at`` is the same in all
-        (the usual case, 20x faster), else gathered byte by byte."""
-        first = self.origin[rows] + at
-        if self.grid is not None and len(rows) and (at == at[0]).all():
-            column = int(first[0] - self.start[rows[0]])
-            whole = len(rows) == len(self.grid)  # every message, in order
-            return (
-                self.grid[:, column : column + size]
-                if whole
-                else self.grid[rows, column : column + size]
-            )
-        return cut(self.buffer, first, size)
+        """``size`` bytes at CDR offset ``at`` of messages ``rows``, one row each
+        (:func:`a2b.io.mcapreader.cut`: one strided view where they are evenly spaced)."""
+        return cut(self.buffer, self.origin[rows] + at, size)
 
     def string(self, rows: np.ndarray, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The strings at ``at`` as fixed-width bytes (NUL dropped), and the offset after them."""
