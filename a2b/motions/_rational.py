@@ -93,16 +93,25 @@ def bernstein_basis(ts: np.ndarray, degree: int) -> np.ndarray:
     return out.T if len(shape) == 1 else np.moveaxis(out, 0, -1).reshape(shape + (degree + 1,))
 
 
-def bern_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Product of Bernstein-form polynomials; coefficients on axis 0, broadcasting the rest."""
+def bern_mul(a: np.ndarray, b: np.ndarray, form=np.multiply) -> np.ndarray:
+    """Product of Bernstein-form polynomials; coefficients on axis 0, broadcasting the rest.
+
+    ``form`` is the product: elementwise by default, or any bilinear map of the trailing axes
+    (``form(a_i, b)`` for one coefficient ``a_i`` and all of ``b``), for example
+    :func:`a2b.study.rotation_numerators`, whose value on ``p(t), p(t)`` is then a polynomial of
+    degree ``m + n`` in Bernstein form.
+    """
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
     m, n = a.shape[0] - 1, b.shape[0] - 1
-    shape = np.broadcast_shapes(a.shape[1:], b.shape[1:])
-    weights = _product_weights(m, n).reshape((m + 1, n + 1) + (1,) * len(shape))
-    out = np.zeros((m + n + 1,) + shape)
+    out = None
+    weights = _product_weights(m, n)
     for i in range(m + 1):  # one array operation per coefficient of a: O(m n) numbers in all
-        out[i : i + n + 1] += weights[i] * a[i] * b
+        term = form(a[i], b)
+        term = term * weights[i].reshape((n + 1,) + (1,) * (term.ndim - 1))
+        if out is None:
+            out = np.zeros((m + n + 1,) + term.shape[1:])
+        out[i : i + n + 1] += term
     return out
 
 
@@ -142,6 +151,55 @@ def bern_elevate(a: np.ndarray, degree: int) -> np.ndarray:
         padded_hi = np.concatenate([a, np.zeros_like(a[:1])])
         a = k * padded_lo + (1 - k) * padded_hi
     return a
+
+
+def bernstein_derivatives(ts: np.ndarray, degree: int, order: int) -> np.ndarray:
+    """The basis of :func:`bernstein_basis` and its derivatives in ``t`` up to ``order``:
+    shape ``(order + 1, N, degree + 1)`` for ``ts (N,)``, ``S + (order + 1, N, degree + 1)``
+    for ``ts S + (N,)``.
+
+    ``d^r/dt^r B_i^n = n!/(n−r)! Σ_j (−1)^(r−j) C(r, j) B_(i−j)^(n−r)`` (zero for ``r > n``).
+    """
+    t = np.asarray(ts, dtype=float)
+    out = np.zeros((order + 1,) + t.shape + (degree + 1,))
+    out[0] = bernstein_basis(t, degree)
+    for r in range(1, min(order, degree) + 1):
+        lower = bernstein_basis(t, degree - r)
+        scale = float(np.prod(np.arange(degree - r + 1, degree + 1)))
+        for j in range(r + 1):
+            out[r, ..., j : j + degree - r + 1] += ((-1) ** (r - j) * comb(r, j) * scale) * lower
+    return np.moveaxis(out, 0, -3)
+
+
+def table_derivatives(bases: np.ndarray, table: np.ndarray) -> np.ndarray:
+    """Robotics matrices and their derivatives ``S + (r + 1, N, 4, 4)`` from the derivatives of
+    a basis, ``(r + 1, N, k)`` or ``S + (r + 1, N, k)``, and tables ``S + (k, 14)``.
+
+    Each entry is ``F = n / d``, a numerator over its denominator, both ``basis @ table``; its
+    derivatives follow from ``n^(r) = Σ_j C(r, j) F^(j) d^(r−j)`` solved for ``F^(r)`` (Leibniz's
+    rule), so they are exact up to rounding. The bottom row is ``(0, 0, 0, 1)`` in the matrices
+    and 0 in every derivative.
+    """
+    table = np.asarray(table, dtype=float)
+    shape = table.shape[:-2]
+    order = bases.shape[-3] - 1
+    if bases.ndim > 3:  # one basis per motion: move the derivative axis in front of S
+        bases = np.moveaxis(bases, -3, 0)
+    else:
+        bases = bases.reshape((order + 1,) + (1,) * len(shape) + bases.shape[-2:])
+    values = bases @ table[None]  # (r + 1,) + S + (N, 14)
+    numerators = values[..., :12].reshape(values.shape[:-1] + (3, 4))
+    dens = np.empty(numerators.shape)
+    dens[..., :3] = values[..., 12, None, None]
+    dens[..., 3] = values[..., 13, None]
+    out = np.zeros((order + 1,) + shape + (values.shape[-2], 4, 4))
+    for r in range(order + 1):
+        top = numerators[r].copy()
+        for j in range(r):
+            top -= comb(r, j) * out[j, ..., :3, :] * dens[r - j]
+        out[r, ..., :3, :] = top / dens[0]
+    out[0, ..., 3, 3] = 1.0
+    return np.moveaxis(out, 0, len(shape))
 
 
 def make_table(rot, rot_den, trans, trans_den) -> np.ndarray:

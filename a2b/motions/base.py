@@ -15,6 +15,7 @@ import numpy as np
 from ..elements import Notes, as_numbers, refuse, value, warn
 from ..errors import ParameterError, SingularMotionError
 from ..frames import ScrewFrame
+from ..kinematics import Kinematic
 from ..poses import rotations_from_quaternions, study_from_quat_trans
 from ._rational import (
     EPS,
@@ -23,6 +24,7 @@ from ._rational import (
     SINGULAR_TOL,
     evaluate_table,
     evaluate_translations,
+    table_derivatives,
 )
 
 
@@ -185,7 +187,7 @@ def linear_root(v0, v1) -> np.ndarray:
     return np.where(same, np.where(v0 != 0.0, np.nan, 0.0), root)
 
 
-class Motion:
+class Motion(Kinematic):
     """Motions ``C(t)`` with ``C(0) = A`` and ``C(1) = B``, sampled from coefficient tables.
 
     Values of ``t`` outside ``[0, 1]`` extrapolate along the same rational (or, for the screw,
@@ -286,6 +288,10 @@ class Motion:
         """The basis at ``ts``: ``(N, k)`` shared by every motion, or ``S + (N, k)``."""
         raise NotImplementedError
 
+    def _basis_derivatives(self, ts: np.ndarray, order: int) -> np.ndarray:
+        """The basis and its derivatives in t: ``(order + 1, N, k)`` or ``S + (order + 1, N, k)``."""
+        raise NotImplementedError  # pragma: no cover - abstract
+
     def _quats(self, ts: np.ndarray) -> np.ndarray:
         """``p(t)``, not normalised, shape ``S + (N, 4)``."""
         return linear_path(ts, self.quat_ends)
@@ -357,6 +363,24 @@ class Motion:
                     out[fragile, :, :3, :3] = rotations
         if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
             self._check_finite(arr, out[..., :3, :])
+        return out
+
+    def derivatives(self, ts, order: int = 1) -> np.ndarray:
+        """The matrices and their derivatives in ``t`` up to ``order`` (at most 3):
+        ``S + (order + 1, N, 4, 4)``, index ``k`` along the new axis holding ``d^k M / dt^k``.
+
+        Exact: the derivatives of the motion's coefficient tables (quotient rule for the
+        rational modes, derivatives of ``sin tφ`` and ``vers tφ`` for the screw), not finite
+        differences. ``ts`` as for :meth:`matrices`. The velocities of :mod:`a2b.kinematics`
+        (:meth:`twists`, :meth:`accelerations`) come from here.
+        """
+        if order not in (0, 1, 2, 3):
+            raise ParameterError(f"order must be 0, 1, 2 or 3, got {order!r}")
+        arr = self._prepare(ts)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = table_derivatives(self._basis_derivatives(arr, order), self.table)
+        if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
+            self._check_finite(arr, np.moveaxis(out, len(self.shape), -3)[..., :3, :])
         return out
 
     def quat_trans(self, ts) -> tuple[np.ndarray, np.ndarray]:

@@ -81,9 +81,17 @@ from ..extended import (
     mu_fiber_points,
     mu_prime_matrix,
 )
+from ..kinematics import Kinematic
 from ..poses import check_matrices, quat_trans_from_matrices, study_from_matrices
 from ..study import kappa_fiber_points, rotation_numerators, translation_numerators
-from ._rational import bern_mul, bernstein_basis
+from ._rational import (
+    bern_elevate,
+    bern_mul,
+    bernstein_basis,
+    bernstein_derivatives,
+    make_table,
+    table_derivatives,
+)
 from .base import check_ts
 
 __all__ = [
@@ -411,7 +419,7 @@ def _default_m_choice(m: np.ndarray, quats: np.ndarray, what: str) -> str:
 # -- the motion ---------------------------------------------------------------------------------
 
 
-class BezierMotion:
+class BezierMotion(Kinematic):
     """A motion made of rational Bézier segments in R^13 (mapped by μ_m) or R^8 (mapped by κ).
 
     Build it with :func:`bezier_motion` or :func:`spline_motion`. ``t ∈ [0, 1]`` runs over all
@@ -566,6 +574,56 @@ class BezierMotion:
 
         quat, trans = self.quat_trans(ts)
         return study_from_quat_trans(quat, trans)
+
+    def _tables(self) -> np.ndarray:
+        """Coefficient tables ``(S, 2n + 1, 14)`` of the segments, as the two-pose modes have
+        (:mod:`a2b.motions._rational`): the rotation ``B(p, p) / |p|²`` of eq. 4 and the
+        translation ``x_t / x0`` (matrix space) or ``(p q̄ − q p̄) / |p|²`` (study space), each
+        numerator and denominator a Bernstein polynomial of degree ``2n`` in the segment's own
+        parameter."""
+        if getattr(self, "_table_cache", None) is None:
+            quats = np.moveaxis(self._quaternion_controls(), 1, 0)  # (n + 1, S, 4)
+            rot = bern_mul(quats, quats, rotation_numerators)
+            den = bern_mul(quats, quats, lambda a, b: np.sum(a * b, axis=-1))
+            if self.space == "matrix":
+                points = np.moveaxis(self.controls, 1, 0)
+                trans = bern_elevate(points[..., 10:], 2 * self.degree)
+                trans_den = bern_elevate(points[..., 0], 2 * self.degree)
+            else:
+                trans = bern_mul(
+                    quats, np.moveaxis(self.controls[..., 4:], 1, 0), translation_numerators
+                )
+                trans_den = den
+            self._table_cache = make_table(
+                np.moveaxis(rot, 0, -2),
+                np.moveaxis(den, 0, -1),
+                np.moveaxis(trans, 0, -2),
+                np.moveaxis(trans_den, 0, -1),
+            )
+        return self._table_cache
+
+    def derivatives(self, ts, order: int = 1) -> np.ndarray:
+        """The matrices and their exact derivatives in ``t`` up to ``order`` (at most 3) at
+        1-D ``ts`` (or a count): ``(order + 1, N, 4, 4)``, as :meth:`Motion.derivatives`.
+
+        Each segment is a rational curve of degree ``2n`` (:meth:`_tables`); segment ``j`` runs
+        at ``S`` times the speed of ``t``, so its ``k``-th derivative is scaled by ``S^k``. At a
+        joint the value is that of the segment that starts there (a spline is C¹: its second
+        derivatives may jump).
+        """
+        if order not in (0, 1, 2, 3):
+            raise ParameterError(f"order must be 0, 1, 2 or 3, got {order!r}")
+        flat, shape = self._prepare(ts)
+        if len(shape) != 1:
+            raise ParameterError(f"ts must be a 1-D array or a count, got shape {shape}")
+        segments = self.controls.shape[0]
+        scaled = flat * segments
+        j = np.clip(np.floor(scaled), 0, segments - 1).astype(int)
+        bases = bernstein_derivatives(scaled - j, 2 * self.degree, order)
+        bases *= (float(segments) ** np.arange(order + 1))[:, None, None]
+        per_sample = np.moveaxis(bases, 1, 0)[:, :, None, :]  # (N, r + 1, 1, k)
+        out = table_derivatives(per_sample, self._tables()[j])  # (N, r + 1, 1, 4, 4)
+        return np.moveaxis(out[:, :, 0], 0, 1)
 
     def joints(self) -> list[float]:
         """The parameters ``t`` where segments meet (empty for a single Bézier curve)."""

@@ -35,7 +35,14 @@ from ..extended import check_m, check_not_orthogonal, paper_basis_degenerate, pa
 from ..frames import ScrewFrame
 from ..names import FRAMES
 from ..study import rotation_numerators
-from ._rational import EPS, bern_elevate, bern_mul, bernstein_basis, make_table
+from ._rational import (
+    EPS,
+    bern_elevate,
+    bern_mul,
+    bernstein_basis,
+    bernstein_derivatives,
+    make_table,
+)
 from .base import Motion, _vec, broadcast_parameter, linear_root
 
 #: Relative sensitivity to rounding of the input above which a canonical cubic motion warns.
@@ -274,6 +281,9 @@ class CubicMotion(Motion):
 
     def _basis(self, ts):
         return bernstein_basis(ts, 3)
+
+    def _basis_derivatives(self, ts, order):
+        return bernstein_derivatives(ts, 3, order)
 
     def _check_interval(self, lo, hi):
         root = linear_root(self.psi_a, self.psi_b)

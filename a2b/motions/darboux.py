@@ -24,7 +24,7 @@ from ..frames import ScrewFrame
 from ..parameters import SOLVERS
 from ..poses import check_matrices, quat_trans_from_matrices, rotations_from_quaternions
 from ..study import quat_conj, quat_mul, rotation_numerators, translation_numerators
-from ._rational import bernstein_basis, make_table
+from ._rational import bernstein_basis, bernstein_derivatives, make_table
 from .base import Motion, boolean_parameter, broadcast_parameter
 
 #: Relative tolerance for a third pose to count as a member of the cylinder group of A and B.
@@ -298,6 +298,9 @@ class DarbouxMotion(Motion):
 
     def _basis(self, ts):
         return bernstein_basis(ts, 2)
+
+    def _basis_derivatives(self, ts, order):
+        return bernstein_derivatives(ts, 2, order)
 
     def singular_t(self):
         p_a, p_b = self.quat_ends[..., 0, :], self.quat_ends[..., 1, :]

@@ -94,6 +94,24 @@ class ScrewMotion(Motion):
             np.sin(angle, out=angle)
         return np.moveaxis(out, 0, -1)
 
+    def _basis_derivatives(self, ts, order):
+        """``(1, t, sin tφ, vers tφ)`` and its derivatives ``(0, 1, φ cos, φ sin)``, … in t."""
+        phi = np.asarray(self.frame.phi)
+        t = np.asarray(ts, dtype=float)
+        if phi.ndim:
+            t = np.broadcast_to(t, phi.shape + t.shape[-1:])
+            phi = phi[..., None]
+        angle = t * phi
+        sin, cos = np.sin(angle), np.cos(angle)
+        rows = [np.moveaxis(self._basis(ts), -1, 0)]
+        waves = [(phi * cos, phi * sin), (-(phi**2) * sin, phi**2 * cos)]
+        waves.append((-(phi**3) * cos, -(phi**3) * sin))
+        zero = np.zeros(t.shape)
+        for r in range(1, order + 1):
+            one = np.ones(t.shape) if r == 1 else zero
+            rows.append(np.stack([zero, one, *waves[r - 1]]))
+        return np.moveaxis(np.moveaxis(np.stack(rows), 1, -1), 0, -3)
+
     def _quats(self, ts):
         # exp(tφ/2 u) pA = cos(tφ/2) pA + sin(tφ/2) (u pA): (N, 2) @ (2, 4) per motion
         phi = np.asarray(self.frame.phi)

@@ -1,0 +1,251 @@
+"""Exact derivatives and time laws (a2b.kinematics, a2b.timing), against independent references:
+mpmath central differences of the motions' own formulas, Ruckig's time-optimal durations,
+closed forms, and high-precision quadrature of the arc length."""
+
+from __future__ import annotations
+
+import mpmath
+import numpy as np
+import pytest
+
+import a2b
+from a2b.errors import ParameterError
+from a2b.motions.bezier import bezier_motion, spline_motion
+from a2b.timing import LIMITS, timing, trapezoid
+
+from .conftest import random_pose
+
+MODES = ("darboux", "cubic", "screw")
+mpmath.mp.dps = 40
+
+
+def _motions(rng):
+    """One motion of every kind from seeded random poses: the modes, Bézier and splines."""
+    a, b = random_pose(rng), random_pose(rng)
+    out = {mode: a2b.motion(a, b, mode) for mode in MODES}
+    out["darboux-delta"] = a2b.motion(a, b, "darboux", delta=0.3)
+    controls = np.stack([random_pose(rng) for _ in range(4)])
+    for space in ("matrix", "study"):
+        out[f"bezier-{space}"] = bezier_motion(controls, space)
+        out[f"spline-{space}"] = spline_motion(controls, space)
+    return out
+
+
+def _mp_pose(motion, t):
+    """The pose at ``t`` in mpmath from the motion's own formula: its basis times its
+    coefficient table (each numerator over its denominator), at 40 digits."""
+    if hasattr(motion, "frame"):  # a two-pose mode
+        table = motion.table
+        if motion.mode == "screw":
+            phi = mpmath.mpf(float(motion.frame.phi))
+            basis = [1, t, mpmath.sin(t * phi), 1 - mpmath.cos(t * phi)]
+        else:
+            n = table.shape[0] - 1
+            basis = [mpmath.binomial(n, i) * (1 - t) ** (n - i) * t**i for i in range(n + 1)]
+    else:
+        segments = motion.controls.shape[0]
+        j = min(int(mpmath.floor(t * segments)), segments - 1)
+        u = t * segments - j
+        table = motion._tables()[j]
+        n = table.shape[0] - 1
+        basis = [mpmath.binomial(n, i) * (1 - u) ** (n - i) * u**i for i in range(n + 1)]
+    values = [
+        sum(basis[i] * mpmath.mpf(float(table[i, c])) for i in range(len(basis))) for c in range(14)
+    ]
+    rows = []
+    for r in range(3):
+        rows.append(
+            [values[4 * r + c] / values[12] for c in range(3)] + [values[4 * r + 3] / values[13]]
+        )
+    return mpmath.matrix(rows)
+
+
+def _mp_twist(motion, t, point):
+    """World twist (v of the point, ω) by a 40-digit central difference of the poses."""
+    h = mpmath.mpf("1e-12")
+    t = mpmath.mpf(float(t))
+    plus, minus, here = _mp_pose(motion, t + h), _mp_pose(motion, t - h), _mp_pose(motion, t)
+    rate = (plus - minus) / (2 * h)
+    rot = here[:, :3]
+    rot_rate = rate[:, :3]
+    w = rot_rate * rot.T
+    omega = [(w[2, 1] - w[1, 2]) / 2, (w[0, 2] - w[2, 0]) / 2, (w[1, 0] - w[0, 1]) / 2]
+    x = mpmath.matrix([mpmath.mpf(float(v)) for v in point])
+    velocity = rot_rate * x + rate[:, 3]
+    return np.array([float(v) for v in list(velocity) + omega])
+
+
+def test_twists_equal_a_high_precision_central_difference(rng):
+    point = rng.normal(size=3)
+    for name, motion in _motions(rng).items():
+        ts = np.sort(rng.uniform(0.02, 0.98, 4))
+        got = motion.twists(ts, point=point)
+        for t, row in zip(ts, got):
+            want = _mp_twist(motion, t, point)
+            scale = np.abs(want).max()
+            assert np.abs(row - want).max() <= 1e-10 * scale, (name, t, row, want)
+
+
+def test_accelerations_equal_the_derivative_of_the_twists(rng):
+    for name, motion in _motions(rng).items():
+        ts = np.sort(rng.uniform(0.05, 0.95, 3))
+        acc = motion.accelerations(ts, "world")
+        h = 1e-6
+        diff = (motion.twists(ts + h) - motion.twists(ts - h)) / (2 * h)
+        assert np.allclose(acc, diff, rtol=1e-6, atol=1e-6 * np.abs(acc).max()), name
+
+
+def test_body_and_spatial_twists_are_the_matrix_forms(rng):
+    motion = a2b.motion(random_pose(rng), random_pose(rng), "cubic")
+    ts = np.linspace(0.1, 0.9, 5)
+    stack = motion.derivatives(ts, 1)
+    for k, t in enumerate(ts):
+        m, dm = stack[0, k], stack[1, k]
+        body = np.linalg.inv(m) @ dm
+        spatial = dm @ np.linalg.inv(m)
+        for frame, mat in (("body", body), ("spatial", spatial)):
+            twist = motion.twists(ts, frame)[k]
+            assert np.allclose(twist[:3], mat[:3, 3], atol=1e-12)
+            assert np.allclose(twist[3:], [mat[2, 1], mat[0, 2], mat[1, 0]], atol=1e-12)
+
+
+def test_a_batch_element_equals_the_motion_alone(rng):
+    starts = np.stack([random_pose(rng) for _ in range(3)])
+    ends = np.stack([random_pose(rng) for _ in range(3)])
+    ts = np.linspace(0, 1, 7)
+    for mode in MODES:
+        batch = a2b.motion(starts, ends, mode)
+        got = batch.derivatives(ts, 3)
+        for i in range(3):
+            alone = a2b.motion(starts[i], ends[i], mode).derivatives(ts, 3)
+            assert np.array_equal(got[i], alone), mode
+
+
+def _rng_limits(rng, names):
+    return {f"max_{n}": float(np.exp(rng.uniform(-1.5, 1.5))) for n in names}
+
+
+def test_jerk_limited_profile_has_ruckigs_time_optimal_duration():
+    ruckig = pytest.importorskip("ruckig", reason="ruckig is a test dependency")
+    rng = np.random.default_rng(7)
+    count = 1000
+    starts = np.stack([random_pose(rng) for _ in range(count)])
+    ends = np.stack([random_pose(rng) for _ in range(count)])
+    motion = a2b.motion(starts, ends, "darboux")
+    v = np.exp(rng.uniform(-2, 2, count))
+    a = np.exp(rng.uniform(-2, 2, count))
+    j = np.exp(rng.uniform(-2, 2, count))
+    timed = timing(
+        motion, "jerk-limited", max_speed=v, max_accel=a, max_jerk=j, constant_speed=True
+    )
+    lengths = timed.path_length
+    otg = ruckig.Ruckig(1)
+    inp, out = ruckig.InputParameter(1), ruckig.Trajectory(1)
+    worst = 0.0
+    for i in range(count):
+        inp.current_position, inp.target_position = [0.0], [float(lengths[i])]
+        inp.max_velocity, inp.max_acceleration, inp.max_jerk = [v[i]], [a[i]], [j[i]]
+        otg.calculate(inp, out)
+        worst = max(worst, abs(timed.duration[i] / out.duration - 1))
+    assert worst <= 1e-9, worst
+
+
+def test_trapezoid_equals_its_closed_form():
+    rng = np.random.default_rng(3)
+    v, a = np.exp(rng.uniform(-2, 2, (2, 500)))
+    got = trapezoid(v, a).duration
+    want = np.where(v * v <= a, v / a + 1 / v, 2 * np.sqrt(1 / a))
+    assert np.allclose(got, want, rtol=1e-13, atol=0)
+
+
+@pytest.mark.parametrize("profile", ["trapezoid", "jerk-limited", "quintic"])
+def test_every_limit_holds_and_one_is_reached(profile):
+    rng = np.random.default_rng(11)
+    names = ["speed", "accel", "angular_speed", "angular_accel"]
+    if profile != "trapezoid":
+        names.append("jerk")
+    for trial in range(4):
+        for name, motion in _motions(rng).items():
+            point = rng.normal(size=3) * 0.3 if trial % 2 else None
+            limits = _rng_limits(rng, rng.choice(names, size=rng.integers(1, 4), replace=False))
+            if profile == "jerk-limited" and "max_jerk" not in limits:
+                limits["max_jerk"] = 5.0
+            if profile == "trapezoid" and not {"max_accel", "max_angular_accel"} & set(limits):
+                limits["max_accel"] = 2.0
+            constant = bool(trial >= 2)
+            timed = timing(motion, profile, point=point, constant_speed=constant, **limits)
+            rates = timed.rates(timed.times(samples=2001))
+            reached = []
+            for key, limit in limits.items():
+                peak = np.abs(rates[key[4:]]).max()
+                assert peak <= limit * (1 + 1e-9), (name, key, peak, limit)
+                reached.append(peak / limit)
+            assert max(reached) >= 0.9, (name, limits, reached)  # a spline jumps at joints
+            found = timed.peaks([k[4:] for k in limits])
+            assert max(found[k[4:]] / lim for k, lim in limits.items()) == pytest.approx(1, 1e-9)
+
+
+def test_constant_speed_covers_equal_lengths_in_equal_times(rng):
+    from scipy.integrate import quad
+
+    for name, motion in _motions(rng).items():
+        point = rng.normal(size=3)
+        timed = timing(motion, "linear", duration=2.0, point=point, constant_speed=True)
+        ts = timed.parameters(np.linspace(0, 2.0, 9))
+
+        def speed(t, motion=motion, point=point):
+            return float(motion.point_speeds(np.array([t]), point)[0])
+
+        pieces = [
+            quad(speed, lo, hi, epsabs=0, epsrel=1e-13, limit=200)[0]
+            for lo, hi in zip(ts[:-1], ts[1:])
+        ]
+        pieces = np.array(pieces)
+        assert np.ptp(pieces) <= 1e-9 * pieces.mean(), (name, pieces)
+        speeds = np.linalg.norm(timed.twists(np.linspace(0, 2, 50))[:, :3], axis=-1)
+        assert np.ptp(speeds) <= 1e-9 * speeds.mean(), name
+
+
+def test_duration_slows_the_law_down_and_a_short_one_is_refused(rng):
+    motion = a2b.motion(random_pose(rng), random_pose(rng), "screw")
+    fastest = timing(motion, max_speed=1.0, max_accel=1.0)
+    slower = timing(motion, max_speed=1.0, max_accel=1.0, duration=fastest.duration * 2)
+    assert slower.duration == pytest.approx(fastest.duration * 2, rel=1e-15)
+    assert slower.binding == "duration"
+    with pytest.raises(ParameterError, match="the limits need at least"):
+        timing(motion, max_speed=1.0, max_accel=1.0, duration=fastest.duration / 2)
+
+
+def test_bad_requests_are_clear_errors(rng):
+    motion = a2b.motion(random_pose(rng), random_pose(rng), "darboux")
+    with pytest.raises(ParameterError, match="needs a duration or at least one limit"):
+        timing(motion)
+    with pytest.raises(ParameterError, match="unbounded jerk"):
+        timing(motion, "trapezoid", max_accel=1, max_jerk=1)
+    with pytest.raises(ParameterError, match="unbounded acceleration"):
+        timing(motion, "linear", max_accel=1)
+    with pytest.raises(ParameterError, match="positive finite number"):
+        timing(motion, max_speed=-1)
+    with pytest.raises(ParameterError, match="profile must be one of"):
+        timing(motion, "cubic", duration=1)
+    timed = timing(motion, duration=1.0)
+    with pytest.raises(ParameterError, match=r"times must lie in \[0, duration\]"):
+        timed.matrices([0.5, 1.5])
+    assert set(LIMITS) == {"speed", "accel", "jerk", "angular_speed", "angular_accel"}
+
+
+def test_a_batch_is_timed_in_one_call_as_each_alone(rng):
+    starts = np.stack([random_pose(rng) for _ in range(5)])
+    ends = np.stack([random_pose(rng) for _ in range(5)])
+    batch = timing(
+        a2b.motion(starts, ends, "cubic"), max_speed=1.0, max_accel=2.0, max_angular_speed=1.5
+    )
+    for i in range(5):
+        alone = timing(
+            a2b.motion(starts[i], ends[i], "cubic"),
+            max_speed=1.0,
+            max_accel=2.0,
+            max_angular_speed=1.5,
+        )
+        assert batch.duration[i] == pytest.approx(alone.duration, rel=1e-12)
+        assert batch.binding[i] == alone.binding
