@@ -51,7 +51,7 @@ def _check_frame(frame: str, point) -> None:
 
 
 def point_derivatives(stack: np.ndarray, point=None) -> np.ndarray:
-    """Position of the body point and its derivatives ``(..., r + 1, N, 3)``: ``R^(k) x + t^(k)``."""
+    """The body point and its derivatives ``(..., r + 1, N, 3)``: ``R^(k) x + t^(k)``."""
     x = check_point(point)
     return stack[..., :3, :3] @ x + stack[..., :3, 3]
 

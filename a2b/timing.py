@@ -29,9 +29,9 @@ into a limit on ``σ̇``, ``σ̈``, ``σ⃛`` through the largest rate of the pa
 builds the profile from those. Along a path whose speed per unit ``σ`` varies (and for the
 angular limits, whose ratio of rotation to translation varies) that bound is not exact, so
 a2b then measures the true peaks of every limited quantity over the whole law (a grid of 65
-points per phase, its six largest local maxima refined by 40 bracketing steps) and scales time uniformly by
-``c``: a ``k``-th time derivative scales by ``c^-k``, so with ``c = max (peak / limit)^(1/k)``
-every limit holds and the tightest one is reached exactly. With ``constant_speed`` and only
+points per phase, its six largest local maxima refined by 40 bracketing steps) and scales time
+uniformly by ``c``: a ``k``-th time derivative scales by ``c^-k``, so with
+``c = max (peak / limit)^(1/k)`` every limit holds and the tightest one is reached exactly. With ``constant_speed`` and only
 linear limits the bound is exact and the profile is the time-optimal one for the path length.
 
 With ``duration`` the law lasts exactly that long: the law the limits give is slowed uniformly
@@ -111,7 +111,7 @@ class Profile:
         return Profile(self.kind, self.starts * factor, self.coefficients * powers)
 
     def phase_values(self, phase: np.ndarray, dt: np.ndarray) -> np.ndarray:
-        """``σ, σ̇, σ̈, σ⃛`` ``S + (N, 4)`` at local times ``dt`` of phases ``phase`` (``S + (N,)``)."""
+        """``σ, σ̇, σ̈, σ⃛`` ``S + (N, 4)`` at times ``dt`` into phases ``phase`` (``S + (N,)``)."""
         coefficients = np.take_along_axis(
             self.coefficients,
             np.broadcast_to(phase, self.shape + phase.shape[-1:])[..., None],
@@ -440,7 +440,7 @@ class TimedMotion:
         if not step > 0:
             raise ParameterError(f"the time step must be positive, got {step:g}")
         count = int(np.floor(total / step * (1 + 1e-12))) + 1
-        out = np.arange(count) * step
+        out = np.arange(count) * dt if dt is not None else np.arange(count) / rate
         if out[-1] < total * (1 - 1e-12):
             out = np.append(out, total)
         else:
@@ -528,7 +528,7 @@ class TimedMotion:
         return _accelerations(self._stack(self._check_times(times), 2)[1], frame, point)
 
     def rates(self, times) -> dict:
-        """The limited rates at ``times`` (``S + (N,)`` each): see :func:`a2b.kinematics.path_rates`."""
+        """The limited rates at ``times``, ``S + (N,)`` each (:func:`a2b.kinematics.path_rates`)."""
         return path_rates(self._stack(self._check_times(times), 3)[1], self.point)
 
     # -- peaks --------------------------------------------------------------------------------

@@ -26,6 +26,7 @@ from . import CONTEXT_SETTINGS, options
 @options.offsets_option("study: κ-fiber offsets s, one per control pose (h + s εp).")
 @options.trajectory_input_options(rate=False)
 @options.trajectory_options
+@options.time_law_options
 def command(
     poses,
     space,
@@ -64,6 +65,7 @@ def command(
       a2b bezier samples/reference.tum --space study --samples 5
     """
     out = options.pop_trajectory(parameters)
+    out.update(options.pop_time_law(parameters))
     choices: list[str] = []
     curve = options.read_pose_list_option(
         poses, "controls", input_format, topic, input_child_frame, orthonormalize, choices

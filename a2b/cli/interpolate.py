@@ -12,6 +12,7 @@ from . import CONTEXT_SETTINGS, options
 @options.motion_options
 @options.orthonormalize_option
 @options.trajectory_options
+@options.time_law_options
 def command(poses, mode, samples, verbose, orthonormalize, **parameters):
     """Sample the motion from the start to the end pose in POSES (a file, or - for stdin).
 
@@ -47,6 +48,7 @@ def command(poses, mode, samples, verbose, orthonormalize, **parameters):
     from ..io.readers import read_poses
 
     out = options.pop_trajectory(parameters)
+    out.update(options.pop_time_law(parameters))
     choices: list[str] = []
     with options.repairing(orthonormalize, choices):
         job = read_poses(poses)

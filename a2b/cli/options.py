@@ -295,6 +295,126 @@ def timing_options(f):
     return _duration_option(_start_time_option(f))
 
 
+POINT_VECTOR = Vector(3, "x, y, z")
+
+#: The options of :func:`time_law_options`, as the keyword arguments of :func:`a2b.timing`.
+TIME_LAW_OPTIONS = (
+    "time_law",
+    "max_speed",
+    "max_accel",
+    "max_jerk",
+    "max_angular_speed",
+    "max_angular_accel",
+    "point",
+    "constant_speed",
+    "rate",
+    "dt",
+    "velocities",
+)
+
+
+def time_law_options(f):
+    """A time law (:mod:`a2b.timing`): profile, limits, point, constant speed, the sampling in
+    time and velocity output. Any of them times the samples; :func:`pop_time_law` takes them."""
+    limit = {
+        "speed": "speed of the point (length/s)",
+        "accel": "acceleration of the point along its path (length/s²)",
+        "jerk": "jerk of the point along its path (length/s³); implies jerk-limited",
+        "angular-speed": "angular speed (rad/s)",
+        "angular-accel": "angular acceleration (rad/s²)",
+    }
+    opts = [
+        click.option(
+            "--time-law",
+            type=click.Choice(("linear", "trapezoid", "jerk-limited", "quintic")),
+            help="Time the samples by this profile, at rest at both ends except linear  "
+            "[default with limits: jerk-limited with --max-jerk, trapezoid with an acceleration "
+            "limit, else linear]",
+        )
+    ]
+    for name, words in limit.items():
+        opts.append(click.option(f"--max-{name}", type=PositiveFloat(), help=f"Limit the {words}."))
+    opts += [
+        click.option(
+            "--point",
+            type=POINT_VECTOR,
+            help="The body point x,y,z (moving frame) whose speed is limited and written "
+            "[default: 0,0,0, the origin]",
+        ),
+        click.option(
+            "--constant-speed",
+            is_flag=True,
+            help="Move the point at constant speed along its path (arc length to 1e-12).",
+        ),
+        click.option(
+            "--rate", type=PositiveFloat(), help="Sample every 1/HZ seconds (and the end)."
+        ),
+        click.option("--dt", type=PositiveFloat(), help="Sample every DT seconds (and the end)."),
+        click.option(
+            "--velocities",
+            is_flag=True,
+            help="csv, matrix, study: add vx,vy,vz,wx,wy,wz (velocity of the point and "
+            "angular velocity, fixed frame, per second); ros2: TwistStamped on "
+            "/a2b/twist.",
+        ),
+    ]
+    for option in reversed(opts):
+        f = option(f)
+    return f
+
+
+def pop_time_law(kwargs: dict) -> dict:
+    """Remove the keys of :data:`TIME_LAW_OPTIONS` from ``kwargs`` and return them."""
+    return {key: kwargs.pop(key) for key in TIME_LAW_OPTIONS}
+
+
+def duration_given() -> bool:
+    """Whether ``--duration`` was given on the command line (not its default)."""
+    from click.core import ParameterSource
+
+    source = click.get_current_context().get_parameter_source("duration")
+    return source not in (None, ParameterSource.DEFAULT)
+
+
+def time_law(motion, law: dict, duration: float | None, choices: list):
+    """The :class:`a2b.timing.TimedMotion` the options ``law`` ask for, or ``None`` (samples
+    even in t, as before). ``duration``: ``--duration`` if given."""
+    from ..timing import timing
+
+    limits = {
+        k: law[k]
+        for k in ("max_speed", "max_accel", "max_jerk", "max_angular_speed", "max_angular_accel")
+    }
+    wanted = (
+        any(v is not None for v in limits.values())
+        or law["time_law"]
+        or law["rate"]
+        or law["dt"]
+        or law["constant_speed"]
+        or law["velocities"]
+    )
+    if not wanted:
+        if law["point"] is not None:
+            raise click.UsageError("--point is for a time law or --velocities")
+        return None
+    if law["rate"] is not None and law["dt"] is not None:
+        raise click.UsageError("give --rate or --dt, not both")
+    given = {k: v for k, v in limits.items() if v is not None}
+    timed = timing(
+        motion,
+        law["time_law"],
+        duration=duration if given or duration else 1.0,
+        point=law["point"],
+        constant_speed=law["constant_speed"],
+        **given,
+    )
+    if law["time_law"] is None:
+        choices.append(f"time law {timed.profile.kind} (--time-law to change)")
+    binding = timed.binding or "duration"
+    choices.append(f"the time law takes {timed.duration:.9g} s; binding: {binding}")
+    return timed
+
+
 verbose_option = click.option(
     "-v",
     "--verbose",
@@ -329,8 +449,14 @@ def frame_options(f):
 
 #: The options of :func:`trajectory_options` that :func:`write_motion` takes.
 TRAJECTORY_OPTIONS = (
-    "fmt", "profile", "output", "duration", "start_time", "frame_id", "child_frame_id"
-)  # fmt: skip
+    "fmt",
+    "profile",
+    "output",
+    "duration",
+    "start_time",
+    "frame_id",
+    "child_frame_id",
+)
 
 
 def trajectory_options(f):
@@ -491,11 +617,77 @@ def sample_and_write(motion, samples, from_file, choices: list, verbose: bool, o
     """The last steps of interpolate, bezier and spline: pick the sample count (``--samples``,
     else the file's, else 101) and the format, state the choices with ``-v``, then
     :func:`write_motion` with the options ``out`` of :func:`pop_trajectory`."""
-    samples = pick("samples", samples, from_file, 101, choices, "--samples")
     out = dict(out)
+    law = {key: out.pop(key) for key in TIME_LAW_OPTIONS if key in out} or None
+    timed = None
+    if law is not None:
+        timed = time_law(motion, law, out["duration"] if duration_given() else None, choices)
+    if timed is not None and (law["rate"] or law["dt"]):
+        if samples is not None:
+            raise click.UsageError("give --samples or --rate/--dt, not both")
+    else:
+        samples = pick("samples", samples, from_file, 101, choices, "--samples")
     out["fmt"] = format_from(out["fmt"], out["output"], choices, out.pop("profile"))
     state_choices(choices + list(motion.choices), verbose)
-    write_motion(motion, samples, **out)
+    if timed is None:
+        write_motion(motion, samples, **out)
+        return
+    times = timed.times(
+        rate=law["rate"], dt=law["dt"], samples=None if law["rate"] or law["dt"] else samples
+    )
+    write_timed(timed, times, law["velocities"], **out)
+
+
+def write_timed(
+    timed,
+    times,
+    velocities: bool,
+    *,
+    fmt: str,
+    output: str,
+    duration: float,
+    start_time: float,
+    frame_id: str,
+    child_frame_id: str,
+) -> None:
+    """Write a timed motion at ``times`` (seconds from its start): the first column (or the
+    stamp) is ``start_time + time``; with ``velocities`` the twist of the law's point."""
+    import numpy as np
+
+    from ..io.writers import CHUNK_SAMPLES, REPRESENTATION, Chunk
+
+    if velocities and fmt not in ("csv", "matrix", "study", "ros2"):
+        raise click.UsageError(
+            f"--velocities: {fmt} has no velocity field; use csv, matrix, study or ros2"
+        )
+    check_output(fmt, output, len(times), float(times[-1] - times[0]) or 1.0, start_time)
+    representation = REPRESENTATION[fmt]
+
+    def chunks():
+        for lo in range(0, len(times), CHUNK_SAMPLES):
+            block = times[lo : lo + CHUNK_SAMPLES]
+            ts = timed.parameters(block)
+            chunk = Chunk(block + start_time)
+            if representation == "quat_trans":
+                chunk.quat_wxyz, chunk.trans = timed.motion.quat_trans(ts)
+            elif representation == "matrices":
+                chunk.matrices = timed.motion.matrices(ts)
+            else:
+                chunk.study = timed.motion.study(ts)
+            if velocities:
+                chunk.twist = timed.twists(block)
+            for values in (chunk.quat_wxyz, chunk.trans, chunk.matrices, chunk.study, chunk.twist):
+                if values is not None and not np.isfinite(values).all():
+                    raise A2bError(
+                        "a timed sample is not finite: the motion overflows double precision"
+                    )
+            yield chunk
+
+    from ..errors import A2bError
+
+    write_chunks(
+        chunks(), fmt, output, frame_id=frame_id, child_frame_id=child_frame_id, count=len(times)
+    )
 
 
 def state_choices(choices: list, verbose: bool) -> None:
@@ -718,8 +910,15 @@ def read_pose_list_option(
             raise click.UsageError(f"{given} is for trajectory files")
         with repairing(orthonormalize, choices):
             return read_pose_list(io.BytesIO(data), key, name)
-    path = read_trajectory(io.BytesIO(data), name, fmt, topic=topic, child_frame=child_frame,
-                           orthonormalize=orthonormalize, minimum=2)  # fmt: skip
+    path = read_trajectory(
+        io.BytesIO(data),
+        name,
+        fmt,
+        topic=topic,
+        child_frame=child_frame,
+        orthonormalize=orthonormalize,
+        minimum=2,
+    )
     if path.repaired is not None:
         choices.append(repaired(len(path), path.repaired, "rotation block"))
     return PoseList(key, path.matrices)

@@ -16,6 +16,7 @@ from . import CONTEXT_SETTINGS, options
 )
 @options.trajectory_input_options(rate=False)
 @options.trajectory_options
+@options.time_law_options
 def command(
     poses, space, m, samples, verbose, input_format, topic, input_child_frame, orthonormalize, **out
 ):

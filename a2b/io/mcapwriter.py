@@ -73,9 +73,15 @@ ZSTD_LEVEL = 1
 #: A Message record up to its data: opcode, record length, channel id, sequence, log time,
 #: publish time.
 _MESSAGE_HEAD = np.dtype(
-    [("opcode", "u1"), ("length", "<u8"), ("channel", "<u2"), ("sequence", "<u4"),
-     ("log_time", "<u8"), ("publish_time", "<u8")]
-)  # fmt: skip
+    [
+        ("opcode", "u1"),
+        ("length", "<u8"),
+        ("channel", "<u2"),
+        ("sequence", "<u4"),
+        ("log_time", "<u8"),
+        ("publish_time", "<u8"),
+    ]
+)
 _HEAD_SIZE = _MESSAGE_HEAD.itemsize  # 31
 _INDEX_ENTRY = np.dtype([("log_time", "<u8"), ("offset", "<u8")])
 _U64 = np.uint64
@@ -222,7 +228,10 @@ def _rows(template: bytes, dtype: np.dtype, n: int) -> np.ndarray:
 def _fill(rows: np.ndarray, prefix: str, ns: np.ndarray, numbers: np.ndarray) -> None:
     """The ``stamp`` and ``pose`` columns of ``rows``: times ``ns`` and ``numbers``."""
     _fill_stamp(rows, prefix, ns)
-    rows[prefix + "pose"] = numbers
+    if prefix + "twist" in rows.dtype.names:
+        rows[prefix + "twist"] = numbers[:, 7:]
+    else:
+        rows[prefix + "pose"] = numbers[:, :7]
 
 
 def _fill_stamp(rows: np.ndarray, prefix: str, ns: np.ndarray) -> None:
@@ -246,7 +255,13 @@ class CdrLayout:
     encoding = "cdr"
     zstd_level = CDR_ZSTD_LEVEL
 
-    def __init__(self, frame_id: str, child_frame_id: str | None, path: PathLayout | None = None):
+    def __init__(
+        self,
+        frame_id: str,
+        child_frame_id: str | None,
+        path: PathLayout | None = None,
+        twist: bool = False,
+    ):
         from . import ros2
 
         parts = [ros2.pose_stamped(frame_id, lead=_HEAD_SIZE)]
@@ -254,6 +269,9 @@ class CdrLayout:
         if child_frame_id is not None:
             parts.append(ros2.tf_message(frame_id, child_frame_id, lead=_HEAD_SIZE))
             types.append("tf2_msgs/TFMessage")
+        if twist:  # numbers 7 … 12 of a sample: vx vy vz wx wy wz
+            parts.append(ros2.twist_stamped(frame_id, lead=_HEAD_SIZE))
+            types.append("geometry_msgs/TwistStamped")
         self.dtype, self.template = _record_dtype(parts)
         self.starts = np.cumsum([0] + [len(p.template) for p in parts[:-1]])
         self.schemas = _ros2_schemas(types) + (path.schemas if path else [])
@@ -369,18 +387,29 @@ class PathLayout:
         size, start = sum(map(len, self.compressed)), self.start
         index = _message_index(self.channel, np.array([start]), np.zeros(1, np.int64))
         return _Built(
-            _chunk_head(start, start, self.size, self.crc, size), self.compressed, 1, start,
-            start, self.size, size, [(self.channel, index)], {self.channel: 1},
-        )  # fmt: skip
+            _chunk_head(start, start, self.size, self.crc, size),
+            self.compressed,
+            1,
+            start,
+            start,
+            self.size,
+            size,
+            [(self.channel, index)],
+            {self.channel: 1},
+        )
 
 
 def _structured(fields: dict, itemsize: int) -> np.dtype:
     """The numpy dtype of ``fields`` ``{name: (dtype, offset)}`` in rows of ``itemsize``."""
     names = list(fields)
     return np.dtype(
-        {"names": names, "formats": [fields[n][0] for n in names],
-         "offsets": [fields[n][1] for n in names], "itemsize": itemsize}
-    )  # fmt: skip
+        {
+            "names": names,
+            "formats": [fields[n][0] for n in names],
+            "offsets": [fields[n][1] for n in names],
+            "itemsize": itemsize,
+        }
+    )
 
 
 @dataclass
@@ -507,6 +536,7 @@ def write_pose_mcap(
     pose_topic: str = "/a2b/pose",
     tf_topic: str = "/tf",
     path_topic: str = "/a2b/path",
+    twist_topic: str | None = None,
     library: str = "a2b",
     count: int | None = None,
 ) -> None:
@@ -516,8 +546,9 @@ def write_pose_mcap(
     ----------
     stream : binary file-like
         Written in order, never sought; not closed.
-    samples : iterable of (t, trans, quat_wxyz)
-        Arrays of shapes ``(n,)``, ``(n, 3)`` and ``(n, 4)``.
+    samples : iterable of (t, trans, quat_wxyz) or (t, trans, quat_wxyz, twist)
+        Arrays of shapes ``(n,)``, ``(n, 3)``, ``(n, 4)`` and ``(n, 6)``; the twist (ros2 with
+        ``twist_topic`` only) becomes a ``geometry_msgs/msg/TwistStamped`` in ``frame_id``.
     duration, start_time : float
         Log and publish time (and stamp) of sample ``t``: ``t · duration + start_time`` s.
     frame_id, child_frame_id : str
@@ -542,22 +573,29 @@ def write_pose_mcap(
         finite.
     """
     ros2 = profile == "ros2"
-    path = PathLayout(frame_id, 3, count) if ros2 else None
-    layout = CdrLayout(frame_id, child_frame_id, path) if ros2 else None
+    if twist_topic is not None and not ros2:
+        raise ParameterError("velocities go into MCAP as ROS 2 TwistStamped: use the ros2 profile")
+    moving = twist_topic is not None
+    path = PathLayout(frame_id, 3 + moving, count) if ros2 else None
+    layout = CdrLayout(frame_id, child_frame_id, path, twist=moving) if ros2 else None
     layout = layout or JsonLayout(frame_id, child_frame_id)
-    topics = [(pose_topic, 10, 2), (tf_topic, 100, 2)] + [(path_topic, 1, 1)] * ros2
+    topics = [(pose_topic, 10, 2), (tf_topic, 100, 2)] + [(twist_topic, 10, 2)] * moving
+    topics += [(path_topic, 1, 1)] * ros2
     channels = _channels(layout, topics)
+    own = np.arange(1, 3 + moving, dtype=np.uint16)
 
     def items():
         sequence = 0
-        for t, trans, quat_wxyz in samples:
-            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time, layout):
+        for sample in samples:
+            t, trans, quat_wxyz = sample[:3]
+            twist = sample[3] if moving else None
+            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time, layout, twist):
                 n = len(ns)
                 if sequence + n > 2**32:
                     raise ParameterError(
                         "MCAP numbers messages with 32-bit sequence numbers: at most 2**32 samples"
                     )
-                ids = np.broadcast_to(np.array([1, 2], np.uint16), (n, 2))
+                ids = np.broadcast_to(own, (n, len(own)))
                 yield layout, np.arange(sequence, sequence + n, dtype=np.uint64), ns, numbers, ids
                 sequence += n
 
@@ -577,9 +615,14 @@ def _channels(layout, topics: list) -> list:
         if layout.profile == "ros2":
             metadata = {"offered_qos_profiles": qos_profiles(depth, durability)}
         channels.append(
-            Channel(id=k + 1, schema_id=k + 1, topic=topic, message_encoding=layout.encoding,
-                    metadata=metadata)
-        )  # fmt: skip
+            Channel(
+                id=k + 1,
+                schema_id=k + 1,
+                topic=topic,
+                message_encoding=layout.encoding,
+                metadata=metadata,
+            )
+        )
     return channels
 
 
@@ -748,11 +791,15 @@ def _write_file(stream: IO, layout, library: str, channels, items):
     out.write(MAGIC)
 
 
-def _pieces(t, trans, quat_wxyz, duration: float, start_time: float, layout) -> Iterator[tuple]:
-    """``(log times in ns, numbers x y z qx qy qz qw)`` of at most ``layout.chunk_poses``
-    poses."""
+def _pieces(
+    t, trans, quat_wxyz, duration: float, start_time: float, layout, twist=None
+) -> Iterator[tuple]:
+    """``(log times in ns, numbers x y z qx qy qz qw [vx vy vz wx wy wz])`` of at most
+    ``layout.chunk_poses`` poses."""
     ns = _nanoseconds(np.asarray(t, float), duration, start_time)
-    numbers = np.column_stack([trans, np.asarray(quat_wxyz)[:, [1, 2, 3, 0]]])
+    numbers = np.column_stack(
+        [trans, np.asarray(quat_wxyz)[:, [1, 2, 3, 0]]] + ([] if twist is None else [twist])
+    )
     if not np.isfinite(numbers).all():
         raise ParameterError("MCAP poses must be finite; a sample is NaN or infinite")
     if layout.profile == "ros2":

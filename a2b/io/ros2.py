@@ -56,6 +56,8 @@ DEFINITIONS = {
     ),
     "tf2_msgs/TFMessage": "geometry_msgs/TransformStamped[] transforms\n",
     "nav_msgs/Path": "std_msgs/Header header\ngeometry_msgs/PoseStamped[] poses\n",
+    "geometry_msgs/Twist": "geometry_msgs/Vector3 linear\ngeometry_msgs/Vector3 angular\n",
+    "geometry_msgs/TwistStamped": "std_msgs/Header header\ngeometry_msgs/Twist twist\n",
 }
 
 #: The message types a2b reads poses from, by their schema names.
@@ -245,6 +247,14 @@ def stamp_words(ns: np.ndarray) -> np.ndarray:
 def pose_stamped(frame_id: str, lead: int = 0, phase: int | None = None) -> Cdr:
     """``geometry_msgs/PoseStamped``: columns ``stamp`` and ``pose`` (:data:`POSE`)."""
     return Cdr(lead, phase=phase).header(frame_id).number("pose", POSE)
+
+
+TWIST = ("<f8", (6,))
+
+
+def twist_stamped(frame_id: str, lead: int = 0) -> Cdr:
+    """``geometry_msgs/TwistStamped``: columns ``stamp`` and ``twist`` (:data:`TWIST`)."""
+    return Cdr(lead).header(frame_id).number("twist", TWIST)
 
 
 def tf_message(frame_id: str, child_frame_id: str, lead: int = 0) -> Cdr:

@@ -69,7 +69,9 @@ class Chunk:
     ``t (n,)``; ``quat_wxyz (n, 4)`` unit, continuous in t; ``trans (n, 3)``;
     ``matrices (n, 4, 4)`` robotics layout; ``study (n, 8)``; ``job`` names each row (batch);
     ``original (n,)`` marks the rows that are poses of a resampled trajectory (written as a
-    last column ``original``, 1 or 0, by the CSV layouts when given).
+    last column ``original``, 1 or 0, by the CSV layouts when given); ``twist (n, 6)``
+    velocities ``vx vy vz wx wy wz`` (columns after the pose in the CSV layouts, a
+    ``TwistStamped`` in ros2).
     """
 
     t: np.ndarray
@@ -79,6 +81,7 @@ class Chunk:
     study: np.ndarray | None = None
     job: list[str] | JobRuns | None = None
     original: np.ndarray | None = None
+    twist: np.ndarray | None = None
 
 
 class JobRuns:
@@ -167,6 +170,8 @@ def _rows(fmt: str, chunk: Chunk, time: bool = True) -> np.ndarray:
     n = len(chunk.t)
     t = [chunk.t] if time else []
     mark = [] if chunk.original is None or fmt == "kitti" else [chunk.original]
+    if chunk.twist is not None and fmt != "kitti":
+        mark = [chunk.twist, *mark]
     if fmt == "csv":
         return np.column_stack([*t, chunk.trans, chunk.quat_wxyz, *mark])
     if fmt in ("matrix", "kitti"):
@@ -202,9 +207,14 @@ def _write_table(
     first = next(chunks, None)
     if header is not None:
         mark = first is not None and first.original is not None
-        stream.write(header.encode() + b",original" * mark + b"\n")
+        moving = first is not None and first.twist is not None
+        stream.write(header.encode() + VELOCITY_HEADER * moving + b",original" * mark + b"\n")
     if first is not None:
         _write_rows(stream, (_rows(fmt, chunk) for chunk in chain([first], chunks)), sep)
+
+
+#: The velocity columns of the CSV layouts.
+VELOCITY_HEADER = b",vx,vy,vz,wx,wy,wz"
 
 
 def write_csv(stream: IO, chunks: Iterable[Chunk]) -> None:
@@ -513,9 +523,15 @@ def write_mcap(
 
         check_frame_id(frame_id)
         check_frame_id(child_frame_id, "--child-frame-id")
+    chunks = iter(chunks)
+    first = next(chunks, None)
+    moving = first is not None and first.twist is not None
     write_pose_mcap(
         stream,
-        ((c.t, c.trans, c.quat_wxyz) for c in chunks),
+        (
+            (c.t, c.trans, c.quat_wxyz, c.twist)
+            for c in chain([first] * (first is not None), chunks)
+        ),
         duration=duration,
         start_time=start_time,
         frame_id=frame_id,
@@ -525,6 +541,7 @@ def write_mcap(
         tf_topic=tf_topic,
         library=f"a2b {__version__}",
         count=count,
+        twist_topic="/a2b/twist" if moving else None,
     )
 
 

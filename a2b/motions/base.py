@@ -289,7 +289,7 @@ class Motion(Kinematic):
         raise NotImplementedError
 
     def _basis_derivatives(self, ts: np.ndarray, order: int) -> np.ndarray:
-        """The basis and its derivatives in t: ``(order + 1, N, k)`` or ``S + (order + 1, N, k)``."""
+        """The basis and its derivatives in t: ``(r + 1, N, k)`` or ``S + (r + 1, N, k)``."""
         raise NotImplementedError  # pragma: no cover - abstract
 
     def _quats(self, ts: np.ndarray) -> np.ndarray:
