@@ -249,3 +249,114 @@ def test_a_batch_is_timed_in_one_call_as_each_alone(rng):
         )
         assert batch.duration[i] == pytest.approx(alone.duration, rel=1e-12)
         assert batch.binding[i] == alone.binding
+
+
+def _cli(*args):
+    from click.testing import CliRunner
+
+    from a2b.cli import cli
+
+    result = CliRunner().invoke(cli, list(args), catch_exceptions=False)
+    return result
+
+
+def test_written_samples_keep_the_limits_by_finite_differences(tmp_path):
+    out = tmp_path / "timed.csv"
+    result = _cli(
+        "interpolate",
+        "samples/quarter-turn.yaml",
+        "--max-speed",
+        "1",
+        "--max-accel",
+        "2",
+        "--max-jerk",
+        "4",
+        "--point",
+        "0.1,0.2,0",
+        "--rate",
+        "1000",
+        "--velocities",
+        "-o",
+        str(out),
+    )
+    assert result.exit_code == 0, result.output
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    times, trans, quat = data[:, 0], data[:, 1:4], data[:, 4:8]
+    from a2b.poses import matrices_from_quat_trans
+
+    mats = matrices_from_quat_trans(quat, trans)
+    point = mats[:, :3, :3] @ np.array([0.1, 0.2, 0.0]) + mats[:, :3, 3]
+    steps = np.diff(times)
+    speed = np.linalg.norm(np.diff(point, axis=0), axis=1) / steps
+    assert speed.max() <= 1 + 1e-5
+    # the written velocities are the point's: they agree with the differences
+    mid = (data[1:, 8:11] + data[:-1, 8:11]) / 2
+    assert np.allclose(mid, np.diff(point, axis=0) / steps[:, None], atol=2e-6)
+    accel = np.abs(np.diff(speed) / steps[1:])
+    assert accel.max() <= 2 * (1 + 1e-3)
+
+
+def test_describe_compare_and_the_errors_of_the_command_line():
+    result = _cli(
+        "describe",
+        "samples/quarter-turn.yaml",
+        "--max-speed",
+        "1",
+        "--max-accel",
+        "2",
+        "--compare",
+        "--json",
+    )
+    assert result.exit_code == 0, result.output
+    import json
+
+    figures = json.loads(result.output)["compare"]
+    assert set(figures) == {"darboux", "cubic", "screw"}
+    for column in figures.values():
+        assert column["speed"] <= 1 + 1e-9 and column["accel"] <= 2 + 1e-9
+        assert column["binding"] in ("speed", "accel")
+    assert figures["screw"]["degree"].startswith("not rational")
+    bad = _cli(
+        "interpolate",
+        "samples/quarter-turn.yaml",
+        "--max-speed",
+        "1",
+        "--velocities",
+        "--format",
+        "tum",
+    )
+    assert bad.exit_code == 2 and "tum has no velocity field" in bad.output
+    bad = _cli(
+        "interpolate", "samples/quarter-turn.yaml", "--max-accel", "1", "--time-law", "linear"
+    )
+    assert bad.exit_code != 0 and "unbounded acceleration" in bad.output
+    bad = _cli("interpolate", "samples/quarter-turn.yaml", "--rate", "10", "--dt", "0.1")
+    assert bad.exit_code == 2 and "not both" in bad.output
+
+
+def test_evo_reads_a_timed_tum_file(tmp_path, clients):
+    import subprocess
+
+    out = tmp_path / "timed.tum"
+    result = _cli(
+        "interpolate",
+        "samples/quarter-turn.yaml",
+        "--max-speed",
+        "0.5",
+        "--max-accel",
+        "1",
+        "--constant-speed",
+        "--rate",
+        "50",
+        "-o",
+        str(out),
+    )
+    assert result.exit_code == 0, result.output
+    info = subprocess.run(
+        [str(clients / "evo_traj"), "tum", str(out), "--full_check"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert info.returncode == 0, info.stderr
+    assert "infos" in info.stdout and "path length" in info.stdout

@@ -70,13 +70,83 @@ def render(description: dict, defaults: list | None = None) -> None:
         console.print(f"  • {choice}", highlight=False, markup=False, soft_wrap=True)
 
 
+#: Rows of the time-law table: key of :meth:`a2b.timing.TimedMotion.describe` and label.
+LAW_ROWS = {
+    "profile": "time law",
+    "duration": "duration (s)",
+    "path_length": "path length of the point",
+    "speed": "peak speed of the point (/s)",
+    "accel": "peak acceleration along the path (/s²)",
+    "jerk": "peak jerk along the path (/s³)",
+    "total_accel": "peak total acceleration, centripetal included (/s²)",
+    "angular_speed": "peak angular speed (rad/s)",
+    "angular_accel": "peak angular acceleration (rad/s²)",
+    "degree": "degree of the pose entries in t",
+    "binding": "binding limit",
+}
+
+
+def law_figures(motion, law: dict, duration) -> dict:
+    """The time-law figures of ``motion``: :meth:`TimedMotion.describe`, flattened, and the
+    degree of its pose entries (the table's basis; the screw motion is not rational)."""
+    from ..timing import timing
+
+    limits = {k: v for k, v in law.items() if k.startswith("max_") and v is not None}
+    timed = timing(
+        motion,
+        law.get("time_law"),
+        duration=duration if limits or duration else 1.0,
+        point=law.get("point"),
+        constant_speed=law.get("constant_speed", False),
+        **limits,
+    )
+    out = timed.describe()
+    peaks = out.pop("peaks")
+    out.update(peaks)
+    table = getattr(motion, "table", None)
+    if getattr(motion, "mode", "") == "screw":
+        out["degree"] = "not rational (trigonometric)"
+    elif table is not None:
+        out["degree"] = int(table.shape[-2] - 1)
+    else:
+        out["degree"] = int(motion._tables().shape[-2] - 1)
+    out["binding"] = out["binding"] or "duration"
+    if out["profile"] in ("linear", "trapezoid"):  # steps in σ̈ (trapezoid) or σ̇ (linear)
+        out["jerk"] = "unbounded (the acceleration steps)"
+        if out["profile"] == "linear":
+            out["accel"] = "unbounded (starts and stops at once)"
+    return out
+
+
+def render_law(columns: dict) -> None:
+    """One table of the time-law figures, a column per motion."""
+    from rich.console import Console
+    from rich.table import Table
+    from rich.text import Text
+
+    table = Table(title=Text("a2b describe: time law"), show_header=True)
+    table.add_column("quantity")
+    for name in columns:
+        table.add_column(name, overflow="fold")
+    for key, label in LAW_ROWS.items():
+        table.add_row(Text(label), *(Text(_number(c[key])) for c in columns.values()))
+    Console().print(table)
+
+
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=options.INPUT)
 @options.motion_options
 @options.space_option
 @options.json_option
 @options.orthonormalize_option
-def command(poses, mode, space, as_json, orthonormalize, **parameters):
+@click.option("--duration", type=options.PositiveFloat(), help="The time law's duration (s).")
+@options.time_law_options
+@click.option(
+    "--compare",
+    is_flag=True,
+    help="The time-law figures of darboux, cubic and screw side by side (defaults of each).",
+)
+def command(poses, mode, space, as_json, orthonormalize, duration, compare, **parameters):
     """Describe the motion between the two poses in POSES (a file, or - for stdin), or the
     Bézier motion or spline of a `controls:` or `poses:` file (with --space).
 
@@ -87,11 +157,18 @@ def command(poses, mode, space, as_json, orthonormalize, **parameters):
     amplitude, the default m, the mode if the file and the options give none). Pitches are
     translation per radian, dz/dω. --json prints the keys of a2b.describe.
 
+    With a time law (--duration, a limit, --time-law or --constant-speed; see `a2b
+    interpolate`) it also reports the duration, the path length of the point, the peaks of
+    its speed, of its acceleration and jerk along the path and of its total acceleration, the
+    peak angular speed and acceleration, the degree of the motion and the binding limit.
+    --compare puts these figures side by side for darboux, cubic and screw.
+
     \b
     Example:
       a2b describe samples/quarter-turn.yaml
       a2b describe samples/canonical.yaml --lam 1.5 --branch -1 --json
       a2b describe samples/spline.yaml --space study
+      a2b describe samples/quarter-turn.yaml --max-speed 1 --max-accel 2 --compare
     """
     import json
 
@@ -99,23 +176,60 @@ def command(poses, mode, space, as_json, orthonormalize, **parameters):
 
     from ..io.readers import PoseList, read_motion_file
 
+    law = options.pop_time_law(parameters)
+    for name in ("rate", "dt", "velocities"):
+        if law.pop(name):
+            raise click.UsageError(f"--{name} is for commands that write samples")
+    timed = compare or duration is not None or any(v for v in law.values())
+
     defaults: list[str] = []
     with options.repairing(orthonormalize, defaults):
         job = read_motion_file(poses)
         if not isinstance(job, PoseList):
             parameters = options.merge_parameters(job.parameters, parameters, mode)
     if isinstance(job, PoseList):
+        if compare:
+            raise click.UsageError("--compare is for the two-pose modes; this is a pose list")
         options.only_for_two_poses(job, mode=mode, **parameters)
-        description = options.curve_motion(job, space, defaults).describe()
+        motion = options.curve_motion(job, space, defaults)
+        description = motion.describe()
+        motions = {motion.kind: motion}
     else:
         if space:
             raise click.UsageError(
                 "--space is for a list of controls or poses; this is a poses file"
             )
-        mode = options.pick("mode", mode, job.mode, "darboux", defaults, "--mode")
-        description = a2b.describe(job.start, job.end, mode, **parameters)
-    options.check_finite(description, "describe")
+        if compare and (mode or parameters_given(parameters)):
+            raise click.UsageError(
+                "--compare shows each mode with its defaults: give no --mode or motion parameter"
+            )
+        modes = ("darboux", "cubic", "screw") if compare else None
+        if not compare:
+            mode = options.pick("mode", mode, job.mode, "darboux", defaults, "--mode")
+            modes = (mode,)
+        motions = {
+            m: a2b.motion(job.start, job.end, m, **({} if compare else parameters)) for m in modes
+        }
+        description = None if compare else motions[mode].describe()
+    out = {}
+    if description is not None:
+        out = dict(description)
+    if timed:
+        figures = {name: law_figures(m, law, duration) for name, m in motions.items()}
+        if compare:
+            out = {"compare": figures}
+        else:
+            out["time_law"] = next(iter(figures.values()))
+    options.check_finite(out, "describe")
     if as_json:
-        click.echo(json.dumps(description, indent=2, allow_nan=False))
-    else:
-        render(description, defaults)
+        click.echo(json.dumps(out, indent=2, allow_nan=False))
+        return
+    if description is not None:
+        out.pop("time_law", None)
+        render(out, defaults)
+    if timed:
+        render_law(figures)
+
+
+def parameters_given(parameters: dict) -> bool:
+    return any(v not in (None, False, ()) for v in parameters.values())
