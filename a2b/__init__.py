@@ -24,6 +24,7 @@ __all__ = [
     "interpolate",
     "motion",
     "spline",
+    "timing",
 ]
 
 
@@ -36,6 +37,10 @@ def __getattr__(name):  # lazy: keep `import a2b` (and so `a2b --version`) light
         from .fibers import fiber
 
         return fiber
+    if name == "timing":
+        from .timelaw import timing
+
+        return timing
     if name in ("bezier", "spline"):
         from .motions import bezier
 

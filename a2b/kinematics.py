@@ -4,7 +4,7 @@ Every function here takes a *derivative stack*: the robotics matrices ``M = [R |
 samples and their derivatives in one parameter, shape ``(..., r + 1, N, 4, 4)`` with
 ``stack[..., 0, :, :, :] = M``, ``stack[..., 1, :, :, :] = M'`` and so on. The parameter is
 whatever the stack was differentiated by: the motion's ``t`` (:meth:`Motion.derivatives`) or
-time (:mod:`a2b.timing`). Nothing here knows how the motion was built.
+time (:mod:`a2b.timelaw`). Nothing here knows how the motion was built.
 
 Twists are ``(vx, vy, vz, wx, wy, wz)``, linear part first as in ``geometry_msgs/Twist``:
 

@@ -75,7 +75,7 @@ import numpy as np
 import a2b
 from a2b.poses import matrices_from_quat_trans, study_from_matrices
 
-SECTIONS = ("library", "motions", "resample", "csv", "mcap", "ros2", "startup", "batch")
+SECTIONS = ("library", "motions", "timing", "resample", "csv", "mcap", "ros2", "startup", "batch")
 A2B_MODES = [
     ("darboux", "darboux", {}),
     ("cubic (canonical)", "cubic", {}),
@@ -673,6 +673,71 @@ def motions_section(jobs: int, n: int, repeats: int) -> list[Row]:
     return rows
 
 
+def timing_section(count: int, repeats: int) -> list[Row]:
+    """Timing ``count`` motions with jerk-limited profiles (constant speed, linear limits) in one
+    call of ``a2b.timing``, arc lengths included, against Ruckig computing the time-optimal
+    profile of each path length under the same limits, one profile at a time (its C++ core
+    through its Python binding, as a Python user calls it)."""
+    import warnings
+
+    warnings.simplefilter("ignore")
+    starts, ends = random_pairs(count, seed=11)
+    rng = np.random.default_rng(5)
+    v, a, j = np.exp(rng.uniform(-1, 1, (3, count)))
+    motion = a2b.motion(starts, ends, "darboux")
+    from a2b.timelaw import arc_lengths
+
+    lengths = arc_lengths(motion)[0]
+    cases: dict = {
+        "a2b.timing, jerk-limited, constant speed": lambda: a2b.timing(
+            motion, "jerk-limited", max_speed=v, max_accel=a, max_jerk=j, constant_speed=True
+        ),
+        "a2b profiles alone (lengths known)": lambda: __import__("a2b.timelaw").timelaw.build(
+            "jerk-limited", v / lengths, a / lengths, j / lengths
+        ),
+    }
+    try:
+        import ruckig
+    except ImportError:
+        ruckig = None
+    else:
+
+        def ruckig_loop():
+            otg = ruckig.Ruckig(1)
+            inp, out = ruckig.InputParameter(1), ruckig.Trajectory(1)
+            for i in range(count):
+                inp.current_position, inp.target_position = [0.0], [float(lengths[i])]
+                inp.max_velocity = [float(v[i])]
+                inp.max_acceleration, inp.max_jerk = [float(a[i])], [float(j[i])]
+                otg.calculate(inp, out)
+
+        cases["Ruckig, one profile at a time"] = ruckig_loop
+    times = interleaved(cases, repeats)
+    rows = []
+    peer = times.get("Ruckig, one profile at a time")
+    for name, seconds in times.items():
+        rows.append(Row("timing", f"{name} ({count:,} motions)", rate(count, seconds) + " motions"))
+    if peer is not None:
+        for name in (
+            "a2b profiles alone (lengths known)",
+            "a2b.timing, jerk-limited, constant speed",
+        ):
+            ratio = peer / times[name]
+            rows.append(
+                Row(
+                    "timing",
+                    f"{name} against Ruckig (rate ratio)",
+                    f"{ratio:.2f}x",
+                    f"{ratio:.2f}",
+                    ">= 0.2",
+                    ratio >= 0.2,
+                )
+            )
+    else:
+        rows.append(Row("timing", "Ruckig", "not installed: pip install ruckig"))
+    return rows
+
+
 def wander(n: int, seed: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A trajectory of ``n`` poses at 100 Hz: times, unit quaternions (w, x, y, z) and
     translations of a body whose roll, pitch and yaw and position drift a little each step."""
@@ -704,21 +769,49 @@ def resample_section(n: int, repeats: int, work: Path, exe: list[str] | None) ->
         samples = 10 * n
         commands = {
             "resample": exe + ["resample", str(tum), "--rate", "1000", "-o", str(out)],
-            "interpolate": exe + ["interpolate", str(poses), "--samples", str(samples),
-                                  "--mode", "screw", "-o", str(ref)],
-        }  # fmt: skip
+            "interpolate": exe
+            + [
+                "interpolate",
+                str(poses),
+                "--samples",
+                str(samples),
+                "--mode",
+                "screw",
+                "-o",
+                str(ref),
+            ],
+        }
         log(f"resample: {n} poses to {samples} times, {repeats} interleaved repeats")
-        result = interleaved_processes(commands, repeats, rss=True,
-                                       outputs={"resample": out, "interpolate": ref})  # fmt: skip
+        result = interleaved_processes(
+            commands, repeats, rss=True, outputs={"resample": out, "interpolate": ref}
+        )
         (seconds, peak), (reference, _) = result["resample"], result["interpolate"]
         written = sum(1 for _ in open(out, "rb")) - 1
-        rows.append(Row("resample", f"a2b resample of {n} TUM poses to {written} CSV rows",
-                        f"{seconds:.2f} s, {peak / 2**20:.0f} MiB"))  # fmt: skip
-        rows.append(Row("resample", f"a2b interpolate --samples {samples} (screw) to CSV",
-                        f"{reference:.2f} s"))  # fmt: skip
+        rows.append(
+            Row(
+                "resample",
+                f"a2b resample of {n} TUM poses to {written} CSV rows",
+                f"{seconds:.2f} s, {peak / 2**20:.0f} MiB",
+            )
+        )
+        rows.append(
+            Row(
+                "resample",
+                f"a2b interpolate --samples {samples} (screw) to CSV",
+                f"{reference:.2f} s",
+            )
+        )
         ratio = seconds / reference
-        rows.append(Row("resample", "resample vs interpolate, whole process", "",
-                        f"{ratio:.2f}", "≤ 1.5", ratio <= 1.5))  # fmt: skip
+        rows.append(
+            Row(
+                "resample",
+                "resample vs interpolate, whole process",
+                "",
+                f"{ratio:.2f}",
+                "≤ 1.5",
+                ratio <= 1.5,
+            )
+        )
     else:
         rows.append(Row("resample", "the a2b command is not installed", "not measured"))
 
@@ -798,15 +891,21 @@ def resample_section(n: int, repeats: int, work: Path, exe: list[str] | None) ->
     for peer in ("scipy Slerp per segment", "pytransform3d ScLERP per segment"):
         if peer in medians:
             medians[peer] *= (n - 1) / loop
-    rows.append(Row("resample", f"a2b: {n - 1} segments resampled once each (screw)",
-                    rate(n - 1, medians["a2b"])))  # fmt: skip
+    rows.append(
+        Row(
+            "resample",
+            f"a2b: {n - 1} segments resampled once each (screw)",
+            rate(n - 1, medians["a2b"]),
+        )
+    )
     for peer in ("scipy Slerp per segment", "pytransform3d ScLERP per segment"):
         if peer not in medians:
             rows.append(Row("resample", peer, "not installed"))
             continue
         ratio = medians[peer] / medians["a2b"]
-        rows.append(Row("resample", f"{peer} (loop of {loop}, per segment)",
-                        rate(n - 1, medians[peer])))  # fmt: skip
+        rows.append(
+            Row("resample", f"{peer} (loop of {loop}, per segment)", rate(n - 1, medians[peer]))
+        )
         rows.append(Row("resample", f"a2b vs {peer}", "", f"{ratio:.1f}×", "≥ 5×", ratio >= 5))
     for peer in ("scipy Slerp + interp", "pytransform3d batch ScLERP"):
         if peer not in medians:
@@ -814,8 +913,7 @@ def resample_section(n: int, repeats: int, work: Path, exe: list[str] | None) ->
             continue
         ratio = medians[peer] / medians["a2b"]
         rows.append(Row("resample", f"{peer}, same segments", rate(n - 1, medians[peer])))
-        rows.append(Row("resample", f"a2b vs {peer} (vectorised, no target)", "",
-                        f"{ratio:.2f}×"))  # fmt: skip
+        rows.append(Row("resample", f"a2b vs {peer} (vectorised, no target)", "", f"{ratio:.2f}×"))
     return rows
 
 
@@ -1103,8 +1201,16 @@ def ros2_section(n: int, repeats: int, work: Path, exe: list[str]) -> list[Row]:
     commands, outputs = {}, {}
     for fmt in ("ros2", "mcap"):
         outputs[fmt] = work / f"{fmt}.mcap"
-        commands[fmt] = exe + ["interpolate", str(poses), "--samples", str(n), "--format", fmt,
-                               "-o", str(outputs[fmt])]  # fmt: skip
+        commands[fmt] = exe + [
+            "interpolate",
+            str(poses),
+            "--samples",
+            str(n),
+            "--format",
+            fmt,
+            "-o",
+            str(outputs[fmt]),
+        ]
     log(f"ros2: {n} poses, ros2 and mcap (JSON) interleaved, {repeats} repeats")
     seconds = {k: v[0] for k, v in interleaved_processes(commands, repeats, outputs).items()}
     rows = [
@@ -1127,8 +1233,10 @@ def ros2_section(n: int, repeats: int, work: Path, exe: list[str]) -> list[Row]:
     peer_n = max(n // 10, 1000)  # the peers take 10 to 50 µs a pose: a tenth of the poses
     script = work / "ros2_peer.py"
     script.write_text(ROS2_PEERS)
-    for peer, name in (("rosbags", "rosbags' Writer (serialize_cdr)"),
-                       ("mcap_ros2", "mcap-ros2-support's Writer")):  # fmt: skip
+    for peer, name in (
+        ("rosbags", "rosbags' Writer (serialize_cdr)"),
+        ("mcap_ros2", "mcap-ros2-support's Writer"),
+    ):
         out = work / f"{peer}.out"
         try:
             __import__(peer)
@@ -1312,6 +1420,9 @@ def main(argv: list[str] | None = None) -> int:
                 continue
             if section == "motions":
                 rows += motions_section(10 * args.jobs, args.samples, args.repeats)
+                continue
+            if section == "timing":
+                rows += timing_section(10 * args.jobs, max(1, args.repeats // 2))
                 continue
             if section == "resample":
                 rows += resample_section(args.samples, args.process_repeats, work, exe)

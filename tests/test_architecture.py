@@ -17,10 +17,10 @@ PACKAGE = Path(__file__).resolve().parent.parent / "a2b"
 #: Layers, lowest first: a module's layer is that of its longest matching prefix.
 LAYERS = [
     ("core", ["a2b.errors", "a2b.names", "a2b.parameters", "a2b.elements", "a2b.study",
-              "a2b.poses", "a2b.extended", "a2b.frames", "a2b.fibers"]),
+              "a2b.poses", "a2b.extended", "a2b.frames", "a2b.fibers", "a2b.kinematics"]),
     ("motions", ["a2b.motions"]),
     ("api", ["a2b.api"]),
-    ("jobs", ["a2b.jobs", "a2b.resample"]),
+    ("jobs", ["a2b.jobs", "a2b.resample", "a2b.timelaw"]),
     ("io", ["a2b.io"]),
     ("plot", ["a2b.plot", "a2b.view"]),
     ("cli", ["a2b.cli", "a2b.__main__"]),

@@ -1,4 +1,4 @@
-"""Exact derivatives and time laws (a2b.kinematics, a2b.timing), against independent references:
+"""Exact derivatives and time laws (a2b.kinematics, a2b.timelaw), against independent references:
 mpmath central differences of the motions' own formulas, Ruckig's time-optimal durations,
 closed forms, and high-precision quadrature of the arc length."""
 
@@ -11,7 +11,7 @@ import pytest
 import a2b
 from a2b.errors import ParameterError
 from a2b.motions.bezier import bezier_motion, spline_motion
-from a2b.timing import LIMITS, timing, trapezoid
+from a2b.timelaw import LIMITS, timing, trapezoid
 
 from .conftest import random_pose
 
@@ -186,8 +186,6 @@ def test_every_limit_holds_and_one_is_reached(profile):
 
 
 def test_constant_speed_covers_equal_lengths_in_equal_times(rng):
-    from scipy.integrate import quad
-
     for name, motion in _motions(rng).items():
         point = rng.normal(size=3)
         timed = timing(motion, "linear", duration=2.0, point=point, constant_speed=True)
@@ -195,6 +193,8 @@ def test_constant_speed_covers_equal_lengths_in_equal_times(rng):
 
         def speed(t, motion=motion, point=point):
             return float(motion.point_speeds(np.array([t]), point)[0])
+
+        from scipy.integrate import quad  # scipy comes with pytransform3d, a test dependency
 
         pieces = [
             quad(speed, lo, hi, epsabs=0, epsrel=1e-13, limit=200)[0]

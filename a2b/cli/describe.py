@@ -70,7 +70,7 @@ def render(description: dict, defaults: list | None = None) -> None:
         console.print(f"  • {choice}", highlight=False, markup=False, soft_wrap=True)
 
 
-#: Rows of the time-law table: key of :meth:`a2b.timing.TimedMotion.describe` and label.
+#: Rows of the time-law table: key of :meth:`a2b.timelaw.TimedMotion.describe` and label.
 LAW_ROWS = {
     "profile": "time law",
     "duration": "duration (s)",
@@ -89,7 +89,7 @@ LAW_ROWS = {
 def law_figures(motion, law: dict, duration) -> dict:
     """The time-law figures of ``motion``: :meth:`TimedMotion.describe`, flattened, and the
     degree of its pose entries (the table's basis; the screw motion is not rational)."""
-    from ..timing import timing
+    from ..timelaw import timing
 
     limits = {k: v for k, v in law.items() if k.startswith("max_") and v is not None}
     timed = timing(

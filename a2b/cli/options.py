@@ -314,7 +314,7 @@ TIME_LAW_OPTIONS = (
 
 
 def time_law_options(f):
-    """A time law (:mod:`a2b.timing`): profile, limits, point, constant speed, the sampling in
+    """A time law (:mod:`a2b.timelaw`): profile, limits, point, constant speed, the sampling in
     time and velocity output. Any of them times the samples; :func:`pop_time_law` takes them."""
     limit = {
         "speed": "speed of the point (length/s)",
@@ -377,9 +377,9 @@ def duration_given() -> bool:
 
 
 def time_law(motion, law: dict, duration: float | None, choices: list):
-    """The :class:`a2b.timing.TimedMotion` the options ``law`` ask for, or ``None`` (samples
+    """The :class:`a2b.timelaw.TimedMotion` the options ``law`` ask for, or ``None`` (samples
     even in t, as before). ``duration``: ``--duration`` if given."""
-    from ..timing import timing
+    from ..timelaw import timing
 
     limits = {
         k: law[k]

@@ -31,8 +31,9 @@ angular limits, whose ratio of rotation to translation varies) that bound is not
 a2b then measures the true peaks of every limited quantity over the whole law (a grid of 65
 points per phase, its six largest local maxima refined by 40 bracketing steps) and scales time
 uniformly by ``c``: a ``k``-th time derivative scales by ``c^-k``, so with
-``c = max (peak / limit)^(1/k)`` every limit holds and the tightest one is reached exactly. With ``constant_speed`` and only
-linear limits the bound is exact and the profile is the time-optimal one for the path length.
+``c = max (peak / limit)^(1/k)`` every limit holds and the tightest one is reached exactly.
+With ``constant_speed`` and only linear limits the bound is exact and the profile is the
+time-optimal one for the path length.
 
 With ``duration`` the law lasts exactly that long: the law the limits give is slowed uniformly
 to it (an error if it would have to be faster), or without limits a profile of fixed shape
@@ -287,8 +288,19 @@ def _panel_lengths(motion, point, panels: int) -> np.ndarray:
 
 
 def arc_lengths(motion, point=None) -> tuple[np.ndarray, np.ndarray]:
-    """See :func:`_arc_lengths`; in blocks of motions."""
-    return _in_blocks(motion, lambda m: _arc_lengths(m, point))
+    """See :func:`_arc_lengths`; in blocks of motions, all on the finest panel count any block
+    needed (the cumulative lengths of a batch share one grid of panels)."""
+    shape = getattr(motion, "shape", ())
+    if not shape or shape[0] <= BLOCK:
+        return _arc_lengths(motion, point)
+    parts = [_arc_lengths(motion[lo : lo + BLOCK], point) for lo in range(0, shape[0], BLOCK)]
+    panels = max(part[1].shape[-1] for part in parts) - 1
+    for k, (total, cumulative) in enumerate(parts):
+        if cumulative.shape[-1] - 1 < panels:
+            fine = _panel_lengths(motion[k * BLOCK : (k + 1) * BLOCK], point, panels)
+            zero = np.zeros(fine.shape[:-1] + (1,))
+            parts[k] = (total, np.concatenate([zero, np.cumsum(fine, axis=-1)], axis=-1))
+    return tuple(np.concatenate(r) for r in zip(*parts))
 
 
 def _arc_lengths(motion, point=None) -> tuple[np.ndarray, np.ndarray]:
