@@ -46,8 +46,8 @@ import numpy as np
 
 from .elements import refuse, value
 from .errors import A2bError, ParameterError
+from .kinematics import _angular, check_point, path_rates, point_derivatives, reparametrise
 from .kinematics import accelerations as _accelerations
-from .kinematics import check_point, path_rates, point_derivatives, reparametrise
 from .kinematics import twists as _twists
 
 __all__ = ["LIMITS", "PROFILES", "Profile", "TimedMotion", "arc_lengths", "build", "timing"]
@@ -521,6 +521,15 @@ class TimedMotion:
         arr = self._check_times(times)
         return self._progress(self.profile.values(arr)[..., 0])[..., 0]
 
+    def sample(self, times, velocities: bool = False) -> tuple[np.ndarray, np.ndarray | None]:
+        """The motion's ``t`` at ``times`` and, with ``velocities``, the :meth:`twists` in the
+        world frame (``None`` without): one inversion of the arc length serves both."""
+        arr = self._check_times(times)
+        if not velocities:
+            return self.parameters(arr), None
+        t, stack = self._stack(arr, 1)
+        return t, _twists(stack, "world", self.point)
+
     def matrices(self, times) -> np.ndarray:
         """The poses at ``times``: ``S + (N, 4, 4)``."""
         return self.motion.matrices(self.parameters(times))
@@ -638,8 +647,6 @@ def _gains_of(motion, point, constant_speed: bool, total) -> tuple[np.ndarray, n
     ts = np.linspace(0.0, 1.0, 257)
     stack = motion.derivatives(ts, 1)
     speed = np.linalg.norm(point_derivatives(stack, point)[..., 1, :, :], axis=-1)
-    from .kinematics import _angular
-
     turn = np.linalg.norm(_angular(stack, 1), axis=-1)
     if constant_speed:
         length = np.asarray(total)[..., None]
@@ -759,9 +766,9 @@ def timing(
             bound("accel", "angular_accel"),
             bound("jerk", None),
         )
-    needs = {"linear": (speed,), "trapezoid": (accel,), "jerk-limited": (jerk,)}
-    needs["quintic"] = (np.minimum.reduce([speed, accel, jerk]),)
-    missing = ~np.isfinite(needs[profile][0])
+    needs = {"linear": speed, "trapezoid": accel, "jerk-limited": jerk}
+    needs["quintic"] = np.minimum.reduce([speed, accel, jerk])
+    missing = ~np.isfinite(needs[profile])
     if missing.any():
         what = {
             "linear": "a speed limit",
@@ -827,7 +834,4 @@ def _profile_peaks(profile: Profile, length: np.ndarray) -> dict:
             QUINTIC_PEAKS[1] / d**2,
             QUINTIC_PEAKS[2] / d**3,
         )
-    elif profile.kind == "jerk-limited":
-        speed = np.max(np.abs(coefficients[..., 1]), axis=-1)
-        speed = np.maximum(speed, np.abs(coefficients[..., 3, 1]))
     return {"speed": length * speed, "accel": length * accel, "jerk": length * jerk}

@@ -652,9 +652,7 @@ def write_timed(
 ) -> None:
     """Write a timed motion at ``times`` (seconds from its start): the first column (or the
     stamp) is ``start_time + time``; with ``velocities`` the twist of the law's point."""
-    import numpy as np
-
-    from ..io.writers import CHUNK_SAMPLES, REPRESENTATION, Chunk
+    from ..io.writers import CHUNK_SAMPLES, REPRESENTATION, sample_chunks
 
     if velocities and fmt not in ("csv", "matrix", "study", "ros2"):
         raise click.UsageError(
@@ -666,24 +664,11 @@ def write_timed(
     def chunks():
         for lo in range(0, len(times), CHUNK_SAMPLES):
             block = times[lo : lo + CHUNK_SAMPLES]
-            ts = timed.parameters(block)
-            chunk = Chunk(block + start_time)
-            if representation == "quat_trans":
-                chunk.quat_wxyz, chunk.trans = timed.motion.quat_trans(ts)
-            elif representation == "matrices":
-                chunk.matrices = timed.motion.matrices(ts)
-            else:
-                chunk.study = timed.motion.study(ts)
-            if velocities:
-                chunk.twist = timed.twists(block)
-            for values in (chunk.quat_wxyz, chunk.trans, chunk.matrices, chunk.study, chunk.twist):
-                if values is not None and not np.isfinite(values).all():
-                    raise A2bError(
-                        "a timed sample is not finite: the motion overflows double precision"
-                    )
-            yield chunk
-
-    from ..errors import A2bError
+            ts, twists = timed.sample(block, velocities)
+            for chunk in sample_chunks(timed.motion, ts, representation, size=len(ts)):
+                chunk.t, chunk.twist = block + start_time, twists
+                check_chunk(chunk, "time")
+                yield chunk
 
     write_chunks(
         chunks(), fmt, output, frame_id=frame_id, child_frame_id=child_frame_id, count=len(times)
@@ -731,24 +716,31 @@ def motion_chunks(motion, samples: int, representation: str):
     Every chunk is checked: a sample that overflowed to NaN or infinity stops the run with an
     :class:`A2bError` instead of reaching the output.
     """
-    import numpy as np
-
-    from ..errors import A2bError
     from ..io.writers import CHUNK_SAMPLES, sample_chunks
     from ..motions.base import evenly_spaced
 
     for ts in evenly_spaced(samples, CHUNK_SAMPLES):
         for chunk in sample_chunks(motion, ts, representation, size=len(ts)):
-            for name in ("quat_wxyz", "trans", "matrices", "study"):
-                values = getattr(chunk, name)
-                if values is not None and not np.isfinite(values).all():
-                    bad = ~np.isfinite(values.reshape(len(chunk.t), -1)).all(axis=1)
-                    t = float(chunk.t[np.argmax(bad)])
-                    raise A2bError(
-                        f"the sample at t = {t:.17g} is not finite: the motion overflows double "
-                        "precision; the poses or parameters are too large"
-                    )
+            check_chunk(chunk)
             yield chunk
+
+
+def check_chunk(chunk, column: str = "t") -> None:
+    """Raise :class:`A2bError` if a sample of ``chunk`` overflowed to NaN or infinity, naming
+    it by its ``column`` value, so that it never reaches the output."""
+    import numpy as np
+
+    from ..errors import A2bError
+
+    for name in ("quat_wxyz", "trans", "matrices", "study", "twist"):
+        values = getattr(chunk, name)
+        if values is not None and not np.isfinite(values).all():
+            bad = ~np.isfinite(values.reshape(len(chunk.t), -1)).all(axis=1)
+            where = float(chunk.t[np.argmax(bad)])
+            raise A2bError(
+                f"the sample at {column} = {where:.17g} is not finite: the motion overflows "
+                "double precision; the poses or parameters are too large"
+            )
 
 
 def check_output(fmt: str, output: str, samples: int, duration: float, start_time: float) -> None:
