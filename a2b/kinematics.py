@@ -164,7 +164,7 @@ def reparametrise(stack: np.ndarray, rates: np.ndarray) -> np.ndarray:
 class Kinematic:
     """Velocities for a motion class that provides ``derivatives(ts, order)``."""
 
-    def derivatives(self, ts, order: int = 1) -> np.ndarray:  # pragma: no cover - abstract
+    def derivatives(self, ts, order: int = 1, point=None) -> np.ndarray:  # pragma: no cover
         raise NotImplementedError
 
     def twists(self, ts, frame: str = "world", point=None) -> np.ndarray:
@@ -186,5 +186,5 @@ class Kinematic:
 
     def point_speeds(self, ts, point=None) -> np.ndarray:
         """``|dx/dt|`` of the body point ``point`` (the origin by default), ``(..., N)``."""
-        stack = self.derivatives(ts, 1)
-        return np.linalg.norm(point_derivatives(stack, point)[..., 1, :, :], axis=-1)
+        path = self.derivatives(ts, 1, point=check_point(point))
+        return np.linalg.norm(path[..., 1, :, :], axis=-1)

@@ -1065,6 +1065,95 @@ def _draw_transmission(ax, frame, tracks, in_group, family, angle_unit, length_l
     ax.legend(handles=handles, fontsize=LEGEND_SIZE - 1, loc="best", frameon=True, framealpha=0.85)
 
 
+# -- rates over time -----------------------------------------------------------------------------
+
+#: The panels of :func:`plot_speeds`: key of :meth:`a2b.timelaw.TimedMotion.rates`, the limit
+#: drawn with it, and the axis label (``{L}`` the length unit).
+SPEED_PANELS = (
+    ("speed", "speed", "speed [{L}/s]"),
+    ("accel", "accel", "accel. along path [{L}/s²]"),
+    ("angular_speed", "angular_speed", "angular speed [rad/s]"),
+)
+
+
+def plot_speeds(
+    timed,
+    *,
+    limits: Mapping | None = None,
+    length_unit: str | None = None,
+    samples: int = 801,
+    figsize: tuple[float, float] | None = None,
+    title: str | None = None,
+):
+    """Draw the rates of timed motions over time: the speed of the time law's point, its
+    acceleration along the path and the angular speed, three panels sharing the time axis.
+
+    Parameters
+    ----------
+    timed : TimedMotion or mapping of label to TimedMotion
+        Single timed motions (:func:`a2b.timing`); several are overlaid, one colour each
+        (the mode colours for darboux, cubic and screw), the legend giving each duration and
+        binding limit.
+    limits : mapping, optional
+        The limits to draw as dashed lines, by the keys of :data:`a2b.timelaw.LIMITS`
+        (``speed``, ``accel``, ``angular_speed``; ``accel`` is drawn at ``±``).
+    length_unit : str, optional
+        The poses' length unit, for the axis labels (``length`` when not given).
+    samples : int
+        Samples per motion, evenly spaced in time over its duration.
+
+    Lines carry a ``gid``: ``<key>:<label>`` (for example ``speed:darboux``) and
+    ``limit:<key>``. Returns a :class:`matplotlib.figure.Figure`.
+    """
+    if not isinstance(timed, Mapping):
+        timed = {getattr(timed.motion, "mode", None) or "motion": timed}
+    if not timed:
+        raise ParameterError("plot_speeds needs at least one timed motion")
+    if any(t.shape for t in timed.values()):
+        raise ParameterError("plot_speeds draws single timed motions, not batches")
+    if not (isinstance(samples, (int, np.integer)) and samples >= 2):
+        raise ParameterError(f"samples must be an integer of at least 2, got {samples!r}")
+    limits = dict(limits or {})
+    require_matplotlib()
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize or (10.0, 7.5), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(len(SPEED_PANELS), 1, sharex=True)
+    unit = length_unit or "length"
+    others = iter(_OTHER_COLOURS * (1 + len(timed) // len(_OTHER_COLOURS)))
+    for label, law in timed.items():
+        colour = MODE_COLOURS.get(label) or next(others)
+        times = law.times(samples=samples)
+        rates = law.rates(times)
+        binding = law.binding or "duration"
+        legend = f"{label}: {float(law.duration):.4g} s, binding {binding.replace('_', ' ')}"
+        for ax, (key, _, _) in zip(axes, SPEED_PANELS):
+            ax.plot(times, rates[key], color=colour, lw=1.6, gid=f"{key}:{label}", label=legend)
+    for ax, (key, limit, text) in zip(axes, SPEED_PANELS):
+        if limit in limits and limits[limit] is not None:
+            value = float(limits[limit])
+            for sign in (1, -1) if key == "accel" else (1,):
+                ax.axhline(sign * value, color="0.45", lw=0.9, ls="--", gid=f"limit:{limit}")
+        ax.set_ylabel(text.replace("{L}", unit), fontsize=LABEL_SIZE)
+        ax.tick_params(labelsize=TICK_SIZE)
+        ax.grid(True, linewidth=0.4, alpha=0.5)
+        ax.axhline(0.0, color="0.6", linewidth=0.6)
+    axes[-1].set_xlabel("time [s]", fontsize=LABEL_SIZE)
+    axes[0].legend(fontsize=LEGEND_SIZE, loc="best", frameon=True, framealpha=0.85)
+    if title is None:
+        first = next(iter(timed.values()))
+        point = (
+            "" if not np.any(first.point) else f" of ({', '.join(f'{x:g}' for x in first.point)})"
+        )
+        title = f"Speeds of the point{point} under the {first.profile.kind} time law"
+        shown = ", ".join(f"max {k.replace('_', ' ')} {v:g}" for k, v in limits.items() if v)
+        title += f": {shown}" if shown else ""
+    fig.suptitle(title, fontsize=TITLE_SIZE)
+    return fig
+
+
 __all__ = [
     "ANGLE_UNITS",
     "FORMATS",
@@ -1075,6 +1164,7 @@ __all__ = [
     "figure_format",
     "in_cylinder_group",
     "plot_motions",
+    "plot_speeds",
     "require_matplotlib",
     "write_figure",
 ]

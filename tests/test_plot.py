@@ -24,6 +24,7 @@ from a2b.plot import (
     figure_format,
     in_cylinder_group,
     plot_motions,
+    plot_speeds,
     require_matplotlib,
     write_figure,
 )
@@ -608,6 +609,92 @@ def test_command_errors(tmp_path, monkeypatch, args, code, message):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["x.png"]  # and no temporary file stays
 
 
+# -- rates over time ----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("constant", [False, True])
+def test_speeds_are_the_timed_rates(poses, constant):
+    """The drawn lines are the law's own rates at times even over its duration; the limits are
+    dashed at their values, every drawn rate stays within them, and the binding one is reached."""
+    limits = {"speed": 1.0, "accel": 2.0, "angular_speed": 1.5}
+    timed = {
+        m: a2b.timing(
+            a2b.motion(*poses, m),
+            max_speed=1.0,
+            max_accel=2.0,
+            max_angular_speed=1.5,
+            constant_speed=constant,
+        )
+        for m in MODES
+    }
+    fig = plot_speeds(timed, limits=limits, samples=201)
+    for mode, law in timed.items():
+        times = law.times(samples=201)
+        rates = law.rates(times)
+        for key in ("speed", "accel", "angular_speed"):
+            drawn = line(fig, f"{key}:{mode}")
+            np.testing.assert_allclose(drawn.get_xdata(), times, rtol=0, atol=0)
+            np.testing.assert_allclose(drawn.get_ydata(), rates[key], rtol=0, atol=0)
+            assert np.max(np.abs(drawn.get_ydata())) <= limits[key] * (1 + 1e-9)
+        assert str(law.binding) in limits
+        assert np.max(np.abs(rates[str(law.binding)])) >= limits[str(law.binding)] * (1 - 1e-3)
+        assert (
+            f"{mode}: {float(law.duration):.4g} s"
+            in [t.get_text() for t in fig.axes[0].get_legend().get_texts()][list(timed).index(mode)]
+        )
+    dashed = sorted(float(a.get_ydata()[0]) for a in lines_by_gid(fig)["limit:accel"])
+    assert dashed == [-2.0, 2.0]
+    assert [float(a.get_ydata()[0]) for a in lines_by_gid(fig)["limit:speed"]] == [1.0]
+    assert "angular speed" in fig.axes[2].get_ylabel()
+
+
+def test_speeds_refuses_batches_and_nothing(poses):
+    batch = a2b.timing(a2b.motion(np.stack([poses[0]] * 2), np.stack([poses[1]] * 2)), duration=1)
+    with pytest.raises(ParameterError, match="single timed motions"):
+        plot_speeds({"b": batch})
+    with pytest.raises(ParameterError, match="at least one"):
+        plot_speeds({})
+    with pytest.raises(ParameterError, match="samples"):
+        plot_speeds(a2b.timing(a2b.motion(*poses), duration=1), samples=1)
+
+
+def test_command_speeds(tmp_path):
+    out = tmp_path / "speeds.svg"
+    limits = ["--max-speed", "1", "--max-accel", "2", "--max-jerk", "5", "--constant-speed"]
+    result = run(
+        QUARTER, "--speeds", "--compare", "darboux,cubic,screw", *limits, "-v", "-o", str(out)
+    )
+    assert result.exit_code == 0, result.output
+    svg = out.read_text()
+    for gid in ("speed:darboux", "accel:cubic", "angular_speed:screw", "limit:speed"):
+        assert f'id="{gid}"' in svg
+    assert "darboux: the time law takes" in result.output
+    assert "801 samples evenly spaced in time" in result.output
+    # a spline and a duration alone (a linear law of 2 s)
+    spline = str(SAMPLES_DIR / "spline.yaml")
+    out = tmp_path / "spline.png"
+    result = run(spline, "--speeds", "--duration", "2", "--samples", "50", "-o", str(out))
+    assert (result.exit_code, result.output) == (0, "")
+    assert out.read_bytes().startswith(MAGIC["png"])
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--max-speed", "1"], "--max-speed is for --speeds"),
+        (["--duration", "2"], "--duration is for --speeds"),
+        (["--speeds", "--family"], "--family, --family-of and --points are not for --speeds"),
+        (["--speeds", "--rate", "10"], "--rate is for commands that write samples"),
+        (["--speeds", "--time-law", "linear", "--max-accel", "1"], "linear law starts and stops"),
+    ],
+)
+def test_command_speeds_errors(tmp_path, monkeypatch, args, message):
+    monkeypatch.chdir(tmp_path)
+    result = run(QUARTER, *args, "-o", "x.png")
+    assert result.exit_code in (1, 2) and message in result.output, result.output
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_command_without_matplotlib(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)
     result = run(QUARTER, "-o", str(tmp_path / "x.png"))
@@ -695,6 +782,10 @@ def _figures_a2b_plot_makes():
             f"{name} given frame",
             lambda s=start, e=end: plot_motions(s, e, ("cubic", {"frame": "given"})),
         )
+    limits = {"max_speed": 1.0, "max_accel": 2.0, "max_jerk": 5.0}
+    timed = {m: a2b.timing(a2b.motion(quarter.start, quarter.end, m), **limits) for m in MODES}
+    shown = {k[4:]: v for k, v in limits.items()}
+    yield "speeds", lambda t=timed, lim=shown: plot_speeds(t, limits=lim, length_unit="m")
     for file in ("planar-bezier.yaml", "spline.yaml"):
         with open(root / file, "rb") as f:
             curve = read_motion_file(f)

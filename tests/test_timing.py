@@ -206,6 +206,78 @@ def test_constant_speed_covers_equal_lengths_in_equal_times(rng):
         assert np.ptp(speeds) <= 1e-9 * speeds.mean(), name
 
 
+def test_arc_lengths_match_high_precision_quadrature(rng):
+    """Each motion of a batch refines its own panels: the totals and the cumulative lengths at
+    every panel edge agree with scipy's adaptive quadrature to 1e-11, the panel counts differ
+    between motions (the padding is +inf), and an element equals its motion alone."""
+    from scipy.integrate import quad
+
+    from a2b.timelaw import arc_lengths
+
+    starts = np.stack([random_pose(rng) for _ in range(24)])
+    ends = np.stack([random_pose(rng) for _ in range(24)])
+    point = rng.normal(size=3)
+    for mode in MODES:
+        motion = a2b.motion(starts, ends, mode)
+        total, cumulative = arc_lengths(motion, point)
+        panels = np.isfinite(cumulative).sum(axis=-1) - 1
+        for i in range(24):
+            edges = np.linspace(0.0, 1.0, panels[i] + 1)
+
+            def speed(t, i=i):
+                return float(motion[i].point_speeds(np.array([t]), point)[0])
+
+            parts = [quad(speed, lo, hi, epsabs=0, epsrel=1e-13, limit=200)[0]
+                     for lo, hi in zip(edges[:-1], edges[1:])]  # fmt: skip
+            reference = np.concatenate([[0.0], np.cumsum(parts)])
+            np.testing.assert_allclose(cumulative[i, : panels[i] + 1], reference, rtol=1e-11)
+            assert np.all(cumulative[i, panels[i] + 1 :] == np.inf)
+            assert total[i] == pytest.approx(reference[-1], rel=1e-11)
+            alone = arc_lengths(motion[i], point)
+            assert alone[0] == pytest.approx(total[i], rel=1e-14)
+            np.testing.assert_allclose(alone[1], cumulative[i, : panels[i] + 1], rtol=1e-14)
+        if mode == "darboux":
+            assert len(set(panels.tolist())) > 1, panels  # some need more panels than others
+    grid = a2b.motion(starts.reshape(2, 3, 4, 4, 4), ends.reshape(2, 3, 4, 4, 4), "cubic")
+    flat = arc_lengths(a2b.motion(starts, ends, "cubic"), point)[0]
+    np.testing.assert_allclose(arc_lengths(grid, point)[0], flat.reshape(2, 3, 4), rtol=1e-14)
+
+
+def test_an_arc_length_that_does_not_converge_names_its_motion(rng, monkeypatch):
+    import a2b.timelaw
+
+    starts = np.stack([random_pose(rng) for _ in range(4)])
+    ends = starts.copy()
+    ends[2] = random_pose(rng)  # the others stand still: their lengths are 0 at once
+    monkeypatch.setattr(a2b.timelaw, "MOST_PANELS", 1)
+    message = (
+        r"motion 2: the path length of the point did not converge: two quadratures differ by "
+        r".* relative, tolerance 1e-09"
+    )
+    with pytest.raises(a2b.A2bError, match=message):
+        a2b.timelaw.arc_lengths(a2b.motion(starts, ends, "darboux"))
+
+
+def test_a_point_that_stands_still_has_no_length_and_a_speed_limit_binds_nothing():
+    """A rotation about a body point: its speeds are of rounding size, which no relative
+    tolerance can refine (the arc length stops at a floor of 1e-12 of its distance)."""
+    from a2b.poses import matrices_from_quat_trans
+    from a2b.timelaw import arc_lengths
+
+    point = np.array([1.0, 2.0, 3.0])
+    axis = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
+    turn = matrices_from_quat_trans(np.r_[np.cos(0.7), np.sin(0.7) * axis], np.zeros(3))
+    shift = np.eye(4)
+    shift[:3, 3] = point
+    end = shift @ turn @ np.linalg.inv(shift)
+    for mode in MODES:
+        motion = a2b.motion(np.eye(4), end, mode)
+        total, cumulative = arc_lengths(motion, point)
+        assert total < 1e-13 and cumulative.shape == (2,)
+        timed = timing(motion, max_speed=1.0, max_angular_speed=1.0, point=point)
+        assert timed.binding == "angular_speed"
+
+
 def test_duration_slows_the_law_down_and_a_short_one_is_refused(rng):
     motion = a2b.motion(random_pose(rng), random_pose(rng), "screw")
     fastest = timing(motion, max_speed=1.0, max_accel=1.0)

@@ -89,17 +89,7 @@ LAW_ROWS = {
 def law_figures(motion, law: dict, duration) -> dict:
     """The time-law figures of ``motion``: :meth:`TimedMotion.describe`, flattened, and the
     degree of its pose entries (the table's basis; the screw motion is not rational)."""
-    from ..timelaw import timing
-
-    limits = {k: v for k, v in law.items() if k.startswith("max_") and v is not None}
-    timed = timing(
-        motion,
-        law.get("time_law"),
-        duration=duration if limits or duration else 1.0,
-        point=law.get("point"),
-        constant_speed=law.get("constant_speed", False),
-        **limits,
-    )
+    timed = options.time_law(motion, law, duration, [], always=True)
     out = timed.describe()
     peaks = out.pop("peaks")
     out.update(peaks)
@@ -176,11 +166,8 @@ def command(poses, mode, space, as_json, orthonormalize, duration, compare, **pa
 
     from ..io.readers import PoseList, read_motion_file
 
-    law = options.pop_time_law(parameters)
-    for name in ("rate", "dt", "velocities"):
-        if law.pop(name):
-            raise click.UsageError(f"--{name} is for commands that write samples")
-    timed = compare or duration is not None or any(v for v in law.values())
+    law = options.figure_law(parameters)
+    timed = compare or duration is not None or options.law_given(law)
 
     defaults: list[str] = []
     with options.repairing(orthonormalize, defaults):

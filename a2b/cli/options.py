@@ -376,28 +376,37 @@ def duration_given() -> bool:
     return source not in (None, ParameterSource.DEFAULT)
 
 
-def time_law(motion, law: dict, duration: float | None, choices: list):
+def figure_law(parameters: dict) -> dict:
+    """The time-law options of a command that writes no samples (``describe``, ``plot
+    --speeds``), taken from ``parameters``; ``--rate``, ``--dt`` and ``--velocities`` are
+    refused."""
+    law = pop_time_law(parameters)
+    for name in ("rate", "dt", "velocities"):
+        if law.pop(name):
+            raise click.UsageError(f"--{name} is for commands that write samples")
+    return law
+
+
+def law_given(law: dict) -> bool:
+    """Whether any time-law option of ``law`` (:func:`pop_time_law`) was given."""
+    return any(v not in (None, False) for v in law.values())
+
+
+def time_law(motion, law: dict, duration: float | None, choices: list, always: bool = False):
     """The :class:`a2b.timelaw.TimedMotion` the options ``law`` ask for, or ``None`` (samples
-    even in t, as before). ``duration``: ``--duration`` if given."""
+    even in t, as before); with ``always`` a law even when no time-law option is given (over
+    ``--duration``, else 1 s). ``duration``: ``--duration`` if given."""
     from ..timelaw import timing
 
     limits = {
         k: law[k]
         for k in ("max_speed", "max_accel", "max_jerk", "max_angular_speed", "max_angular_accel")
     }
-    wanted = (
-        any(v is not None for v in limits.values())
-        or law["time_law"]
-        or law["rate"]
-        or law["dt"]
-        or law["constant_speed"]
-        or law["velocities"]
-    )
-    if not wanted:
+    if not always and not law_given({k: v for k, v in law.items() if k != "point"}):
         if law["point"] is not None:
             raise click.UsageError("--point is for a time law or --velocities")
         return None
-    if law["rate"] is not None and law["dt"] is not None:
+    if law.get("rate") is not None and law.get("dt") is not None:
         raise click.UsageError("give --rate or --dt, not both")
     given = {k: v for k, v in limits.items() if v is not None}
     timed = timing(

@@ -116,6 +116,16 @@ def units_options(f):
     help="Samples per motion, t evenly spaced in [0, 1] (a figure shows no more than "
     f"{PLOT_MAX_SAMPLES})  [default: the file's samples, else 101]",
 )
+@click.option(
+    "--speeds",
+    is_flag=True,
+    help="Instead, draw the speed of the point, its acceleration along the path and the "
+    "angular speed over time, under the time law of --duration and the time-law options.",
+)
+@click.option(
+    "--duration", type=options.PositiveFloat(), help="--speeds: the time law's duration (s)."
+)
+@options.time_law_options
 @options.verbose_option
 @options.orthonormalize_option
 def command(
@@ -131,6 +141,8 @@ def command(
     angle_unit,
     length_unit,
     samples,
+    speeds,
+    duration,
     verbose,
     orthonormalize,
     **parameters,
@@ -151,12 +163,20 @@ def command(
     drawn with its control poses (C1, C2, …) or key poses (P1, P2, …) marked; the motion
     options, --compare and --family are for two poses only.
 
+    With --speeds the figure shows instead, over time, the speed of the time law's point
+    (--point, the origin by default), its acceleration along the path and the angular speed,
+    with the limits dashed, under the law of --duration and the time-law options of `a2b
+    interpolate` (--time-law, --max-*, --point, --constant-speed); --samples counts samples
+    evenly spaced in time (801 by default).
+
     \b
     Example:
       a2b plot samples/quarter-turn.yaml -o turn.png
       a2b plot samples/quarter-turn.yaml --compare darboux,cubic,screw -o compare.svg
       a2b plot samples/half-turn.yaml --mode cubic --family --angle-unit rad -o family.pdf
       a2b plot samples/planar-bezier.yaml --space study -o planar.svg
+      a2b plot samples/quarter-turn.yaml --speeds --compare darboux,cubic,screw \
+        --max-speed 1 --max-accel 2 --max-jerk 5 -o speeds.png
     """
     import sys
 
@@ -178,8 +198,23 @@ def command(
         )
     if compare and mode:
         raise click.UsageError("give --mode or --compare, not both")
+    law = options.figure_law(parameters)
+    if not speeds:
+        given = [name for name, v in (("duration", duration),) + tuple(law.items()) if v]
+        if given:
+            raise click.UsageError(f"--{given[0].replace('_', '-')} is for --speeds")
+    elif family or family_of or points:
+        raise click.UsageError("--family, --family-of and --points are not for --speeds")
     with options.repairing(orthonormalize, choices):
         job = read_motion_file(poses)
+    if speeds:
+        figure = _speeds_figure(
+            job, mode, compare, space, parameters, law, duration, samples, length_unit, choices
+        )
+        options.state_choices(choices, verbose)
+        with atomic_output(output) as stream:
+            write_figure(figure, stream, fmt)
+        return
     samples = options.pick("samples", samples, job.samples, 101, choices, "--samples")
     style = {
         "points": points,
@@ -194,3 +229,26 @@ def command(
     figure = plot_motions(start, end, motions, family=family_of or family, marks=marks, **style)
     with atomic_output(output) as stream:
         write_figure(figure, stream, fmt)
+
+
+def _speeds_figure(job, mode, compare, space, parameters, law, duration, samples, unit, choices):
+    """The figure of ``a2b plot --speeds``: each drawn motion timed by the law of the options."""
+    import a2b
+
+    from ..plot import plot_speeds
+
+    _, _, motions, _ = options.figure_motions(job, mode, compare, space, parameters, choices)
+    if not isinstance(motions, list):  # a Bézier motion or spline
+        motions = {motions.kind: motions}
+    else:
+        motions = {m: a2b.motion(job.start, job.end, m, **given) for m, given in motions}
+    timed = {}
+    for label, motion in motions.items():
+        own: list[str] = []
+        timed[label] = options.time_law(motion, law, duration, own, always=True)
+        choices += [f"{label}: {c}" if len(motions) > 1 else c for c in own]
+    if samples is None:
+        samples = 801
+        choices.append("801 samples evenly spaced in time (--samples)")
+    limits = {k[4:]: v for k, v in law.items() if k.startswith("max_") and v is not None}
+    return plot_speeds(timed, limits=limits, length_unit=unit, samples=samples)

@@ -171,7 +171,7 @@ def bernstein_derivatives(ts: np.ndarray, degree: int, order: int) -> np.ndarray
     return np.moveaxis(out, 0, -3)
 
 
-def table_derivatives(bases: np.ndarray, table: np.ndarray) -> np.ndarray:
+def table_derivatives(bases: np.ndarray, table: np.ndarray, point=None) -> np.ndarray:
     """Robotics matrices and their derivatives ``S + (r + 1, N, 4, 4)`` from the derivatives of
     a basis, ``(r + 1, N, k)`` or ``S + (r + 1, N, k)``, and tables ``S + (k, 14)``.
 
@@ -179,27 +179,54 @@ def table_derivatives(bases: np.ndarray, table: np.ndarray) -> np.ndarray:
     derivatives follow from ``n^(r) = Σ_j C(r, j) F^(j) d^(r−j)`` solved for ``F^(r)`` (Leibniz's
     rule), so they are exact up to rounding. The bottom row is ``(0, 0, 0, 1)`` in the matrices
     and 0 in every derivative.
+
+    With ``point`` (``(3,)``, in the moving frame), only the path ``x = R point + t`` of that
+    body point and its derivatives, ``S + (r + 1, N, 3)``: the table is first reduced to the six
+    numerators of ``R point`` and ``t`` (over their two denominators), so each sample costs a
+    fraction of a matrix.
     """
     table = np.asarray(table, dtype=float)
-    shape = table.shape[:-2]
+    shape, k = table.shape[:-2], table.shape[-2]
     order = bases.shape[-3] - 1
-    if bases.ndim > 3:  # one basis per motion: move the derivative axis in front of S
-        bases = np.moveaxis(bases, -3, 0)
-    else:
-        bases = bases.reshape((order + 1,) + (1,) * len(shape) + bases.shape[-2:])
-    values = bases @ table[None]  # (r + 1,) + S + (N, 14)
-    numerators = values[..., :12].reshape(values.shape[:-1] + (3, 4))
-    dens = np.empty(numerators.shape)
-    dens[..., :3] = values[..., 12, None, None]
-    dens[..., 3] = values[..., 13, None]
-    out = np.zeros((order + 1,) + shape + (values.shape[-2], 4, 4))
+    if point is None:  # 12 numerators over (rotation, rotation, rotation, translation)
+        columns, split, dens_of = table, (3, 4), [12, 12, 12, 13]
+    elif not np.any(point):  # the origin's path is the translation: 3 numerators over 1
+        columns, split, dens_of = table[..., [3, 7, 11, 13]], (3, 1), slice(3, 4)
+    else:  # R point and t: 6 numerators over (rotation, translation)
+        blocks = table[..., :12].reshape(table.shape[:-1] + (3, 4))
+        reduced = np.stack([blocks[..., :3] @ point, blocks[..., 3]], axis=-1)
+        columns = np.concatenate([reduced.reshape(shape + (k, 6)), table[..., 12:]], axis=-1)
+        split, dens_of = (3, 2), slice(6, 8)
+    # column-major work arrays (columns, motions, r + 1, N): one matrix product for all
+    # motions, and every step below runs on contiguous rows of samples
+    flat = np.ascontiguousarray(np.moveaxis(columns.reshape((-1, k, columns.shape[-1])), -1, 0))
+    count, n = flat.shape[1], bases.shape[-2]
+    if bases.ndim > 3:  # one basis per motion: a product per motion, as for one motion alone
+        per_motion = np.moveaxis(bases.reshape((count,) + bases.shape[-3:]), -1, -3)
+        products = np.moveaxis(flat, 0, 1) @ per_motion.reshape(count, k, -1)
+        values = np.moveaxis(products, 0, 1).reshape(flat.shape[:2] + (order + 1, n))
+    else:  # one basis for all: one product
+        stacked = np.moveaxis(bases, -1, 0).reshape(k, -1)
+        values = (flat.reshape(-1, k) @ stacked).reshape(flat.shape[:2] + (order + 1, n))
+    width = split[0] * split[1]
+    numerators = values[:width].reshape(split + values.shape[1:])
+    dens = values[dens_of]
+    scale = 1.0 / dens[..., 0, :]
+    quotients = np.empty(numerators.shape)
     for r in range(order + 1):
-        top = numerators[r].copy()
+        top = quotients[..., r, :]
+        top[...] = numerators[..., r, :]
         for j in range(r):
-            top -= comb(r, j) * out[j, ..., :3, :] * dens[r - j]
-        out[r, ..., :3, :] = top / dens[0]
-    out[0, ..., 3, 3] = 1.0
-    return np.moveaxis(out, 0, len(shape))
+            part = quotients[..., j, :] * dens[..., r - j, :]
+            top -= part if comb(r, j) == 1 else comb(r, j) * part
+        top *= scale
+    if point is not None:  # (3, motions, r + 1, N) -> S + (r + 1, N, 3)
+        path = quotients.sum(axis=1) if split[1] > 1 else quotients[:, 0]
+        return np.moveaxis(path, 0, -1).reshape(shape + (order + 1, n, 3))
+    out = np.zeros((count, order + 1, n, 4, 4))
+    out[..., :3, :] = np.moveaxis(quotients, (0, 1), (-2, -1))
+    out[:, 0, :, 3, 3] = 1.0
+    return out.reshape(shape + out.shape[1:])
 
 
 def make_table(rot, rot_den, trans, trans_den) -> np.ndarray:

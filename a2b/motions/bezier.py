@@ -81,7 +81,7 @@ from ..extended import (
     mu_fiber_points,
     mu_prime_matrix,
 )
-from ..kinematics import Kinematic
+from ..kinematics import Kinematic, check_point
 from ..poses import check_matrices, quat_trans_from_matrices, study_from_matrices
 from ..study import kappa_fiber_points, rotation_numerators, translation_numerators
 from ._rational import (
@@ -602,9 +602,10 @@ class BezierMotion(Kinematic):
             )
         return self._table_cache
 
-    def derivatives(self, ts, order: int = 1) -> np.ndarray:
+    def derivatives(self, ts, order: int = 1, point=None) -> np.ndarray:
         """The matrices and their exact derivatives in ``t`` up to ``order`` (at most 3) at
-        1-D ``ts`` (or a count): ``(order + 1, N, 4, 4)``, as :meth:`Motion.derivatives`.
+        1-D ``ts`` (or a count): ``(order + 1, N, 4, 4)``, as :meth:`Motion.derivatives`
+        (with ``point``: the body point's path, ``(order + 1, N, 3)``).
 
         Each segment is a rational curve of degree ``2n`` (:meth:`_tables`); segment ``j`` runs
         at ``S`` times the speed of ``t``, so its ``k``-th derivative is scaled by ``S^k``. At a
@@ -622,7 +623,9 @@ class BezierMotion(Kinematic):
         bases = bernstein_derivatives(scaled - j, 2 * self.degree, order)
         bases *= (float(segments) ** np.arange(order + 1))[:, None, None]
         per_sample = np.moveaxis(bases, 1, 0)[:, :, None, :]  # (N, r + 1, 1, k)
-        out = table_derivatives(per_sample, self._tables()[j])  # (N, r + 1, 1, 4, 4)
+        out = table_derivatives(  # (N, r + 1, 1, 4, 4) or (N, r + 1, 1, 3)
+            per_sample, self._tables()[j], None if point is None else check_point(point)
+        )
         return np.moveaxis(out[:, :, 0], 0, 1)
 
     def joints(self) -> list[float]:
