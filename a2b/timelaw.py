@@ -86,8 +86,10 @@ FIRST_NODES = 8
 FIRST_TOL = 1e-7
 #: Motions whose arc lengths are computed together (a few MB of samples).
 ARC_BLOCK = 4096
-#: Peak search: grid points per phase and bracketing steps.
+#: Peak search: grid points per phase, values of t evenly spaced whose times are candidates
+#: too, and bracketing steps.
 GRID = 65
+PATH_GRID = 257
 STEPS = 40
 CANDIDATES = 6
 #: Motions evaluated together (bounds memory: a block of derivative stacks is ~70 MB).
@@ -133,6 +135,38 @@ class Profile:
                 factor = float(np.prod(np.arange(k - r + 1, k + 1)))
                 out[..., r] += factor * coefficients[..., k] * dt ** (k - r)
         return out
+
+    def phase_times(self, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Where the law first reaches ``sigma`` (``S + (N,)`` in ``[0, 1]``): the phase and the
+        time into it, ``S + (N,)`` each (safeguarded Newton steps on the phase's polynomial)."""
+        sigma = np.broadcast_to(np.asarray(sigma, dtype=float), self.shape + np.shape(sigma)[-1:])
+        phases = self.coefficients.shape[-2]
+        opening = self.coefficients[..., 0]  # σ where each phase starts, S + (P,)
+        phase = np.minimum(np.sum(opening[..., None, 1:] <= sigma[..., None], axis=-1), phases - 1)
+        length = np.take_along_axis(np.diff(self.starts, axis=-1), phase, axis=-1)
+        low, high = np.zeros(sigma.shape), length.copy()
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dt = length * np.clip(
+                (sigma - np.take_along_axis(opening, phase, -1))
+                / (
+                    self.phase_values(phase, length)[..., 0]
+                    - np.take_along_axis(opening, phase, -1)
+                ),
+                0.0,
+                1.0,
+            )
+            dt = np.where(np.isfinite(dt), dt, 0.0)
+            for _ in range(60):
+                law = self.phase_values(phase, dt)
+                miss = law[..., 0] - sigma
+                if np.all(np.abs(miss) <= 1e-15):
+                    break
+                low = np.where(miss < 0, dt, low)
+                high = np.where(miss > 0, dt, high)
+                step = dt - miss / law[..., 1]
+                inside = (step > low) & (step < high)
+                dt = np.where(np.abs(miss) <= 1e-15, dt, np.where(inside, step, (low + high) / 2))
+        return phase, dt
 
     def values(self, times: np.ndarray) -> np.ndarray:
         """``σ, σ̇, σ̈, σ⃛`` at ``times`` in ``[0, duration]`` (``(N,)`` or ``S + (N,)``)."""
@@ -305,12 +339,12 @@ def arc_lengths(motion, point=None) -> tuple[np.ndarray, np.ndarray]:
     """The length of the point's path on ``t ∈ [0, 1]`` and the cumulative lengths at the
     edges of equal panels of ``t``: ``S`` and ``S + (P + 1,)``.
 
-    Composite Gauss–Legendre (:data:`NODES` nodes a panel). Each motion starts with one panel,
-    checked against :data:`FIRST_NODES` nodes, and doubles its own count until two counts agree
-    to :data:`ARC_TOL` relative (at most :data:`MOST_PANELS`), so a smooth path costs a few
-    dozen speeds. The cumulative lengths of a batch are padded with ``+inf`` past each
-    motion's last panel edge: a motion's panel count is the number of its finite entries less
-    one. Blocks of :data:`ARC_BLOCK` motions bound memory.
+    Composite Gauss–Legendre (:data:`NODES` nodes a panel). Each motion starts with one panel
+    (a Bézier spline one a segment), checked against :data:`FIRST_NODES` nodes, and doubles its
+    own count until two counts agree to :data:`ARC_TOL` relative (at most :data:`MOST_PANELS`),
+    so a smooth path costs a few dozen speeds. The cumulative lengths of a batch are padded
+    with ``+inf`` past each motion's last panel edge: a motion's panel count is the number of
+    its finite entries less one. Blocks of :data:`ARC_BLOCK` motions bound memory.
 
     Raises
     ------
@@ -351,8 +385,11 @@ def _arc_lengths(
     ends = motion.derivatives(np.array([0.0, 1.0]), 0, point=check_point(point))
     floor = ARC_TOL * np.linalg.norm(ends, axis=-1).sum(axis=(-2, -1)).reshape(count)
     total, rows = np.zeros(count), {}
-    todo, panels, tol = np.arange(count), 1, FIRST_TOL
-    coarse = _panel_lengths(motion, point, 1, FIRST_NODES).reshape(count, 1)
+    # a curve starts with a panel per segment: none straddles a joint, where the speed of a
+    # spline is only continuous (its derivative may jump, which Gauss nodes converge on slowly)
+    first = len(motion.joints()) + 1 if hasattr(motion, "joints") else 1
+    todo, panels, tol = np.arange(count), first, FIRST_TOL
+    coarse = _panel_lengths(motion, point, first, FIRST_NODES).reshape(count, first)
     while True:
         fine = _panel_lengths(motion, point, panels).reshape(len(todo), panels)
         length, gap = fine.sum(axis=-1), np.abs(fine.sum(axis=-1) - coarse.sum(axis=-1))
@@ -392,6 +429,17 @@ def _length_to(motion, point, lo: np.ndarray, ts: np.ndarray) -> np.ndarray:
     nodes = (lo + half)[..., None] + half[..., None] * _NODES
     speeds = _speeds(motion, nodes.reshape(nodes.shape[:-2] + (-1,)), point)
     return speeds.reshape(nodes.shape) @ _WEIGHTS * half
+
+
+def lengths_at(motion, point, cumulative: np.ndarray, ts: np.ndarray) -> np.ndarray:
+    """The path length covered from 0 to ``ts`` (``(N,)`` or ``S + (N,)`` in ``[0, 1]``), from
+    the cumulative lengths of :func:`arc_lengths`: ``S + (N,)``."""
+    shape = getattr(motion, "shape", ())
+    panels = np.sum(np.isfinite(cumulative), axis=-1)[..., None] - 1  # S + (1,)
+    ts = np.broadcast_to(np.asarray(ts, dtype=float), shape + np.shape(ts)[-1:])
+    panel = np.minimum(np.floor(ts * panels), panels - 1).astype(int)
+    base = np.take_along_axis(np.broadcast_to(cumulative, shape + cumulative.shape[-1:]), panel, -1)
+    return base + _length_to(motion, point, panel / panels, ts)
 
 
 def invert_arc_length(motion, point, cumulative: np.ndarray, fractions: np.ndarray) -> np.ndarray:
@@ -630,30 +678,54 @@ class TimedMotion:
         return self._peaks(names)
 
     def _peaks(self, names: list) -> dict:
-        phases = self.profile.coefficients.shape[-2]
-        lengths = np.diff(self.profile.starts, axis=-1)  # S + (P,)
+        """Candidates: :data:`GRID` times a phase, and the times at which the law passes
+        :data:`PATH_GRID` values of ``t`` evenly spaced (a rate can peak sharply in time
+        where the path does in t: a long cruise crosses a narrow turn of the path in a few
+        hundredths of its time). The :data:`CANDIDATES` largest local maxima are refined by
+        ternary search within their phase, between their neighbours."""
+        profile = self.profile
+        phases = profile.coefficients.shape[-2]
+        lengths = np.diff(profile.starts, axis=-1)  # S + (P,)
         grid = np.linspace(0.0, 1.0, GRID)
-        phase = np.repeat(np.arange(phases), GRID)
+        phase = np.broadcast_to(np.repeat(np.arange(phases), GRID), self.shape + (phases * GRID,))
         dt = (lengths[..., :, None] * grid).reshape(self.shape + (-1,))
-        phase_b = np.broadcast_to(phase, dt.shape)
-        values = self._rates_in_phase(phase_b, dt)
+        ts = np.linspace(0.0, 1.0, PATH_GRID)
+        if self.constant_speed:
+            total, cumulative = self._lengths
+            with np.errstate(divide="ignore", invalid="ignore"):
+                sigma = (
+                    lengths_at(self.motion, self.point, cumulative, ts)
+                    / np.asarray(total)[..., None]
+                )
+            sigma = np.clip(np.where(np.isfinite(sigma), sigma, 0.0), 0.0, 1.0)
+        else:
+            sigma = np.broadcast_to(ts, self.shape + ts.shape)
+        path_phase, path_dt = profile.phase_times(sigma)
+        phase = np.concatenate([phase, path_phase], axis=-1)
+        dt = np.concatenate([dt, path_dt], axis=-1)
+        # in order of time, each candidate's neighbours bracket it
+        when = np.take_along_axis(profile.starts, phase, -1) + dt
+        order = np.argsort(when, axis=-1, kind="stable")
+        phase, dt, when = (np.take_along_axis(x, order, -1) for x in (phase, dt, when))
+        values = self._rates_in_phase(phase, dt)
+        opening = np.take_along_axis(profile.starts, phase, -1)
+        phase_len = np.take_along_axis(lengths, phase, -1)
+        before = np.concatenate([when[..., :1], when[..., :-1]], axis=-1)
+        after = np.concatenate([when[..., 1:], when[..., -1:]], axis=-1)
         out = {}
         for name in names:
             magnitude = np.abs(values[name])
-            # the grid's local maxima within each phase, the CANDIDATES largest refined
-            local = magnitude.reshape(magnitude.shape[:-1] + (phases, GRID))
-            rise = np.ones(local.shape, dtype=bool)
-            rise[..., 1:] &= local[..., 1:] >= local[..., :-1]
-            rise[..., :-1] &= local[..., :-1] >= local[..., 1:]
-            score = np.where(rise.reshape(magnitude.shape), magnitude, -1.0)
+            rise = np.ones(magnitude.shape, dtype=bool)
+            rise[..., 1:] &= magnitude[..., 1:] >= magnitude[..., :-1]
+            rise[..., :-1] &= magnitude[..., :-1] >= magnitude[..., 1:]
+            score = np.where(rise, magnitude, -1.0)
             count = min(CANDIDATES, score.shape[-1])
             best = np.argsort(-score, axis=-1)[..., :count]
-            which = np.take_along_axis(phase_b, best, -1)
-            where = np.take_along_axis(dt, best, -1)
-            phase_len = np.take_along_axis(lengths, which, -1)
-            width = phase_len / (GRID - 1)
-            lo = np.clip(where - width, 0.0, phase_len)
-            hi = np.clip(where + width, 0.0, phase_len)
+            which = np.take_along_axis(phase, best, -1)
+            start = np.take_along_axis(opening, best, -1)
+            span = np.take_along_axis(phase_len, best, -1)
+            lo = np.clip(np.take_along_axis(before, best, -1) - start, 0.0, span)
+            hi = np.clip(np.take_along_axis(after, best, -1) - start, 0.0, span)
             top = magnitude.max(axis=-1, keepdims=True)
             for _ in range(STEPS):
                 a = lo + (hi - lo) / 3

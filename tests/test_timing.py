@@ -238,6 +238,19 @@ def test_arc_lengths_match_high_precision_quadrature(rng):
             np.testing.assert_allclose(alone[1], cumulative[i, : panels[i] + 1], rtol=1e-14)
         if mode == "darboux":
             assert len(set(panels.tolist())) > 1, panels  # some need more panels than others
+    for name, curve in _motions(rng).items():  # curves: a panel never straddles a joint
+        if not name.startswith(("bezier", "spline")):
+            continue
+        total, cumulative = arc_lengths(curve, point)
+        edges = np.linspace(0.0, 1.0, cumulative.shape[-1])
+        assert set(np.round(curve.joints(), 12)) <= set(np.round(edges, 12))
+
+        def speed(t, curve=curve):
+            return float(curve.point_speeds(np.array([t]), point)[0])
+
+        parts = [quad(speed, lo, hi, epsabs=0, epsrel=1e-13, limit=200)[0]
+                 for lo, hi in zip(edges[:-1], edges[1:])]  # fmt: skip
+        np.testing.assert_allclose(cumulative[1:], np.cumsum(parts), rtol=1e-11, err_msg=name)
     grid = a2b.motion(starts.reshape(2, 3, 4, 4, 4), ends.reshape(2, 3, 4, 4, 4), "cubic")
     flat = arc_lengths(a2b.motion(starts, ends, "cubic"), point)[0]
     np.testing.assert_allclose(arc_lengths(grid, point)[0], flat.reshape(2, 3, 4), rtol=1e-14)
@@ -276,6 +289,25 @@ def test_a_point_that_stands_still_has_no_length_and_a_speed_limit_binds_nothing
         assert total < 1e-13 and cumulative.shape == (2,)
         timed = timing(motion, max_speed=1.0, max_angular_speed=1.0, point=point)
         assert timed.binding == "angular_speed"
+
+
+def test_limits_hold_where_a_long_cruise_crosses_a_narrow_turn():
+    """A spline whose point nearly stops in t while it turns: at constant speed its angular
+    acceleration peaks for 0.07 s of a 49 s law, between the time grid's points; the times at
+    which the law passes evenly spaced t find it (this law exceeded the limit by 20 %)."""
+    rng = np.random.default_rng(9)
+    controls = np.stack([random_pose(rng) for _ in range(4)])
+    limits = {"speed": 1.0, "accel": 2.0, "jerk": 5.0, "angular_speed": 1.5, "angular_accel": 3.0}
+    timed = timing(
+        spline_motion(controls, "study"),
+        constant_speed=True,
+        **{f"max_{k}": v for k, v in limits.items()},
+    )
+    rates = timed.rates(np.linspace(0.0, float(timed.duration), 20001))
+    for name, limit in limits.items():
+        assert np.max(np.abs(rates[name])) <= limit * (1 + 1e-9), name
+    assert timed.binding == "angular_accel"
+    assert np.max(rates["angular_accel"]) >= 3.0 * (1 - 1e-3)  # reached (between samples)
 
 
 def test_duration_slows_the_law_down_and_a_short_one_is_refused(rng):
