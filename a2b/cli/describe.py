@@ -130,7 +130,7 @@ def render_law(columns: dict) -> None:
 @options.json_option
 @options.orthonormalize_option
 @click.option("--duration", type=options.PositiveFloat(), help="The time law's duration (s).")
-@options.time_law_options
+@options.time_law_options(sampling=False)
 @click.option(
     "--compare",
     is_flag=True,

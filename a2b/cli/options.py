@@ -313,9 +313,13 @@ TIME_LAW_OPTIONS = (
 )
 
 
-def time_law_options(f):
-    """A time law (:mod:`a2b.timelaw`): profile, limits, point, constant speed, the sampling in
-    time and velocity output. Any of them times the samples; :func:`pop_time_law` takes them."""
+def time_law_options(f=None, *, sampling: bool = True):
+    """A time law (:mod:`a2b.timelaw`): profile, limits, point, constant speed and, with
+    ``sampling`` (commands that write samples), the sampling in time and velocity output. Any
+    of them times the samples; :func:`pop_time_law` takes them. ``@time_law_options`` or
+    ``@time_law_options(sampling=False)``."""
+    if f is None:
+        return lambda g: time_law_options(g, sampling=sampling)
     limit = {
         "speed": "speed of the point (length/s)",
         "accel": "acceleration of the point along its path (length/s²)",
@@ -358,14 +362,15 @@ def time_law_options(f):
             "/a2b/twist.",
         ),
     ]
-    for option in reversed(opts):
+    for option in reversed(opts if sampling else opts[:-3]):
         f = option(f)
     return f
 
 
 def pop_time_law(kwargs: dict) -> dict:
-    """Remove the keys of :data:`TIME_LAW_OPTIONS` from ``kwargs`` and return them."""
-    return {key: kwargs.pop(key) for key in TIME_LAW_OPTIONS}
+    """Remove the keys of :data:`TIME_LAW_OPTIONS` from ``kwargs`` and return them (``None``
+    for the sampling options of a command without them)."""
+    return {key: kwargs.pop(key, None) for key in TIME_LAW_OPTIONS}
 
 
 def duration_given() -> bool:
@@ -378,12 +383,10 @@ def duration_given() -> bool:
 
 def figure_law(parameters: dict) -> dict:
     """The time-law options of a command that writes no samples (``describe``, ``plot
-    --speeds``), taken from ``parameters``; ``--rate``, ``--dt`` and ``--velocities`` are
-    refused."""
+    --speeds``: :func:`time_law_options` without sampling), taken from ``parameters``."""
     law = pop_time_law(parameters)
     for name in ("rate", "dt", "velocities"):
-        if law.pop(name):
-            raise click.UsageError(f"--{name} is for commands that write samples")
+        law.pop(name)
     return law
 
 

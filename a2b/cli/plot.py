@@ -125,7 +125,7 @@ def units_options(f):
 @click.option(
     "--duration", type=options.PositiveFloat(), help="--speeds: the time law's duration (s)."
 )
-@options.time_law_options
+@options.time_law_options(sampling=False)
 @options.verbose_option
 @options.orthonormalize_option
 def command(
