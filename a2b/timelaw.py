@@ -710,8 +710,14 @@ class TimedMotion:
         values = self._rates_in_phase(phase, dt)
         opening = np.take_along_axis(profile.starts, phase, -1)
         phase_len = np.take_along_axis(lengths, phase, -1)
-        before = np.concatenate([when[..., :1], when[..., :-1]], axis=-1)
-        after = np.concatenate([when[..., 1:], when[..., -1:]], axis=-1)
+        # the neighbours in time; where two candidates coincide (a time of the path grid on the
+        # phase grid, to rounding), the one beyond, so that each side is searched
+        pad = np.concatenate(
+            [when[..., :1], when[..., :1], when, when[..., -1:], when[..., -1:]], -1
+        )
+        near = 1e-9 * profile.duration[..., None]
+        before = np.where(when - pad[..., 1:-3] > near, pad[..., 1:-3], pad[..., :-4])
+        after = np.where(pad[..., 3:-1] - when > near, pad[..., 3:-1], pad[..., 4:])
         out = {}
         for name in names:
             magnitude = np.abs(values[name])
