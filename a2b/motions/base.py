@@ -68,14 +68,19 @@ END_TOL = 1e-9
 
 def check_ends(motion) -> None:
     """Refuse a motion whose samples at t = 0 and t = 1 are not its start and end poses."""
-    ends = motion.matrices(np.array([0.0, 1.0]))
-    given = np.stack(np.broadcast_arrays(motion.start, motion.end), axis=-3)
-    given = np.broadcast_to(given, ends.shape)
-    rotation = np.abs(ends[..., :3, :3] - given[..., :3, :3]).max(axis=(-3, -2, -1))
-    size = np.linalg.norm(given[..., :3, 3], axis=-1).max(axis=-1)
-    size = np.where(size > 0.0, size, 1.0)
-    translation = np.linalg.norm(ends[..., :3, 3] - given[..., :3, 3], axis=-1).max(axis=-1) / size
-    residual = np.maximum(rotation, translation)
+    # the table itself at t = 0 and 1 (p(t) is a unit quaternion there: no fragile rotation)
+    ends = evaluate_table(motion._basis(np.array([0.0, 1.0])), motion.table)[..., :3, :]
+    miss = np.empty(ends.shape)
+    np.subtract(ends[..., 0, :, :], motion.start[..., :3, :], out=miss[..., 0, :, :])
+    np.subtract(ends[..., 1, :, :], motion.end[..., :3, :], out=miss[..., 1, :, :])
+    rotation = np.abs(miss[..., :3]).max(axis=(-3, -2, -1))
+    squares = miss[..., 3] * miss[..., 3]
+    translation = np.sqrt(squares.sum(axis=-1).max(axis=-1))
+    size = np.maximum(
+        np.sqrt(np.sum(motion.start[..., :3, 3] ** 2, axis=-1)),
+        np.sqrt(np.sum(motion.end[..., :3, 3] ** 2, axis=-1)),
+    )
+    residual = np.maximum(rotation, translation / np.where(size > 0.0, size, 1.0))
     refuse(
         ParameterError,
         ~(residual <= END_TOL),
