@@ -189,6 +189,11 @@ class Resampler:
             return np.concatenate(parts)
         k, u, pose = located.segment, located.u, located.pose
         between = pose < 0
+        if len(k) and between.all():  # no time on a stamp (the usual case): no masks
+            values = self._evaluate(k, u, representation)
+            if representation != "quat_trans":
+                return values
+            return self._signed(values[0], k), values[1]
         own = pose[~between]
         values = self._evaluate(k[between], u[between], representation) if between.any() else None
         if representation == "matrices":
@@ -201,14 +206,17 @@ class Resampler:
             quat, trans = np.empty((len(k), 4)), np.empty((len(k), 3))
             quat[~between], trans[~between] = self._own_quat_trans(own)
             if values is not None:
-                q, trans[between] = values
-                start, _ = self._own_quat_trans(k[between])
-                q[np.einsum("ij,ij->i", q, start) < 0] *= -1.0  # the sign at the segment's start
-                quat[between] = q
+                quat[between], trans[between] = self._signed(values[0], k[between]), values[1]
             return quat, trans
         if values is not None:
             out[between] = values
         return out
+
+    def _signed(self, quat: np.ndarray, k: np.ndarray) -> np.ndarray:
+        """``quat`` with the sign of the quaternion at the start of segments ``k``."""
+        start, _ = self._own_quat_trans(k)
+        quat[np.einsum("ij,ij->i", quat, start) < 0] *= -1.0
+        return quat
 
     def _evaluate(self, k: np.ndarray, u: np.ndarray, representation: str):
         if self.spline is not None:
@@ -242,11 +250,15 @@ class Resampler:
 
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", A2bWarning)
+            lo, hi = int(rows[0]), int(rows[-1]) + 2
+            if hi - lo <= 2 * len(rows) and np.all(rows[1:] >= rows[:-1]):
+                # segments in order (the usual case): each pose made once, for both its segments
+                poses = self._pose_matrices(np.arange(lo, hi))
+                ends = poses[rows - lo], poses[rows + 1 - lo]
+            else:
+                ends = self._pose_matrices(rows), self._pose_matrices(rows + 1)
             try:
-                motion = checked_motion(
-                    self._pose_matrices(rows), self._pose_matrices(rows + 1), self.mode,
-                    **self.parameters,
-                )  # fmt: skip
+                motion = checked_motion(*ends, self.mode, **self.parameters)
             except A2bError as e:
                 if getattr(e, "index", None) is None:
                     raise
@@ -365,23 +377,28 @@ def _rows(k: np.ndarray, u: np.ndarray):
     The motions of a batch share the number ``W`` of parameters, so the times of a segment
     fill rows of ``W`` (the mean count, unused places 0): at most about twice the samples, for
     any spread of times over segments. ``ts[where]`` are the parameters in the sorted order
-    ``order`` of ``k``.
+    ``order`` of ``k`` (``None`` where ``k`` is in order already).
     """
-    order = np.argsort(k, kind="stable")
-    ks = k[order]
-    segments, start, counts = np.unique(ks, return_index=True, return_counts=True)
+    ordered = bool(np.all(k[1:] >= k[:-1]))  # new times in order: nothing to sort
+    order = None if ordered else np.argsort(k, kind="stable")
+    ks = k if ordered else k[order]
+    start = np.flatnonzero(np.concatenate([[True], ks[1:] != ks[:-1]]))
+    segments, counts = ks[start], np.diff(np.append(start, len(ks)))
     width = -(-len(ks) // len(segments))
     position = np.arange(len(ks)) - np.repeat(start, counts)
     per_segment = -(-counts // width)
     row = np.repeat(np.cumsum(per_segment) - per_segment, counts) + position // width
     column = position % width
     ts = np.zeros((int(per_segment.sum()), width))
-    ts[row, column] = u[order]
+    ts[row, column] = u if ordered else u[order]
     return np.repeat(segments, per_segment), ts, (row, column), order
 
 
-def _pick(values: np.ndarray, where: tuple, order: np.ndarray) -> np.ndarray:
-    """The samples ``values[where]`` back in the order of the new times."""
+def _pick(values: np.ndarray, where: tuple, order: np.ndarray | None) -> np.ndarray:
+    """The samples ``values[where]`` back in the order of the new times (``order`` ``None``:
+    they were in order)."""
+    if order is None:
+        return values[where]
     out = np.empty((len(order),) + values.shape[2:])
     out[order] = values[where]
     return out

@@ -18,7 +18,6 @@ import numpy as np
 from ..frames import ScrewFrame
 from ..poses import rotations_from_quaternions
 from ..study import quat_mul
-from ._rational import make_table
 from .base import Motion
 
 #: Largest |tφ/2| for which the screw basis is computed from tan(tφ/2) (see ``_basis``); numpy's
@@ -44,8 +43,14 @@ class ScrewMotion(Motion):
         t_a = np.asarray(frame.t_start)
         t_perp = frame.t_perp
         cross = np.cross(u, t_perp)
-        rot = np.stack([rot_a, np.zeros(rot_a.shape), k @ rot_a, k2 @ rot_a], axis=-3)
-        rot = rot.reshape(rot.shape[:-2] + (9,))
+        # the table written in place: rows (1, t, sin, vers) of [R | t] and the denominators 1
+        self.table = np.empty(u.shape[:-1] + (4, 14))
+        blocks = self.table[..., :12].reshape(u.shape[:-1] + (4, 3, 4))
+        blocks[..., 0, :, :3] = rot_a
+        blocks[..., 1, :, :3] = 0.0
+        np.matmul(k, rot_a, out=blocks[..., 2, :, :3])
+        np.matmul(k2, rot_a, out=blocks[..., 3, :, :3])
+        self.table[..., 12:] = np.array([1.0, 0.0, 0.0, 0.0])[:, None]
         trans = np.stack(
             [t_a, d[..., None] * u, (k @ t_a[..., None])[..., 0], (k2 @ t_a[..., None])[..., 0]],
             axis=-2,
@@ -58,8 +63,7 @@ class ScrewMotion(Motion):
         trans[..., 2, :] += np.where(turning, half_cot * t_perp - 0.5 * cross, 0.0)
         trans[..., 3, :] += np.where(turning, 0.5 * t_perp + half_cot * cross, 0.0)
         trans[..., 1, :] += np.where(turning, 0.0, t_perp)
-        unit = np.array([1.0, 0.0, 0.0, 0.0])
-        self.table = make_table(rot, unit, trans, unit)
+        blocks[..., 3] = trans
         # p(t) = cos(tφ/2) pA + sin(tφ/2) u pA: the "ends" of this path are pA and u pA
         u_quat = np.concatenate([np.zeros(u.shape[:-1] + (1,)), u], axis=-1)
         self.quat_ends = np.stack([frame.p_start, quat_mul(u_quat, frame.p_start)], axis=-2)
