@@ -1106,7 +1106,8 @@ def plot_speeds(
     ``limit:<key>``. Returns a :class:`matplotlib.figure.Figure`.
     """
     if not isinstance(timed, Mapping):
-        timed = {getattr(timed.motion, "mode", None) or "motion": timed}
+        motion = timed.motion
+        timed = {getattr(motion, "mode", None) or getattr(motion, "kind", None) or "motion": timed}
     if not timed:
         raise ParameterError("plot_speeds needs at least one timed motion")
     if any(t.shape for t in timed.values()):
