@@ -144,17 +144,10 @@ class Profile:
         opening = self.coefficients[..., 0]  # σ where each phase starts, S + (P,)
         phase = np.minimum(np.sum(opening[..., None, 1:] <= sigma[..., None], axis=-1), phases - 1)
         length = np.take_along_axis(np.diff(self.starts, axis=-1), phase, axis=-1)
+        first, last = np.take_along_axis(opening, phase, -1), self.phase_values(phase, length)
         low, high = np.zeros(sigma.shape), length.copy()
-        with np.errstate(divide="ignore", invalid="ignore"):
-            dt = length * np.clip(
-                (sigma - np.take_along_axis(opening, phase, -1))
-                / (
-                    self.phase_values(phase, length)[..., 0]
-                    - np.take_along_axis(opening, phase, -1)
-                ),
-                0.0,
-                1.0,
-            )
+        with np.errstate(divide="ignore", invalid="ignore"):  # start: the chord of the phase
+            dt = length * np.clip((sigma - first) / (last[..., 0] - first), 0.0, 1.0)
             dt = np.where(np.isfinite(dt), dt, 0.0)
             for _ in range(60):
                 law = self.phase_values(phase, dt)
