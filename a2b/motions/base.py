@@ -391,8 +391,11 @@ class Motion(Kinematic):
                 None if point is None else check_point(point),
             )
         if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
-            rows = np.moveaxis(out, len(self.shape), -3 if point is None else -2)
-            self._check_finite(arr, rows if point is not None else rows[..., :3, :])
+            if point is None:  # the samples' rows of [R | t] and of the derivatives
+                rows = np.moveaxis(out, len(self.shape), -3)[..., :3, :]
+            else:
+                rows = np.moveaxis(out, len(self.shape), -2)
+            self._check_finite(arr, rows)
         return out
 
     def quat_trans(self, ts) -> tuple[np.ndarray, np.ndarray]:
