@@ -312,11 +312,6 @@ _RULES = {n: np.polynomial.legendre.leggauss(n) for n in (FIRST_NODES, NODES)}
 _NODES, _WEIGHTS = _RULES[NODES]
 
 
-def _speeds(motion, ts, point) -> np.ndarray:
-    """``|dx/dt|`` of the point at ``ts`` (``(N,)`` or ``S + (N,)``): ``S + (N,)``."""
-    return motion.point_speeds(ts, point)
-
-
 def _panel_lengths(motion, point, panels: int, nodes: int = NODES) -> np.ndarray:
     """Gauss–Legendre with ``nodes`` nodes on each of ``panels`` equal panels of ``[0, 1]``:
     the path length on each panel, ``S + (panels,)``."""
@@ -324,7 +319,7 @@ def _panel_lengths(motion, point, panels: int, nodes: int = NODES) -> np.ndarray
     edges = np.linspace(0.0, 1.0, panels + 1)
     half = (edges[1:] - edges[:-1]) / 2
     ts = ((edges[:-1] + half)[:, None] + half[:, None] * x).reshape(-1)
-    speeds = _speeds(motion, ts, point).reshape(getattr(motion, "shape", ()) + (panels, nodes))
+    speeds = motion.point_speeds(ts, point).reshape(getattr(motion, "shape", ()) + (panels, nodes))
     return speeds @ weights * half
 
 
@@ -420,7 +415,7 @@ def _length_to(motion, point, lo: np.ndarray, ts: np.ndarray) -> np.ndarray:
     """``∫_lo^t |dx/dt|`` for per-sample ``lo ≤ t`` (``S + (N,)``), Gauss–Legendre."""
     half = (ts - lo) / 2
     nodes = (lo + half)[..., None] + half[..., None] * _NODES
-    speeds = _speeds(motion, nodes.reshape(nodes.shape[:-2] + (-1,)), point)
+    speeds = motion.point_speeds(nodes.reshape(nodes.shape[:-2] + (-1,)), point)
     return speeds.reshape(nodes.shape) @ _WEIGHTS * half
 
 
@@ -462,7 +457,7 @@ def invert_arc_length(motion, point, cumulative: np.ndarray, fractions: np.ndarr
             break
         low = np.where(miss < 0, t, low)
         high = np.where(miss > 0, t, high)
-        speed = _speeds(motion, t, point)
+        speed = motion.point_speeds(t, point)
         with np.errstate(divide="ignore", invalid="ignore"):
             step = t - miss / speed
         inside = (step > low) & (step < high)
