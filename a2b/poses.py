@@ -52,7 +52,8 @@ def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndar
     if r.shape[-2:] != (3, 3):
         raise PoseError(f"a rotation block must be 3x3, got shape {r.shape}")
     _finite(r, "the rotation block")
-    residual = float(np.max(np.abs(_gram(r) - np.eye(3)), initial=0.0))
+    entries = _entries(r)
+    residual = float(np.max(_orthogonality(entries), initial=0.0))
     if residual > tol:
         raise PoseError(
             f"the rotation block is not orthogonal: max |R Rᵀ − I| = {residual:.3g} "
@@ -65,7 +66,7 @@ def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndar
                 else ""
             )
         )
-    det = determinants(r)
+    det = _determinants(entries)
     if np.any(det < 0):
         raise PoseError(
             f"the rotation block has determinant {float(np.min(det)):.6g}: a reflection, not a "
@@ -88,7 +89,7 @@ def orthogonality_residuals(rotations: np.ndarray) -> np.ndarray:
     """``max |R Rᵀ − I|`` of each rotation block ``(..., 3, 3)``: shape ``...``."""
     r = np.asarray(rotations, dtype=float)
     with np.errstate(all="ignore"):
-        return np.abs(_gram(r) - np.eye(3)).max(axis=(-2, -1))
+        return _orthogonality(_entries(r))
 
 
 def orthonormalize(poses, *, tol: float = REPAIR_TOL) -> np.ndarray:
@@ -124,21 +125,36 @@ def orthonormalize(poses, *, tol: float = REPAIR_TOL) -> np.ndarray:
     return out
 
 
-def _gram(r: np.ndarray) -> np.ndarray:
-    """``R Rᵀ`` of matrices ``(..., 3, 3)``, entry by entry (faster than a stacked matmul)."""
-    rows = [r[..., i, :] for i in range(3)]
-    out = np.empty(r.shape)
+def _entries(r: np.ndarray) -> np.ndarray:
+    """The entries ``r11, r12, …, r33`` of matrices ``(..., 3, 3)`` as contiguous rows ``(9,
+    ...)``: one transposing copy, after which every operation on an entry runs over one
+    contiguous array (several times faster than on the strided entries of a stack of 3x3)."""
+    r = np.asarray(r, dtype=float)
+    return np.ascontiguousarray(np.moveaxis(r.reshape(r.shape[:-2] + (9,)), -1, 0))
+
+
+def _orthogonality(entries: np.ndarray) -> np.ndarray:
+    """``max |R Rᵀ − I|`` of each matrix, from its :func:`_entries`: shape ``...``."""
+    rows = (entries[0:3], entries[3:6], entries[6:9])
+    out = None
     for i in range(3):
         for j in range(i, 3):
-            out[..., i, j] = out[..., j, i] = np.sum(rows[i] * rows[j], axis=-1)
+            a, b = rows[i], rows[j]
+            g = a[0] * b[0]
+            g += a[1] * b[1]
+            g += a[2] * b[2]
+            g = np.abs(g - 1.0 if i == j else g)
+            out = g if out is None else np.maximum(out, g)
     return out
 
 
 def determinants(r: np.ndarray) -> np.ndarray:
     """``det R`` of matrices ``(..., 3, 3)`` by cofactors along the first row."""
-    a, b, c = r[..., 0, 0], r[..., 0, 1], r[..., 0, 2]
-    d, e, f = r[..., 1, 0], r[..., 1, 1], r[..., 1, 2]
-    g, h, i = r[..., 2, 0], r[..., 2, 1], r[..., 2, 2]
+    return _determinants(_entries(r))
+
+
+def _determinants(entries: np.ndarray) -> np.ndarray:
+    a, b, c, d, e, f, g, h, i = entries
     return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
 
 
@@ -151,9 +167,9 @@ def valid_matrices(matrices: np.ndarray, tol: float = ORTHO_TOL) -> np.ndarray:
     m = np.asarray(matrices, dtype=float)
     with np.errstate(all="ignore"):
         ok = np.isfinite(m).all(axis=(-2, -1)) & (m[..., 3, :] == [0.0, 0.0, 0.0, 1.0]).all(axis=-1)
-        rot = m[..., :3, :3]
-        ortho = np.abs(_gram(rot) - np.eye(3)).max(axis=(-2, -1))
-        det = determinants(rot)
+        entries = _entries(m[..., :3, :3])
+        ortho = _orthogonality(entries)
+        det = _determinants(entries)
         return ok & (ortho <= tol) & (det >= 0) & (np.abs(det - 1.0) <= tol)
 
 
@@ -293,24 +309,27 @@ def quaternions_from_rotations(rotations: np.ndarray) -> np.ndarray:
     ----------
     Schröcker, *From A to B*, eq. 7–9.
     """
-    r = np.asarray(rotations, dtype=float)
-    a11, a12, a13 = r[..., 0, 0], r[..., 0, 1], r[..., 0, 2]
-    a21, a22, a23 = r[..., 1, 0], r[..., 1, 1], r[..., 1, 2]
-    a31, a32, a33 = r[..., 2, 0], r[..., 2, 1], r[..., 2, 2]
-    rows = np.stack(
-        [
-            np.stack([1 + a11 + a22 + a33, a32 - a23, a13 - a31, a21 - a12], axis=-1),
-            np.stack([a32 - a23, 1 + a11 - a22 - a33, a21 + a12, a31 + a13], axis=-1),
-            np.stack([a13 - a31, a21 + a12, 1 - a11 + a22 - a33, a32 + a23], axis=-1),
-            np.stack([a21 - a12, a31 + a13, a32 + a23, 1 - a11 - a22 + a33], axis=-1),
-        ],
-        axis=-2,
+    a11, a12, a13, a21, a22, a23, a31, a32, a33 = _entries(rotations)
+    w_x, w_y, w_z = a32 - a23, a13 - a31, a21 - a12
+    x_y, x_z, y_z = a21 + a12, a31 + a13, a32 + a23
+    rows = (  # the rows of eq. 9; the first whose diagonal term is largest is taken
+        (a11 + a22 + a33, (1 + a11 + a22 + a33, w_x, w_y, w_z)),
+        (a11 - a22 - a33, (w_x, 1 + a11 - a22 - a33, x_y, x_z)),
+        (-a11 + a22 - a33, (w_y, x_y, 1 - a11 + a22 - a33, y_z)),
+        (-a11 - a22 + a33, (w_z, x_z, y_z, 1 - a11 - a22 + a33)),
     )
-    diag = np.stack([a11 + a22 + a33, a11 - a22 - a33, -a11 + a22 - a33, -a11 - a22 + a33], axis=-1)
-    pick = np.argmax(diag, axis=-1)
-    p = np.take_along_axis(rows, pick[..., None, None], axis=-2)[..., 0, :]
-    p = p / np.linalg.norm(p, axis=-1, keepdims=True)
-    return canonical_sign(p)
+    largest, p = rows[0]
+    for diagonal, row in rows[1:]:
+        larger = diagonal > largest
+        largest = np.where(larger, diagonal, largest)
+        p = [np.where(larger, new, old) for new, old in zip(row, p)]
+    norm = np.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3])
+    p = [c / norm for c in p]
+    # canonical_sign, component by component: the first non-zero component positive
+    flip = p[3] < 0.0
+    for c in p[2::-1]:
+        flip = np.where(c == 0.0, flip, c < 0.0)
+    return np.stack([np.where(flip, -c, c) for c in p], axis=-1)
 
 
 def canonical_sign(p: np.ndarray) -> np.ndarray:

@@ -64,22 +64,27 @@ def check_table(table: np.ndarray, shape: tuple) -> None:
 #: translations relative to ``max(|tA|, |tB|)``. Every mode reproduces them to about 1e-15; a
 #: parameter so large that its terms swamp the poses (``delta = 1e16``) would not.
 END_TOL = 1e-9
+#: The denominator column (12 rotation, 13 translation) of each entry of the rows of [R | t].
+_DENOMINATOR_OF = [12, 12, 12, 13] * 3
 
 
 def check_ends(motion) -> None:
     """Refuse a motion whose samples at t = 0 and t = 1 are not its start and end poses."""
-    # the table itself at t = 0 and 1 (p(t) is a unit quaternion there: no fragile rotation)
-    ends = evaluate_table(motion._basis(np.array([0.0, 1.0])), motion.table)[..., :3, :]
-    miss = np.empty(ends.shape)
-    np.subtract(ends[..., 0, :, :], motion.start[..., :3, :], out=miss[..., 0, :, :])
-    np.subtract(ends[..., 1, :, :], motion.end[..., :3, :], out=miss[..., 1, :, :])
-    rotation = np.abs(miss[..., :3]).max(axis=(-3, -2, -1))
-    squares = miss[..., 3] * miss[..., 3]
-    translation = np.sqrt(squares.sum(axis=-1).max(axis=-1))
-    size = np.maximum(
-        np.sqrt(np.sum(motion.start[..., :3, 3] ** 2, axis=-1)),
-        np.sqrt(np.sum(motion.end[..., :3, 3] ** 2, axis=-1)),
-    )
+    # numerators and denominators at t = 0 and 1 (p(t) is a unit quaternion there: no fragile
+    # rotation), compared with the poses times their denominators: whole rows of 12 at a time
+    values = np.matmul(motion._basis(np.array([0.0, 1.0])), motion.table)
+    shape = values.shape[:-2]
+    poses = np.stack([motion.start, motion.end], axis=-3).reshape(shape + (2, 16))[..., :12]
+    denominators = values[..., _DENOMINATOR_OF]
+    miss = poses * denominators
+    np.subtract(values[..., :12], miss, out=miss)
+    np.divide(miss, denominators, out=miss)
+    np.abs(miss, out=miss)
+    miss = miss.reshape(shape + (2, 3, 4))
+    rotation = miss[..., :3].max(axis=(-3, -2, -1))
+    translation = np.sqrt(np.einsum("...ij,...ij->...i", miss[..., 3], miss[..., 3])).max(axis=-1)
+    size = np.sqrt(np.einsum("...ij,...ij->...i", poses[..., 3:12:4], poses[..., 3:12:4]))
+    size = size.max(axis=-1)
     residual = np.maximum(rotation, translation / np.where(size > 0.0, size, 1.0))
     refuse(
         ParameterError,
