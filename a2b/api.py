@@ -55,9 +55,10 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
     return checked_motion(a, b, mode, **parameters)
 
 
-def checked_motion(a, b, mode: str = "darboux", /, **parameters) -> Motion:
+def checked_motion(a, b, mode: str = "darboux", /, quaternions=None, **parameters) -> Motion:
     """:func:`motion` of poses that are validated already (:func:`a2b.poses.check_matrices`),
-    as a trajectory's reader or :class:`a2b.resample.Resampler` validated them once."""
+    as a trajectory's reader or :class:`a2b.resample.Resampler` validated them once;
+    ``quaternions``, of the shape of ``a`` and ``b``, as for :func:`a2b.frames.screw_frame`."""
     if mode not in MODES:
         raise ParameterError(f"unknown mode {mode!r}; expected one of {', '.join(MODES)}")
     unknown = sorted(set(parameters) - set(PARAMETERS[mode]))
@@ -76,14 +77,16 @@ def checked_motion(a, b, mode: str = "darboux", /, **parameters) -> Motion:
     except ValueError:
         described = ", ".join(f"{key} {value}" for key, value in shapes.items())
         raise ParameterError(f"the leading shapes do not broadcast: {described}") from None
+    if quaternions is not None and not shape == a.shape[:-2] == b.shape[:-2]:
+        quaternions = None  # made again for the broadcast poses
     a = np.broadcast_to(a, shape + (4, 4))
     b = np.broadcast_to(b, shape + (4, 4))
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below, as an error
-        return _build(a, b, mode, params)
+        return _build(a, b, mode, params, quaternions)
 
 
-def _build(a, b, mode, params) -> Motion:
-    frame = screw_frame(a, b)
+def _build(a, b, mode, params, quaternions=None) -> Motion:
+    frame = screw_frame(a, b, quaternions)
     if mode == "darboux":
         from .motions.darboux import DarbouxMotion
 

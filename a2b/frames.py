@@ -24,6 +24,7 @@ from .poses import (
     canonical_sign,
     inverse_matrices,
     quat_trans_from_matrices,
+    quaternions_from_rotations,
     rotations_from_quaternions,
     study_from_quat_trans,
 )
@@ -160,13 +161,17 @@ def _scalar(value):
     return value[()] if isinstance(value, np.ndarray) and value.ndim == 0 else value
 
 
-def screw_frame(start: np.ndarray, end: np.ndarray) -> ScrewFrame:
+def screw_frame(start: np.ndarray, end: np.ndarray, quaternions=None) -> ScrewFrame:
     """The screw axis of ``D = B A⁻¹`` for robotics matrices ``start = A`` and ``end = B``.
 
     Parameters
     ----------
     start, end : ndarray, shape S + (4, 4)
         Valid poses (see :func:`a2b.poses.check_matrices`), of one shape ``S``.
+    quaternions : (ndarray, ndarray), shapes S + (4,), optional
+        The quaternions of A and B as :func:`a2b.poses.quaternions_from_rotations` gives them,
+        where the caller has them already (a trajectory's pose starts one segment and ends
+        the one before).
 
     Returns
     -------
@@ -187,8 +192,10 @@ def screw_frame(start: np.ndarray, end: np.ndarray) -> ScrewFrame:
     start = np.asarray(start, dtype=float)
     end = np.asarray(end, dtype=float)
     shape = start.shape[:-2]
+    if quaternions is not None:
+        quaternions = [np.asarray(p, dtype=float).reshape(-1, 4) for p in quaternions]
     with np.errstate(over="ignore", invalid="ignore"):
-        fields, notes = _frames(start.reshape(-1, 4, 4), end.reshape(-1, 4, 4))
+        fields, notes = _frames(start.reshape(-1, 4, 4), end.reshape(-1, 4, 4), quaternions)
     fields = {
         name: _scalar(array.reshape(shape + array.shape[1:])) for name, array in fields.items()
     }
@@ -209,10 +216,12 @@ def screw_frame(start: np.ndarray, end: np.ndarray) -> ScrewFrame:
     return frame
 
 
-def _frames(start: np.ndarray, end: np.ndarray) -> tuple[dict, list]:
+def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list]:
     """The fields of the screw frames of ``J`` pairs ``(J, 4, 4)``, and the choices made."""
-    p_a, t_a = quat_trans_from_matrices(start)
-    p_b, t_b = quat_trans_from_matrices(end)
+    if quaternions is None:
+        quaternions = [quaternions_from_rotations(m[:, :3, :3]) for m in (start, end)]
+    p_a, p_b = quaternions
+    t_a, t_b = start[:, :3, 3].copy(), end[:, :3, 3].copy()
     same = (p_a == p_b).all(axis=-1)  # identical rotations: no rounding residue from p p̄
     r = quat_mul(p_b, quat_conj(p_a))
     r[same] = (1.0, 0.0, 0.0, 0.0)

@@ -214,7 +214,7 @@ class Resampler:
 
     def _signed(self, quat: np.ndarray, k: np.ndarray) -> np.ndarray:
         """``quat`` with the sign of the quaternion at the start of segments ``k``."""
-        start, _ = self._own_quat_trans(k)
+        start = self.quat_wxyz[k] if self.quat_wxyz is not None else self._own_quat_trans(k)[0]
         quat[np.einsum("ij,ij->i", quat, start) < 0] *= -1.0
         return quat
 
@@ -247,18 +247,25 @@ class Resampler:
     def _segments(self, rows: np.ndarray, where: tuple):
         """The motions of the segments ``rows`` (one per row, built in one batch)."""
         from .api import checked_motion
+        from .poses import quaternions_from_rotations
 
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", A2bWarning)
             lo, hi = int(rows[0]), int(rows[-1]) + 2
+            quaternions = None
             if hi - lo <= 2 * len(rows) and np.all(rows[1:] >= rows[:-1]):
-                # segments in order (the usual case): each pose made once, for both its segments
+                # segments in order (the usual case): each pose made once, and its quaternion
+                # found once, for both its segments
                 poses = self._pose_matrices(np.arange(lo, hi))
                 ends = poses[rows - lo], poses[rows + 1 - lo]
+                quat = quaternions_from_rotations(poses[:, :3, :3])
+                quaternions = quat[rows - lo], quat[rows + 1 - lo]
             else:
                 ends = self._pose_matrices(rows), self._pose_matrices(rows + 1)
             try:
-                motion = checked_motion(*ends, self.mode, **self.parameters)
+                motion = checked_motion(
+                    *ends, self.mode, quaternions=quaternions, **self.parameters
+                )
             except A2bError as e:
                 if getattr(e, "index", None) is None:
                     raise
