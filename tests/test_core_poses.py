@@ -242,3 +242,54 @@ def test_the_entry_a32_is_2_p0p1_plus_p2p3(rng):
         x = rng.normal(size=3)
         rotated = quat_mul(quat_mul(p, np.concatenate([[0.0], x])), quat_conj(p))[1:]
         np.testing.assert_allclose(r @ x, rotated, atol=1e-14)
+
+
+def _shepperd_one(r: np.ndarray) -> np.ndarray:
+    """One rotation's quaternion by eq. 7–9 the plain way: the first row whose diagonal term
+    is largest, normalised, the first non-zero component made positive."""
+    (a11, a12, a13), (a21, a22, a23), (a31, a32, a33) = r.tolist()
+    diagonal = [a11 + a22 + a33, a11 - a22 - a33, -a11 + a22 - a33, -a11 - a22 + a33]
+    rows = [
+        [1 + a11 + a22 + a33, a32 - a23, a13 - a31, a21 - a12],
+        [a32 - a23, 1 + a11 - a22 - a33, a21 + a12, a31 + a13],
+        [a13 - a31, a21 + a12, 1 - a11 + a22 - a33, a32 + a23],
+        [a21 - a12, a31 + a13, a32 + a23, 1 - a11 - a22 + a33],
+    ]
+    p = np.array(rows[diagonal.index(max(diagonal))])
+    p = p / np.sqrt(((p[0] * p[0] + p[1] * p[1]) + p[2] * p[2]) + p[3] * p[3])
+    lead = p[np.flatnonzero(p)[0]]
+    return -p if lead < 0 else p
+
+
+@pytest.mark.parametrize("shape", [(), (7,), (2, 3, 4)])
+def test_quaternions_from_rotations_are_the_plain_method_bit_for_bit(rng, shape):
+    """The vectorised row choice and sign (component by component) are the scalar method's,
+    for random rotations and for the ties and half-turns where the choice matters."""
+    special = [np.eye(3), np.diag([1.0, -1.0, -1.0]), np.diag([-1.0, 1.0, -1.0]),
+               np.diag([-1.0, -1.0, 1.0]), [[0, 1, 0], [1, 0, 0], [0, 0, -1]],
+               [[0, -1, 0], [-1, 0, 0], [0, 0, -1]], [[0, -1, 0], [1, 0, 0], [0, 0, 1]],
+               [[1, 0, 0], [0, 0, -1], [0, 1, 0]]]  # fmt: skip
+    count = int(np.prod(shape, dtype=int))
+    rot = matrices_from_quat_trans(rng.normal(size=(count, 4)), np.zeros((count, 3)))[:, :3, :3]
+    rot[: min(count, len(special))] = np.array(special[:count], dtype=float)
+    rot = rot.reshape(shape + (3, 3))
+    quat = quaternions_from_rotations(rot)
+    assert quat.shape == shape + (4,)
+    expected = np.array([_shepperd_one(r) for r in rot.reshape(-1, 3, 3)]).reshape(quat.shape)
+    assert np.array_equal(quat, expected)
+
+
+def test_orthogonality_and_determinant_checks_name_the_worst_residual(rng):
+    mats = np.stack([random_pose(rng) for _ in range(6)])
+    mats[4, 1, 2] += 3e-7  # the worst of the batch
+    mats[2, 0, 0] += 2e-9
+    from a2b.poses import determinants, orthogonality_residuals
+
+    residuals = orthogonality_residuals(mats[:, :3, :3])
+    direct = np.abs(mats[:, :3, :3] @ np.swapaxes(mats[:, :3, :3], 1, 2) - np.eye(3)).max((1, 2))
+    np.testing.assert_allclose(residuals, direct, rtol=1e-9, atol=1e-15)
+    assert np.argmax(residuals) == 4 and residuals[2] > 1e-9
+    worst = f"{residuals.max():.3g}"
+    with pytest.raises(PoseError, match=rf"max \|R Rᵀ − I\| = {worst} exceeds tolerance 1e-09"):
+        check_matrices(mats)
+    np.testing.assert_allclose(determinants(mats[:, :3, :3]), np.linalg.det(mats[:, :3, :3]))

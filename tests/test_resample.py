@@ -200,6 +200,28 @@ def test_screw_resampling_returns_the_stamps_exactly_and_sclerp_between():
         assert np.abs(got[k] - expected).max() < 1e-12
 
 
+@pytest.mark.parametrize("mode", ["darboux", "cubic", "screw"])
+def test_each_resampled_segment_is_its_motion_built_alone(mode):
+    """Where the segments of a block are close together, a segment's motion is built from
+    quaternions found once per pose (for the two segments it ends and starts); where they are
+    sparse, from its two matrices: the same samples, bit for bit. Each is the motion of that
+    pair built alone (bit for bit but for the cubic, whose batched products may round
+    differently: 1e-15)."""
+    rng = np.random.default_rng(5)
+    times, poses = random_trajectory(rng, 40)
+    between = times[:-1] + rng.uniform(0.05, 0.95, 39) * np.diff(times)
+    _, in_order = resample(times, poses, between, mode)
+    _, sparse = resample(times, poses, between[::3], mode)  # every third segment
+    assert np.array_equal(in_order[::3], sparse)
+    for k, (row, t) in enumerate(zip(in_order, between)):
+        u = (t - times[k]) / (times[k + 1] - times[k])
+        alone = a2b.motion(poses[k], poses[k + 1], mode).matrices(np.array([u]))[0]
+        if mode == "cubic":
+            np.testing.assert_allclose(row, alone, rtol=0, atol=1e-15)
+        else:
+            assert np.array_equal(row, alone)
+
+
 @pytest.mark.parametrize("mode", ["darboux", "cubic", "spline"])
 def test_every_mode_passes_through_the_stamps_and_is_continuous(mode):
     rng = np.random.default_rng(8)
