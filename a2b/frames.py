@@ -78,8 +78,6 @@ class ScrewFrame:
     r: np.ndarray
     p_start: np.ndarray
     p_end: np.ndarray
-    h_start: np.ndarray
-    h_end: np.ndarray
     t_start: np.ndarray
     t_end: np.ndarray
     t_disp: np.ndarray
@@ -101,6 +99,17 @@ class ScrewFrame:
             if name != "notes"
         }
         return ScrewFrame(**fields, notes=self.notes[index])
+
+    @property
+    def h_start(self) -> np.ndarray:
+        """A's unit Study vector with primal part ``p_start``, ``S + (8,)`` (made when asked
+        for: the screw motion and the cubic do not need it)."""
+        return study_from_quat_trans(self.p_start, self.t_start)
+
+    @property
+    def h_end(self) -> np.ndarray:
+        """B's unit Study vector with primal part ``p_end``, ``S + (8,)``."""
+        return study_from_quat_trans(self.p_end, self.t_end)
 
     @property
     def t_perp(self) -> np.ndarray:
@@ -290,8 +299,6 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
         "r": r,
         "p_start": p_a,
         "p_end": p_b,
-        "h_start": study_from_quat_trans(p_a, t_a),
-        "h_end": study_from_quat_trans(p_b, t_b),
         "t_start": t_a,
         "t_end": t_b,
         "t_disp": t_disp,
