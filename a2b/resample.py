@@ -190,10 +190,7 @@ class Resampler:
         k, u, pose = located.segment, located.u, located.pose
         between = pose < 0
         if len(k) and between.all():  # no time on a stamp (the usual case): no masks
-            values = self._evaluate(k, u, representation)
-            if representation != "quat_trans":
-                return values
-            return self._signed(values[0], k), values[1]
+            return self._evaluate(k, u, representation)
         own = pose[~between]
         values = self._evaluate(k[between], u[between], representation) if between.any() else None
         if representation == "matrices":
@@ -206,23 +203,36 @@ class Resampler:
             quat, trans = np.empty((len(k), 4)), np.empty((len(k), 3))
             quat[~between], trans[~between] = self._own_quat_trans(own)
             if values is not None:
-                quat[between], trans[between] = self._signed(values[0], k[between]), values[1]
+                quat[between], trans[between] = values
             return quat, trans
         if values is not None:
             out[between] = values
         return out
 
-    def _signed(self, quat: np.ndarray, k: np.ndarray) -> np.ndarray:
-        """``quat`` with the sign of the quaternion at the start of segments ``k``."""
-        start = self.quat_wxyz[k] if self.quat_wxyz is not None else self._own_quat_trans(k)[0]
-        quat[np.einsum("ij,ij->i", quat, start) < 0] *= -1.0
-        return quat
+    def _start_quaternions(self, k: np.ndarray) -> np.ndarray:
+        """The quaternions of the poses that start segments ``k``, as the file gives them."""
+        return self.quat_wxyz[k] if self.quat_wxyz is not None else self._own_quat_trans(k)[0]
 
     def _evaluate(self, k: np.ndarray, u: np.ndarray, representation: str):
+        """The poses at parameters ``u`` of segments ``k``; quaternions take the sign of the
+        one at the start of their segment."""
         if self.spline is not None:
-            return getattr(self.spline, representation)((k + u) / (len(self.times) - 1))
+            out = getattr(self.spline, representation)((k + u) / (len(self.times) - 1))
+            if representation == "quat_trans":  # each sample against its segment's start
+                quat = out[0]
+                quat[np.einsum("ij,ij->i", quat, self._start_quaternions(k)) < 0] *= -1.0
+            return out
         rows, ts, where, order = _rows(k, u)
-        out = getattr(self._segments(rows, where), representation)(ts)
+        motion = self._segments(rows, where)
+        out = getattr(motion, representation)(ts)
+        if representation == "quat_trans":
+            # a motion's quaternions are continuous from its p(0): one sign per segment, the
+            # one that makes p(0) the file's quaternion of the start (not one per sample,
+            # which rounding could flip where p(t) is at right angles to it)
+            start = self._start_quaternions(rows)
+            flip = np.einsum("ij,ij->i", motion.quat_ends[:, 0, :], start) < 0
+            if flip.any():
+                out[0][flip] *= -1.0
         return (
             tuple(_pick(o, where, order) for o in out)
             if isinstance(out, tuple)

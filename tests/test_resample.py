@@ -222,6 +222,26 @@ def test_each_resampled_segment_is_its_motion_built_alone(mode):
             assert np.array_equal(row, alone)
 
 
+def test_a_segments_quaternions_take_one_sign_that_of_its_start():
+    """A cubic whose weights differ in sign turns p(t) more than a right angle away from pA:
+    its samples keep the sign that makes p(0) the file's quaternion, with no jump inside the
+    segment (the stamp at its end is the file's own quaternion, which may be −p(1))."""
+    from a2b.poses import quaternions_from_axis_angle
+    from a2b.resample import Resampler
+
+    qa, qb = -np.array([1.0, 0.0, 0.0, 0.0]), quaternions_from_axis_angle([0, 0, 1], 2.5)
+    resampler = Resampler(np.array([0.0, 1.0]), quat_wxyz=np.stack([qa, qb]),
+                          translations=np.zeros((2, 3)), mode="cubic",
+                          m=np.array([0.2, 0.0, 0.0, -1.0]))  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", a2b.errors.A2bWarning)
+        quat, _ = resampler.sample(resampler.locate(np.linspace(0.0, 1.0, 201)), "quat_trans")
+    assert np.array_equal(quat[0], qa) and np.array_equal(quat[-1], qb)
+    inside = quat[1:-1]
+    assert np.dot(inside[0], qa) > 0.99
+    assert (np.einsum("ij,ij->i", inside[1:], inside[:-1]) > 0.99).all()
+
+
 @pytest.mark.parametrize("mode", ["darboux", "cubic", "spline"])
 def test_every_mode_passes_through_the_stamps_and_is_continuous(mode):
     rng = np.random.default_rng(8)
