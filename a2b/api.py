@@ -101,9 +101,9 @@ def _build(a, b, mode, params, quaternions=None) -> Motion:
 
         result = ScrewMotion(a, b, frame)
     check_table(result.table, result.shape)
-    check_ends(result)
-    if params:  # the defaults of every mode stay within 0.5 of the ratio (docs/math.md)
-        check_excursion(result)
+    if params:  # the defaults of every mode reach their ends to 2e-15 and stay within 0.5 of
+        check_ends(result)  # the excursion ratio: only a parameter can upset either
+        check_excursion(result)  # (docs/math.md, "How far a motion strays")
     return result
 
 

@@ -337,6 +337,33 @@ def test_a_parameter_that_swamps_the_poses_is_refused_at_the_ends(rng, parameter
         a2b.motion(a, b, "darboux", **{parameter: batch})
 
 
+@pytest.mark.parametrize("turn", ["random", "tiny", "near_pi", "pi", "none"])
+def test_default_motions_reach_their_ends_far_within_the_tolerance(rng, turn):
+    """Why only motions with a parameter given are checked at their ends (docs/math.md):
+    without one, every mode reproduces A and B to a few units of rounding, for any turn and
+    for translations of 1e-9 to 1e9 at either end."""
+    from a2b.motions.base import END_TOL, end_residuals
+    from a2b.poses import matrices_from_quat_trans, quaternions_from_axis_angle
+    from a2b.study import quat_mul
+
+    n = 2000
+    qa = rng.normal(size=(n, 4))
+    qa /= np.linalg.norm(qa, axis=1, keepdims=True)
+    angle = {"random": rng.uniform(0, np.pi, n), "tiny": 10.0 ** rng.uniform(-12, -4, n),
+             "near_pi": np.pi - 10.0 ** rng.uniform(-12, -2, n), "pi": np.full(n, np.pi),
+             "none": np.zeros(n)}[turn]  # fmt: skip
+    qb = quat_mul(quaternions_from_axis_angle(rng.normal(size=(n, 3)), angle), qa)
+    scale_a = 10.0 ** rng.uniform(-9, 9, (n, 1))
+    scale_b = np.where(rng.random((n, 1)) < 0.5, scale_a, 10.0 ** rng.uniform(-9, 9, (n, 1)))
+    ta, tb = rng.normal(size=(n, 3)) * scale_a, rng.normal(size=(n, 3)) * scale_b
+    a, b = matrices_from_quat_trans(qa, ta), matrices_from_quat_trans(qb, tb)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", A2bWarning)  # near-translations warn for the cubic
+        for mode, frame in [("screw", {}), ("darboux", {}), ("cubic", {}),
+                            ("cubic", {"frame": "given"})]:  # fmt: skip
+            assert end_residuals(a2b.motion(a, b, mode, **frame)).max() < 1e-14 < END_TOL / 1e4
+
+
 def test_every_mode_reaches_its_end_poses_to_the_tolerance(rng):
     from a2b.motions.base import END_TOL
 

@@ -70,6 +70,23 @@ _DENOMINATOR_OF = [12, 12, 12, 13] * 3
 
 def check_ends(motion) -> None:
     """Refuse a motion whose samples at t = 0 and t = 1 are not its start and end poses."""
+    residual = end_residuals(motion)
+    refuse(
+        ParameterError,
+        ~(residual <= END_TOL),
+        lambda i: (
+            f"the {motion.what} does not reach its end poses in double precision: its samples at "
+            f"t = 0 and 1 are {value(residual, i):.3g} away from A and B (rotation entries, and "
+            f"translations relative to the larger of |tA|, |tB|), tolerance {END_TOL:g}; a "
+            "parameter is too large for these poses"
+        ),
+        motion.shape,
+    )
+
+
+def end_residuals(motion) -> np.ndarray:
+    """How far each motion's samples at t = 0 and 1 are from its poses: the largest error of a
+    rotation entry or of a translation relative to ``max(|tA|, |tB|)``, shape ``S``."""
     # numerators and denominators at t = 0 and 1 (p(t) is a unit quaternion there: no fragile
     # rotation), compared with the poses times their denominators: whole rows of 12 at a time
     values = np.matmul(motion._basis(np.array([0.0, 1.0])), motion.table)
@@ -85,18 +102,7 @@ def check_ends(motion) -> None:
     translation = np.sqrt(np.einsum("...ij,...ij->...i", miss[..., 3], miss[..., 3])).max(axis=-1)
     size = np.sqrt(np.einsum("...ij,...ij->...i", poses[..., 3:12:4], poses[..., 3:12:4]))
     size = size.max(axis=-1)
-    residual = np.maximum(rotation, translation / np.where(size > 0.0, size, 1.0))
-    refuse(
-        ParameterError,
-        ~(residual <= END_TOL),
-        lambda i: (
-            f"the {motion.what} does not reach its end poses in double precision: its samples at "
-            f"t = 0 and 1 are {value(residual, i):.3g} away from A and B (rotation entries, and "
-            f"translations relative to the larger of |tA|, |tB|), tolerance {END_TOL:g}; a "
-            "parameter is too large for these poses"
-        ),
-        motion.shape,
-    )
+    return np.maximum(rotation, translation / np.where(size > 0.0, size, 1.0))
 
 
 #: A motion whose moving origin strays farther than this many times the distance of the two
