@@ -324,21 +324,17 @@ def quaternions_from_rotations(rotations: np.ndarray) -> np.ndarray:
         largest = np.where(larger, diagonal, largest)
         p = [np.where(larger, new, old) for new, old in zip(row, p)]
     norm = np.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3])
-    p = [c / norm for c in p]
-    # canonical_sign, component by component: the first non-zero component positive
-    flip = p[3] < 0.0
-    for c in p[2::-1]:
-        flip = np.where(c == 0.0, flip, c < 0.0)
-    return np.stack([np.where(flip, -c, c) for c in p], axis=-1)
+    return canonical_sign(np.stack([c / norm for c in p], axis=-1))
 
 
 def canonical_sign(p: np.ndarray) -> np.ndarray:
-    """Flip quaternions ``(..., 4)`` so that the first non-zero component is positive."""
+    """Flip vectors ``(..., n)`` (quaternions, axis directions) so that the first non-zero
+    component is positive; zero vectors stay as they are."""
     p = np.asarray(p, dtype=float)
-    nonzero = p != 0.0
-    first = np.argmax(nonzero, axis=-1)
-    lead = np.take_along_axis(p, first[..., None], axis=-1)
-    return np.where(lead < 0.0, -p, p)
+    flip = p[..., -1] < 0.0  # the sign of the last component, unless an earlier one is non-zero
+    for i in range(p.shape[-1] - 2, -1, -1):
+        flip = np.where(p[..., i] == 0.0, flip, p[..., i] < 0.0)
+    return p * np.where(flip, -1.0, 1.0)[..., None]  # × −1 is negation, bit for bit
 
 
 def rotations_from_quaternions(quat_wxyz: np.ndarray) -> np.ndarray:

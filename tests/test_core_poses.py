@@ -6,6 +6,7 @@ import pytest
 from a2b import A2bError
 from a2b.errors import PoseError
 from a2b.poses import (
+    canonical_sign,
     check_matrices,
     check_quaternions,
     inverse_matrices,
@@ -293,3 +294,16 @@ def test_orthogonality_and_determinant_checks_name_the_worst_residual(rng):
     with pytest.raises(PoseError, match=rf"max \|R Rᵀ − I\| = {worst} exceeds tolerance 1e-09"):
         check_matrices(mats)
     np.testing.assert_allclose(determinants(mats[:, :3, :3]), np.linalg.det(mats[:, :3, :3]))
+
+
+@pytest.mark.parametrize("n", [3, 4])
+def test_canonical_sign_makes_the_first_nonzero_component_positive(rng, n):
+    v = rng.normal(size=(500, n))
+    v[rng.random(v.shape) < 0.4] = 0.0  # leading zeros of every length, and zero vectors
+    out = canonical_sign(v)
+    for before, after in zip(v, out):
+        nonzero = np.flatnonzero(before)
+        sign = -1.0 if len(nonzero) and before[nonzero[0]] < 0 else 1.0
+        assert np.array_equal(after, sign * before)
+        assert not len(nonzero) or after[nonzero[0]] > 0
+    assert canonical_sign(np.array([0.0, -2.0, 1.0])).tolist() == [-0.0, 2.0, -1.0]
