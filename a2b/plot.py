@@ -1067,12 +1067,12 @@ def _draw_transmission(ax, frame, tracks, in_group, family, angle_unit, length_l
 
 # -- rates over time -----------------------------------------------------------------------------
 
-#: The panels of :func:`plot_speeds`: key of :meth:`a2b.timelaw.TimedMotion.rates`, the limit
-#: drawn with it, and the axis label (``{L}`` the length unit).
+#: The panels of :func:`plot_speeds`: the key of :meth:`a2b.timelaw.TimedMotion.rates` (and of
+#: the limit drawn with it) and the axis label (``{L}`` the length unit).
 SPEED_PANELS = (
-    ("speed", "speed", "speed [{L}/s]"),
-    ("accel", "accel", "accel. along path [{L}/s²]"),
-    ("angular_speed", "angular_speed", "angular speed [rad/s]"),
+    ("speed", "speed [{L}/s]"),
+    ("accel", "accel. along path [{L}/s²]"),
+    ("angular_speed", "angular speed [rad/s]"),
 )
 
 
@@ -1130,13 +1130,13 @@ def plot_speeds(
         rates = law.rates(times)
         binding = law.binding or "duration"
         legend = f"{label}: {float(law.duration):.4g} s, binding {binding.replace('_', ' ')}"
-        for ax, (key, _, _) in zip(axes, SPEED_PANELS):
+        for ax, (key, _) in zip(axes, SPEED_PANELS):
             ax.plot(times, rates[key], color=colour, lw=1.6, gid=f"{key}:{label}", label=legend)
-    for ax, (key, limit, text) in zip(axes, SPEED_PANELS):
-        if limit in limits and limits[limit] is not None:
-            value = float(limits[limit])
+    for ax, (key, text) in zip(axes, SPEED_PANELS):
+        if limits.get(key) is not None:
+            value = float(limits[key])
             for sign in (1, -1) if key == "accel" else (1,):
-                ax.axhline(sign * value, color="0.45", lw=0.9, ls="--", gid=f"limit:{limit}")
+                ax.axhline(sign * value, color="0.45", lw=0.9, ls="--", gid=f"limit:{key}")
         ax.set_ylabel(text.replace("{L}", unit), fontsize=LABEL_SIZE)
         ax.tick_params(labelsize=TICK_SIZE)
         ax.grid(True, linewidth=0.4, alpha=0.5)

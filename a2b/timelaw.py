@@ -419,11 +419,17 @@ def _length_to(motion, point, lo: np.ndarray, ts: np.ndarray) -> np.ndarray:
     return speeds.reshape(nodes.shape) @ _WEIGHTS * half
 
 
+def _panel_counts(cumulative: np.ndarray) -> np.ndarray:
+    """Each motion's panel count, ``S + (1,)``: the finite cumulative lengths less one (the rest
+    is ``+inf`` padding, see :func:`arc_lengths`)."""
+    return np.sum(np.isfinite(cumulative), axis=-1)[..., None] - 1
+
+
 def lengths_at(motion, point, cumulative: np.ndarray, ts: np.ndarray) -> np.ndarray:
     """The path length covered from 0 to ``ts`` (``(N,)`` or ``S + (N,)`` in ``[0, 1]``), from
     the cumulative lengths of :func:`arc_lengths`: ``S + (N,)``."""
     shape = getattr(motion, "shape", ())
-    panels = np.sum(np.isfinite(cumulative), axis=-1)[..., None] - 1  # S + (1,)
+    panels = _panel_counts(cumulative)
     ts = np.broadcast_to(np.asarray(ts, dtype=float), shape + np.shape(ts)[-1:])
     panel = np.minimum(np.floor(ts * panels), panels - 1).astype(int)
     base = np.take_along_axis(np.broadcast_to(cumulative, shape + cumulative.shape[-1:]), panel, -1)
@@ -434,7 +440,7 @@ def invert_arc_length(motion, point, cumulative: np.ndarray, fractions: np.ndarr
     """The ``t`` at which the point has covered ``fractions`` (``S + (N,)``) of its path, from
     the cumulative lengths of :func:`arc_lengths` (safeguarded Newton steps in its panel)."""
     shape = getattr(motion, "shape", ())
-    panels = np.sum(np.isfinite(cumulative), axis=-1)[..., None] - 1  # S + (1,)
+    panels = _panel_counts(cumulative)
     total = np.take_along_axis(cumulative, panels, axis=-1)
     target = fractions * total
     # the panel of each target: count the panel ends below it
@@ -568,8 +574,7 @@ class TimedMotion:
             return out
         total, cumulative = self._lengths
         t = invert_arc_length(self.motion, self.point, cumulative, sigma)
-        stack = self.motion.derivatives(t, 3)
-        x = point_derivatives(stack, self.point)
+        x = self.motion.derivatives(t, 3, point=self.point)  # the point's path only
         d1, d2, d3 = x[..., 1, :, :], x[..., 2, :, :], x[..., 3, :, :]
         g = np.linalg.norm(d1, axis=-1)
         g1 = np.einsum("...i,...i->...", d1, d2) / g
