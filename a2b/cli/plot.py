@@ -175,8 +175,7 @@ def command(
       a2b plot samples/quarter-turn.yaml --compare darboux,cubic,screw -o compare.svg
       a2b plot samples/half-turn.yaml --mode cubic --family --angle-unit rad -o family.pdf
       a2b plot samples/planar-bezier.yaml --space study -o planar.svg
-      a2b plot samples/quarter-turn.yaml --speeds --compare darboux,cubic,screw \
-        --max-speed 1 --max-accel 2 --max-jerk 5 -o speeds.png
+      a2b plot samples/quarter-turn.yaml --speeds --max-speed 1 --max-accel 2 -o speeds.png
     """
     import sys
 
