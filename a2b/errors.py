@@ -29,6 +29,15 @@ class InputFileError(A2bError):
     """An input file cannot be read or does not have the expected structure."""
 
 
+class OptionError(A2bError):
+    """An option that does not apply (``frame_id`` for CSV) or conflicts with another; the
+    command line reports it as a usage error (status 2)."""
+
+
+class OutputFileError(A2bError):
+    """The output file cannot be created, written or renamed into place."""
+
+
 class A2bWarning(UserWarning):
     """A result that a2b computes but that is sensitive to rounding of the input (near a
     singularity)."""

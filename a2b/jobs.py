@@ -13,37 +13,16 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable, Iterable, Iterator
-from dataclasses import dataclass
 
 import numpy as np
 
 from .api import motion as build_motion
 from .errors import A2bError, A2bWarning
 from .motions.base import Motion, evenly_spaced
+from .samples import JobRuns, Samples, check_finite, poses_of
 
 #: Rows in one piece of samples: about 10 MB of CSV text.
 PIECE_ROWS = 65536
-
-#: The representations :func:`sample` yields: the fields of each.
-FIELDS = {
-    "quat_trans": ("quat_wxyz", "trans"),
-    "matrices": ("matrices",),
-    "study": ("study",),
-}
-
-
-@dataclass
-class Piece:
-    """Consecutive rows of samples: ``names[i]`` for ``counts[i]`` rows, in order.
-
-    ``t (n,)`` and the fields of the representation: ``quat_wxyz (n, 4)`` and
-    ``trans (n, 3)``, or ``matrices (n, 4, 4)``, or ``study (n, 8)``.
-    """
-
-    names: list
-    counts: list
-    t: np.ndarray
-    fields: dict
 
 
 def sample(
@@ -56,7 +35,7 @@ def sample(
     report: Callable[[str, list], None] | None = None,
     advance: Callable[[int], None] | None = None,
     unique_names: bool = False,
-) -> Iterator[Piece]:
+) -> Iterator[Samples]:
     """Sample every job of ``blocks`` at evenly spaced t in [0, 1], in order.
 
     Parameters
@@ -69,7 +48,8 @@ def sample(
         For jobs that give none.
     representation : {"quat_trans", "matrices", "study"}
     rows : int
-        The most rows of one :class:`Piece`; memory is bounded by it and the block size.
+        The most rows of one :class:`a2b.samples.Samples`; memory is bounded by it and the
+        block size.
     report : callable, optional
         ``report(name, choices)`` for every job, before its samples.
     advance : callable, optional
@@ -80,7 +60,9 @@ def sample(
 
     Yields
     ------
-    Piece
+    Samples
+        ``t`` and the pose fields of ``representation``, ``job`` as :class:`JobRuns`; checked
+        finite.
     """
     first = 0
     seen: set = set()
@@ -109,7 +91,7 @@ def _names(block, first: int) -> list[str]:
     return [str(first + i) if name is None else name for i, name in enumerate(block.names)]
 
 
-def _block(block, first, mode, samples, representation, rows, report) -> Iterator[Piece]:
+def _block(block, first, mode, samples, representation, rows, report) -> Iterator[Samples]:
     count = len(block.names)
     names = _names(block, first)
     modes = [m or mode for m in block.modes]
@@ -196,44 +178,27 @@ def _build(block, kind, members: list) -> tuple[Motion, dict]:
 
 
 def _pieces(motion: Motion, lo: int, hi: int, names, count, representation, rows):
-    """Pieces of the samples of jobs ``lo:hi`` of ``motion``, each at ``count`` samples."""
+    """Samples of jobs ``lo:hi`` of ``motion``, each at ``count`` samples, checked finite."""
     if count > rows:  # one long job streams in pieces
         for j, name in zip(range(lo, hi), names):
             single = motion[j]
             for ts in evenly_spaced(count, rows):
-                yield Piece([name], [len(ts)], ts, _fields(single, ts, representation, [name]))
+                yield _checked(single, ts, ts, representation, [name], [len(ts)])
         return
     ts = next(evenly_spaced(count, count))
     per_piece = max(1, rows // count)
     for start in range(lo, hi, per_piece):
         stop = min(start + per_piece, hi)
         part = names[start - lo : stop - lo]
-        fields = _fields(motion[start:stop], ts, representation, part)
-        yield Piece(part, [count] * len(part), np.tile(ts, stop - start), fields)
+        tiled = np.tile(ts, stop - start)
+        yield _checked(motion[start:stop], ts, tiled, representation, part, [count] * len(part))
 
 
-def _fields(motion: Motion, ts: np.ndarray, representation: str, names: list) -> dict:
+def _checked(motion: Motion, ts, tiled, representation: str, names, counts) -> Samples:
     """The samples of ``motion`` (shape ``()`` or ``(J,)``) at ``ts`` as rows, checked finite."""
-    if representation == "quat_trans":
-        quat, trans = motion.quat_trans(ts)
-        values = {"quat_wxyz": quat, "trans": trans}
-    elif representation == "matrices":
-        values = {"matrices": motion.matrices(ts)}
-    elif representation == "study":
-        values = {"study": motion.study(ts)}
-    else:
-        raise ValueError(f"unknown representation {representation!r}")
-    n = len(ts)
-    rows = {}
-    for key, array in values.items():
-        flat = array.reshape((-1,) + array.shape[len(motion.shape) + 1 :])
-        finite = np.isfinite(flat.reshape(len(flat), -1)).all(axis=1)
-        if not finite.all():
-            row = int(np.argmin(finite))
-            raise A2bError(
-                f"job {names[row // n]}: the sample at t = {float(ts[row % n]):.17g} is not "
-                "finite: the motion overflows double precision; the poses or parameters are "
-                "too large"
-            )
-        rows[key] = flat
-    return rows
+    poses = poses_of(motion, ts, representation)
+    lead = len(motion.shape) + 1
+    rows = {key: array.reshape((-1,) + array.shape[lead:]) for key, array in poses.items()}
+    samples = Samples(tiled, job=JobRuns(list(names), list(counts)), **rows)
+    check_finite(samples)
+    return samples

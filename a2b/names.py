@@ -14,3 +14,7 @@ FRAMES = ("canonical", "given")
 MIN_SAMPLES = 2
 #: The most samples: beyond 2**53 evenly spaced t in [0, 1] are no longer distinct doubles.
 MAX_SAMPLES = 2**53
+#: The spaces of Bézier motions and splines (:mod:`a2b.motions.bezier`).
+SPACES = ("matrix", "study")
+#: The kernel bases of M_m (:func:`a2b.extended.kernel_basis`); ``auto`` first, the default.
+BASES = ("auto", "paper", "rref")

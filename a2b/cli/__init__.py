@@ -23,7 +23,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import click
 
 from .. import __version__
-from ..errors import A2bError, A2bWarning, printable
+from ..errors import A2bError, A2bWarning, OptionError, printable
 
 #: name -> (module defining ``command``, short help shown by ``a2b --help``)
 COMMANDS = {
@@ -91,6 +91,8 @@ class LazyGroup(click.Group):
                 warnings.filterwarnings("ignore", _NUMPY_FLOAT_WARNINGS, RuntimeWarning)
                 warnings.showwarning = _show_warning
                 return super().invoke(ctx)
+        except OptionError as e:  # an option that does not apply: a usage error, status 2
+            raise click.UsageError(printable(str(e))) from e
         except A2bError as e:
             raise click.ClickException(printable(str(e))) from e
         except click.ClickException as e:  # usage errors quote what the user typed

@@ -41,16 +41,7 @@ def _progress(total: int | None):
     type=options.Count(min=options.MIN_SAMPLES, max=options.MAX_SAMPLES),
     help="Samples per motion for jobs that do not say  [default: 101]",
 )
-@click.option(
-    "--format",
-    "fmt",
-    type=click.Choice(options.FORMATS),
-    help="csv, matrix, study: one CSV, the job column first (layouts as for a2b interpolate); "
-    "tum, kitti: a file per job, DIR/NAME.tum or DIR/NAME.kitti, in the directory -o DIR; "
-    "mcap: one file, the poses of job NAME on topic /a2b/NAME/pose; ros2: the same as "
-    "ROS 2 PoseStamped messages  [default: from the -o suffix .mcap, else csv]",
-)
-@options.profile_option
+@options.format_option(batch=True)
 @click.option(
     "--chunk-size",
     type=options.Count(min=1),
@@ -60,21 +51,8 @@ def _progress(total: int | None):
     "bounded by them.",
 )
 @options.timing_options
-@click.option(
-    "--frame-id",
-    default="world",
-    show_default=True,
-    help="mcap, ros2: the fixed frame of the poses.",
-)
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(allow_dash=True),
-    default="-",
-    show_default=True,
-    help="Where to write; '-' is standard output. A file is written to a temporary file and "
-    "renamed into place when complete; tum and kitti need a directory, made if missing.",
-)
+@options.frame_id_option
+@options.output_option(directory=True)
 @options.verbose_option
 @options.orthonormalize_option
 def command(
@@ -104,97 +82,45 @@ def command(
       a2b batch samples/jobs.yaml -o motions.mcap
     """
     from ..errors import printable
-    from ..io.atomic import atomic_directory, atomic_output
+    from ..formats import BY_NAME
     from ..io.readers import read_jobs
-    from ..io.writers import (
-        REPRESENTATION,
-        Chunk,
-        JobRuns,
-        write_batch_csv,
-        write_batch_files,
-        write_batch_mcap,
-    )
     from ..jobs import sample
+    from ..output import check_plan, stamped, write_samples
 
     choices: list[str] = []
-    if fmt is None and str(output).lower().endswith(".mcap"):
-        fmt = "mcap"
-        choices.append("format mcap: from the -o suffix .mcap (--format to change)")
-    elif fmt is None:
-        fmt = "csv"
-        choices.append("format csv: the default (--format to change)")
-    fmt = options.format_from(fmt, output, None, profile)
+    fmt = BY_NAME[options.format_from(fmt, output, choices, profile, batch=True)]
     if mode is None:
         choices.append("mode darboux for jobs that name none: the default (--mode to change)")
     if samples is None:
         choices.append("101 samples for jobs that give none: the default (--samples to change)")
     options.state_choices(choices, verbose)
-    options.check_output(fmt, output, samples or 101, duration, start_time)
+    frames = options.refuse_defaults(fmt, {"duration": duration, "start_time": start_time,
+                                           "frame_id": frame_id})  # fmt: skip
+    check_plan(fmt, output, samples or 101, start_time, duration)
+    if fmt.batch == "files" and output == "-":
+        raise click.UsageError(f"{fmt.name} writes one file per job: give a directory with -o DIR")
+    if fmt.batch != "files" and os.path.isdir(output):
+        raise click.BadParameter(f"{output!r} is a directory", param_hint="'-o' / '--output'")
 
     def report(name, made):
         for choice in made:
             click.echo(f"  • {printable(f'job {name}: {choice}')}", err=True)
 
-    if fmt in ("tum", "kitti") and output == "-":
-        raise click.UsageError(f"{fmt} writes one file per job: give a directory with -o DIR")
     repaired: list[str] = []
     with options.repairing(orthonormalize, repaired):  # the jobs are read as they are sampled
         job_list = read_jobs(jobs)
-        target = atomic_directory if fmt in ("tum", "kitti") else atomic_output
-        if target is atomic_output and os.path.isdir(output):
-            raise click.BadParameter(f"{output!r} is a directory", param_hint="'-o' / '--output'")
-        with _progress(job_list.count) as progress, target(output) as out:
+        with _progress(job_list.count) as progress:
             task = progress.add_task("jobs", total=job_list.count) if progress else None
-
-            def computed():  # in a process of its own: see a2b.io.parallel.produced_apart
-                from ..io.readers import current_repairs
-
-                repairs = current_repairs() or []
-                before = len(repairs)  # those made here are sent at the end
-                events: list = []  # reports and progress, sent before the piece they precede
-                pieces = sample(
-                    job_list.blocks(chunk_size),
-                    mode=mode or "darboux",
-                    samples=samples or 101,
-                    representation=REPRESENTATION[fmt],
-                    report=(lambda name, made: events.append((name, made))) if verbose else None,
-                    advance=(lambda n: events.append(n)) if progress else None,
-                    unique_names=fmt in ("tum", "kitti", *options.MCAP_FORMATS),
-                )
-                for piece in pieces:
-                    yield from events
-                    events.clear()
-                    yield piece
-                yield from events
-                yield repairs[before:]  # the matrix poses repaired here
-
-            def chunks():
-                from ..io.parallel import produced_apart
-                from ..io.readers import current_repairs
-
-                for item in produced_apart(computed):
-                    if isinstance(item, tuple):
-                        report(*item)
-                    elif isinstance(item, int):
-                        progress.advance(task, item)
-                    elif isinstance(item, list):
-                        if current_repairs() is not None:
-                            current_repairs().extend(item)
-                    else:
-                        yield Chunk(item.t, job=JobRuns(item.names, item.counts), **item.fields)
-
-            chunks = chunks()
-            try:
-                if fmt in ("tum", "kitti"):
-                    write_batch_files(out, chunks, fmt, duration=duration, start_time=start_time)
-                elif fmt in options.MCAP_FORMATS:
-                    write_batch_mcap(
-                        out, chunks, duration=duration, start_time=start_time, frame_id=frame_id,
-                        profile="ros2" if fmt == "ros2" else "foxglove",
-                    )  # fmt: skip
-                else:
-                    write_batch_csv(out, chunks, fmt)
-            finally:  # stops the computing process at once on an error
-                chunks.close()
+            pieces = sample(
+                job_list.blocks(chunk_size),
+                mode=mode or "darboux",
+                samples=samples or 101,
+                representation=fmt.representation,
+                report=report if verbose else None,
+                advance=(lambda n: progress.advance(task, n)) if progress else None,
+                unique_names=fmt.batch != "rows",
+            )
+            timed = stamped(pieces, duration, start_time)
+            write_samples(timed, output, fmt, batch=True, **frames)
     if verbose and repaired:
         click.echo(f"Repairs a2b made:\n  • {repaired[0]}", err=True)

@@ -14,21 +14,10 @@ import sys
 
 import click
 
+from .. import formats
 from ..errors import printable
-from ..names import MAX_SAMPLES, MIN_SAMPLES, MODES
+from ..names import BASES, MAX_SAMPLES, MIN_SAMPLES, MODES, SPACES
 from ..parameters import BY_NAME, EXCLUSIVE, OF_MODE, TABLE
-
-FORMATS = ("csv", "matrix", "study", "tum", "kitti", "mcap", "ros2")
-#: The formats that are MCAP files: ``ros2`` is MCAP with the ROS 2 profile.
-MCAP_FORMATS = ("mcap", "ros2")
-SPACES = ("matrix", "study")
-#: ``-o`` suffixes that choose a format when ``--format`` is not given.
-FORMAT_SUFFIXES = {".mcap": "mcap", ".tum": "tum", ".kitti": "kitti"}
-#: MCAP numbers messages with a uint32 sequence number.
-MCAP_MAX_SAMPLES = 2**32
-#: MCAP log times are unsigned nanoseconds; a2b's writer forms them as int64.
-MCAP_MAX_NANOSECONDS = 2**63 - 1
-
 
 #: The numbers of the command line, as in the files: ASCII decimal digits with an optional sign,
 #: point and exponent (``2``, ``-0.5``, ``.5``, ``1e-3``); no ``inf``, ``nan``, ``1_000``,
@@ -170,10 +159,6 @@ def m_option(help_: str):
     return click.option("--m", "m", type=M_VECTOR, help=help_)
 
 
-#: The kernel bases of M_m (:func:`a2b.extended.kernel_basis`).
-BASES = ("auto", "paper", "rref")
-
-
 def basis_option(help_: str, default: str | None = "auto"):
     """``--basis``: the kernel basis of M_m, ``auto`` (the paper's unless it degenerates)."""
     return click.option(
@@ -240,39 +225,81 @@ def motion_options(f):
     )(f)
 
 
-output_option = click.option(
-    "-o",
-    "--output",
-    type=click.Path(allow_dash=True, dir_okay=False),
-    default="-",
-    show_default=True,
-    help="Where to write; '-' is standard output. A file is written to a temporary file and "
-    "renamed into place when complete; a device or named pipe is written directly.",
-)
+def output_option(f=None, *, directory: bool = False):
+    """``-o/--output``; with ``directory``, also a directory (batch files of one per job).
+    ``@output_option`` or ``@output_option(directory=True)``."""
+    if f is None:
+        return lambda g: output_option(g, directory=directory)
+    where = (
+        "; a format of a file per job needs a directory, made if missing"
+        if directory
+        else "; a device or named pipe is written directly"
+    )
+    return click.option(
+        "-o",
+        "--output",
+        type=click.Path(allow_dash=True, dir_okay=directory),
+        default="-",
+        show_default=True,
+        help="Where to write; '-' is standard output. A file is written to a temporary file and "
+        f"renamed into place when complete{where}.",
+    )(f)
+
+
 samples_option = click.option(
     "--samples",
     type=Count(min=MIN_SAMPLES, max=MAX_SAMPLES),
     help="Number of samples, t evenly spaced in [0, 1], written as they are computed "
     "(any number streams in bounded memory)  [default: the file's samples, else 101]",
 )
-_format_option = click.option(
-    "--format",
-    "fmt",
-    type=click.Choice(FORMATS),
-    help="Output format; ros2 is MCAP that ros2 bag, rosbags and evo read  [default: from the "
-    "-o suffix (.mcap, .tum, .kitti), else csv]",
-)
-profile_option = click.option(
-    "--profile",
-    type=click.Choice(("foxglove", "ros2")),
-    help="mcap: foxglove (JSON foxglove.PoseInFrame and FrameTransform, the default) or ros2 "
-    "(CDR geometry_msgs/PoseStamped, tf2_msgs/TFMessage and nav_msgs/Path, as --format ros2).",
-)
 
 
-def format_option(f):
-    """``--format`` and ``--profile``; :func:`format_from` resolves the two."""
-    return _format_option(profile_option(f))
+def format_help(batch: bool = False) -> str:
+    """The help of ``--format``, one entry per format a command writes (:mod:`a2b.formats`):
+    its layout; for ``batch``, how a batch lays the jobs out."""
+    if not batch:
+        entries = [f"{row.name}: {row.layout}" for row in formats.TABLE if row.writer]
+        suffixes = ", ".join(formats.suffix_names())
+        default = f"[default: from the -o suffix ({suffixes}), else csv]"
+        return f"Output format. {'; '.join(entries)}  {default}"
+    layouts = {
+        "rows": "one CSV, the job column first (layouts as for a2b interpolate)",
+        "files": "a file per job, DIR/NAME.SUFFIX, in the directory -o DIR",
+        "topics": "one file, the poses of job NAME on topic /a2b/NAME/pose",
+    }
+    groups: dict = {}
+    for row in formats.TABLE:
+        if row.batch_writer:
+            groups.setdefault(row.batch, []).append(row.name)
+    entries = [f"{', '.join(names)}: {layouts[batch_]}" for batch_, names in groups.items()]
+    suffixes = ", ".join(formats.suffix_names(batch=True))
+    return f"{'; '.join(entries)}  [default: from the -o suffix {suffixes}, else csv]"
+
+
+def profile_option(batch: bool = False):
+    """``--profile``: the MCAP messages, Foxglove's JSON or ROS 2's CDR."""
+    ros2 = (
+        "geometry_msgs/PoseStamped per job"
+        if batch
+        else ("geometry_msgs/PoseStamped, tf2_msgs/TFMessage and nav_msgs/Path")
+    )
+    return click.option(
+        "--profile",
+        type=click.Choice(("foxglove", "ros2")),
+        help="mcap: foxglove (JSON foxglove.PoseInFrame"
+        + ("" if batch else " and FrameTransform")
+        + f", the default) or ros2 (CDR {ros2}, as --format ros2).",
+    )
+
+
+def format_option(f=None, *, batch: bool = False):
+    """``--format`` (the formats of :mod:`a2b.formats` a command writes) and ``--profile``;
+    :func:`format_from` resolves the two. ``@format_option`` or ``@format_option(batch=True)``."""
+    if f is None:
+        return lambda g: format_option(g, batch=batch)
+    names = [row.name for row in formats.TABLE if (row.batch_writer if batch else row.writer)]
+    option = click.option("--format", "fmt", type=click.Choice(names), help=format_help(batch))
+    return option(profile_option(batch)(f))
 
 
 _start_time_option = click.option(
@@ -447,7 +474,7 @@ _child_frame_option = click.option(
     show_default=True,
     help="mcap, ros2: the child frame of the /tf transforms (the moving body).",
 )
-_frame_option = click.option(
+frame_id_option = click.option(
     "--frame-id",
     default="world",
     show_default=True,
@@ -456,7 +483,7 @@ _frame_option = click.option(
 
 
 def frame_options(f):
-    return _frame_option(_child_frame_option(f))
+    return frame_id_option(_child_frame_option(f))
 
 
 #: The options of :func:`trajectory_options` that :func:`write_motion` takes.
@@ -519,34 +546,37 @@ def merge_parameters(from_file: dict, from_command_line: dict, mode: str | None 
 
 
 def format_from(
-    fmt: str | None, output: str, choices: list | None = None, profile: str | None = None
+    fmt: str | None,
+    output: str,
+    choices: list | None = None,
+    profile: str | None = None,
+    batch: bool = False,
 ) -> str:
     """``--format`` if given, else the format the ``-o`` suffix names, else ``csv``; then
-    ``--profile ros2`` makes ``mcap`` into ``ros2``.
+    ``--profile`` picks the format of that writer with that profile (``mcap`` with
+    ``--profile ros2`` is ``ros2``).
 
     A format a2b picks is stated in ``choices`` when given.
     """
-    fmt = fmt or _format_from_suffix(output, choices)
+    from ..output import format_of
+
+    row, chosen = format_of(fmt, output, batch)
+    if chosen is not None and choices is not None:
+        if row.name == "csv" and not formats.from_suffix(str(output), batch):
+            suffixes = ", ".join(formats.suffix_names(batch))
+            choices.append(f"{chosen} (--format or an -o suffix {suffixes} to change)")
+        else:
+            choices.append(f"{chosen} (--format to change)")
     if profile is None:
-        return fmt
-    if fmt not in MCAP_FORMATS:
-        raise click.UsageError(f"--profile is for MCAP output, not {fmt}")
-    if fmt == "ros2" and profile == "foxglove":
-        raise click.UsageError("--format ros2 writes the ros2 profile, not foxglove")
-    return "ros2" if profile == "ros2" else "mcap"
-
-
-def _format_from_suffix(output: str, choices: list | None) -> str:
-    for suffix, name in FORMAT_SUFFIXES.items():
-        if str(output).lower().endswith(suffix):
-            if choices is not None:
-                choices.append(f"format {name}: from the -o suffix {suffix} (--format to change)")
-            return name
-    if choices is not None:
-        choices.append(
-            "format csv: the default (--format or an -o suffix .mcap, .tum, .kitti to change)"
+        return row.name
+    if "profile" not in row.writer_options:
+        raise click.UsageError(f"--profile is for MCAP output, not {row.name}")
+    family = [r for r in formats.TABLE if r.writer == row.writer]
+    if row.writer_options["profile"] != profile and not row.suffixes:
+        raise click.UsageError(
+            f"--format {row.name} writes the {row.writer_options['profile']} profile, not {profile}"
         )
-    return "csv"
+    return next(r.name for r in family if r.writer_options["profile"] == profile)
 
 
 def pick(what: str, given, from_file, default, choices: list, option: str):
@@ -627,8 +657,11 @@ def curve_motion(curve, space: str | None, choices: list, given: dict | None = N
 
 def sample_and_write(motion, samples, from_file, choices: list, verbose: bool, out: dict) -> None:
     """The last steps of interpolate, bezier and spline: pick the sample count (``--samples``,
-    else the file's, else 101) and the format, state the choices with ``-v``, then
-    :func:`write_motion` with the options ``out`` of :func:`pop_trajectory`."""
+    else the file's, else 101) and the format, state the choices with ``-v``, then write with
+    :mod:`a2b.output` (the options ``out`` of :func:`pop_trajectory`)."""
+    from ..formats import BY_NAME
+    from ..output import write_motion, write_timed
+
     out = dict(out)
     law = {key: out.pop(key) for key in TIME_LAW_OPTIONS if key in out} or None
     timed = None
@@ -639,52 +672,41 @@ def sample_and_write(motion, samples, from_file, choices: list, verbose: bool, o
             raise click.UsageError("give --samples or --rate/--dt, not both")
     else:
         samples = pick("samples", samples, from_file, 101, choices, "--samples")
-    out["fmt"] = format_from(out["fmt"], out["output"], choices, out.pop("profile"))
+    fmt = BY_NAME[format_from(out.pop("fmt"), out["output"], choices, out.pop("profile"))]
     state_choices(choices + list(motion.choices), verbose)
+    target = out.pop("output")
+    frames = refuse_defaults(fmt, out if timed is None else {k: out[k] for k in FRAME_OPTIONS})
     if timed is None:
-        write_motion(motion, samples, **out)
+        write_motion(motion, samples, target, fmt, out["duration"], out["start_time"], **frames)
         return
-    times = timed.times(
-        rate=law["rate"], dt=law["dt"], samples=None if law["rate"] or law["dt"] else samples
-    )
-    write_timed(timed, times, law["velocities"], **out)
+    by = {"rate": law["rate"], "dt": law["dt"]}
+    times = timed.times(**by, samples=None if law["rate"] or law["dt"] else samples)
+    write_timed(timed, times, target, fmt, law["velocities"], out["start_time"], **frames)
 
 
-def write_timed(
-    timed,
-    times,
-    velocities: bool,
-    *,
-    fmt: str,
-    output: str,
-    duration: float,
-    start_time: float,
-    frame_id: str,
-    child_frame_id: str,
-) -> None:
-    """Write a timed motion at ``times`` (seconds from its start): the first column (or the
-    stamp) is ``start_time + time``; with ``velocities`` the twist of the law's point."""
-    from ..io.writers import CHUNK_SAMPLES, REPRESENTATION, sample_chunks
+#: The options that name frames, for the formats that hold them.
+FRAME_OPTIONS = ("frame_id", "child_frame_id")
 
-    if velocities and fmt not in ("csv", "matrix", "study", "ros2"):
-        raise click.UsageError(
-            f"--velocities: {fmt} has no velocity field; use csv, matrix, study or ros2"
-        )
-    check_output(fmt, output, len(times), float(times[-1] - times[0]) or 1.0, start_time)
-    representation = REPRESENTATION[fmt]
 
-    def chunks():
-        for lo in range(0, len(times), CHUNK_SAMPLES):
-            block = times[lo : lo + CHUNK_SAMPLES]
-            ts, twists = timed.sample(block, velocities)
-            for chunk in sample_chunks(timed.motion, ts, representation, size=len(ts)):
-                chunk.t, chunk.twist = block + start_time, twists
-                check_chunk(chunk, "time")
-                yield chunk
+def refuse_defaults(fmt, out: dict) -> dict:
+    """The frame options of ``out`` for a writer of ``fmt``; an option given on the command line
+    (not its default) that ``fmt`` does not take is refused (:func:`a2b.output.write`)."""
+    from click.core import ParameterSource
 
-    write_chunks(
-        chunks(), fmt, output, frame_id=frame_id, child_frame_id=child_frame_id, count=len(times)
-    )
+    from ..errors import OptionError
+
+    context = click.get_current_context()
+    given = [
+        key
+        for key in ("duration", "start_time", *FRAME_OPTIONS)
+        if key in out
+        and context.get_parameter_source(key) not in (None, ParameterSource.DEFAULT)
+        and key not in fmt.options
+    ]
+    if given:
+        names = ", ".join("--" + key.replace("_", "-") for key in given)
+        raise OptionError(f"{names}: not for {fmt.name} output")
+    return {k: out[k] for k in FRAME_OPTIONS if k in out and k in fmt.options}
 
 
 def state_choices(choices: list, verbose: bool) -> None:
@@ -722,100 +744,6 @@ def check_finite(data, what: str) -> None:
     walk(data, "a value")
 
 
-def motion_chunks(motion, samples: int, representation: str):
-    """Sample ``motion`` at ``samples`` evenly spaced t in [0, 1], one writer chunk at a time.
-
-    Every chunk is checked: a sample that overflowed to NaN or infinity stops the run with an
-    :class:`A2bError` instead of reaching the output.
-    """
-    from ..io.writers import CHUNK_SAMPLES, sample_chunks
-    from ..motions.base import evenly_spaced
-
-    for ts in evenly_spaced(samples, CHUNK_SAMPLES):
-        for chunk in sample_chunks(motion, ts, representation, size=len(ts)):
-            check_chunk(chunk)
-            yield chunk
-
-
-def check_chunk(chunk, column: str = "t") -> None:
-    """Raise :class:`A2bError` if a sample of ``chunk`` overflowed to NaN or infinity, naming
-    it by its ``column`` value, so that it never reaches the output."""
-    import numpy as np
-
-    from ..errors import A2bError
-
-    for name in ("quat_wxyz", "trans", "matrices", "study", "twist"):
-        values = getattr(chunk, name)
-        if values is not None and not np.isfinite(values).all():
-            bad = ~np.isfinite(values.reshape(len(chunk.t), -1)).all(axis=1)
-            where = float(chunk.t[np.argmax(bad)])
-            raise A2bError(
-                f"the sample at {column} = {where:.17g} is not finite: the motion overflows "
-                "double precision; the poses or parameters are too large"
-            )
-
-
-def check_output(fmt: str, output: str, samples: int, duration: float, start_time: float) -> None:
-    """Refuse, before writing anything, what the format cannot hold.
-
-    MCAP: binary, so not to a terminal; at most 2**32 messages per topic (uint32 sequence
-    numbers); log times ``t · duration + start_time`` from 0 to 2**63 − 1 nanoseconds (the
-    year 2262); ros2 stamps up to 2**31 − 1 s (2038). tum and MCAP: times that overflow a
-    double.
-    """
-    import math
-    import sys
-
-    import numpy as np
-
-    from ..errors import ParameterError
-
-    if fmt in MCAP_FORMATS and str(output) == "-" and sys.stdout.isatty():
-        raise click.UsageError(
-            "MCAP is binary: write it with -o FILE or into a pipe, not to a terminal"
-        )
-    if fmt not in ("tum", *MCAP_FORMATS):
-        return
-    last = duration + start_time  # the time of t = 1, the latest (duration > 0)
-    if not math.isfinite(last):
-        raise ParameterError(
-            f"the time of t = 1, duration + start_time = {duration:g} + {start_time:g}, "
-            "overflows a double"
-        )
-    step = duration / max(samples - 1, 1)
-    resolution = float(np.spacing(max(abs(start_time), abs(last))))
-    if fmt == "tum" and not step > resolution:
-        raise ParameterError(
-            f"consecutive TUM times would differ by {step:.3g} s, which a double near "
-            f"{max(abs(start_time), abs(last)):g} s cannot tell apart (its resolution there is "
-            f"{resolution:.3g} s): the time stamps would repeat; give a smaller --start-time or "
-            "fewer samples"
-        )
-    if fmt not in MCAP_FORMATS:
-        return
-    if samples > MCAP_MAX_SAMPLES:
-        raise ParameterError(
-            f"MCAP numbers messages with 32-bit sequence numbers: at most 2**32 = "
-            f"{MCAP_MAX_SAMPLES} samples, got {samples}"
-        )
-    if start_time < 0:
-        raise ParameterError(f"MCAP times must not be negative; --start-time is {start_time:g} s")
-    if not last * 1e9 < MCAP_MAX_NANOSECONDS:
-        raise ParameterError(
-            f"MCAP log times are nanoseconds below 2**63 (the year 2262); the time of t = 1, "
-            f"duration + start_time, is {last:g} s"
-        )
-    if fmt == "ros2":
-        from ..io.ros2 import split_stamps
-
-        split_stamps(np.array([round(last * 1e9)]))
-
-
-#: The formats of trajectory files (:mod:`a2b.io.trajectories`), without importing it (a test
-#: checks that the two agree).
-TRAJECTORY_FORMATS = ("tum", "kitti", "euroc", "csv", "matrix", "study", "mcap")
-
-
 def trajectory_input_options(rate: bool = True):
     """``--input-format``, ``--topic``, ``--input-child-frame``, ``--orthonormalize`` and (with
     ``rate``) ``--input-rate`` for a trajectory file
@@ -823,7 +751,7 @@ def trajectory_input_options(rate: bool = True):
     options = [
         click.option(
             "--input-format",
-            type=click.Choice(TRAJECTORY_FORMATS),
+            type=click.Choice(formats.INPUT_NAMES),
             help="A trajectory's format  [default: from the suffix (.tum, .kitti, .mcap), else "
             "from the content]",
         ),
@@ -926,49 +854,3 @@ def read_pose_list_option(
     if path.repaired is not None:
         choices.append(repaired(len(path), path.repaired, "rotation block"))
     return PoseList(key, path.matrices)
-
-
-def write_chunks(chunks, fmt: str, output: str, **options) -> None:
-    """Write sample chunks in format ``fmt`` to ``output`` through
-    :func:`a2b.io.atomic.atomic_output`: a failure leaves no partial file."""
-    from ..io.atomic import atomic_output
-    from ..io.writers import write_samples
-
-    try:
-        with atomic_output(output) as stream:
-            write_samples(stream, fmt, chunks, **options)
-    finally:  # a generator that computes in a process of its own stops it now
-        if hasattr(chunks, "close"):
-            chunks.close()
-
-
-def write_motion(
-    motion,
-    samples: int,
-    *,
-    fmt: str,
-    output: str,
-    duration: float,
-    start_time: float,
-    frame_id: str,
-    child_frame_id: str,
-) -> None:
-    """Sample ``motion`` at ``samples`` evenly spaced t in [0, 1] and write them to ``output``.
-
-    ``fmt`` is already resolved (:func:`format_from`). The samples stream chunk by chunk
-    into :func:`a2b.io.atomic.atomic_output`, so memory stays bounded for any count and a
-    failure leaves no partial file. Used by ``interpolate``, ``bezier`` and ``spline``.
-    """
-    from ..io.writers import REPRESENTATION
-
-    check_output(fmt, output, samples, duration, start_time)
-    write_chunks(
-        motion_chunks(motion, samples, REPRESENTATION[fmt]),
-        fmt,
-        output,
-        duration=duration,
-        start_time=start_time,
-        frame_id=frame_id,
-        child_frame_id=child_frame_id,
-        count=samples,
-    )

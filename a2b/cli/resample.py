@@ -111,83 +111,81 @@ def command(trajectory, input_format, topic, input_child_frame, input_rate, orth
             "the spline takes no motion parameters; give --mode darboux or cubic"
         )
     parameters = options.merge_parameters({}, given) if given else {}
-    fmt = options.format_from(fmt, output, choices, profile)
-    if mark and fmt not in ("csv", "matrix", "study"):
-        raise click.UsageError(f"--mark adds a column to csv, matrix and study, not to {fmt}")
+    from ..formats import BY_NAME
+    from ..output import check_plan, write_samples
+
+    fmt = BY_NAME[options.format_from(fmt, output, choices, profile)]
+    if mark and "mark" not in fmt.holds:
+        takes = ", ".join(row.name for row in BY_NAME.values() if "mark" in row.holds)
+        raise click.UsageError(f"--mark adds a column to {takes}, not to {fmt.name}")
+    frames = options.refuse_defaults(fmt, {"frame_id": frame_id, "child_frame_id": child_frame_id})
     new_times = _new_times(rate, reference, times_file, choices)
-    options.check_output(fmt, output, 2, 1.0, 0.0)
-    if fmt == "ros2" and new_times.times is not None and len(new_times.times):
-        import numpy as np
+    check_plan(fmt, output, 2, 0.0, 1.0)
+    if new_times.times is not None and len(new_times.times):
+        from ..output import check_times
 
-        from ..io.ros2 import split_stamps
+        # the latest time is known: refused before a byte is written, into a pipe too
+        check_times(fmt, 0.0, max(float(new_times.times[-1]), 0.0))
+    pieces = trajectory_pieces(data, name, in_fmt, rate=input_rate, topic=topic,
+                               child_frame=input_child_frame, orthonormalize=orthonormalize,
+                               **({"size": len(data) + 1} if mode == "spline" else {}))  # fmt: skip
+    run = _Run(name, mode, max_gap, clip, mark, parameters)
+    options.state_choices(choices, verbose)
+    write_samples(run.samples(pieces, new_times, fmt.representation), output, fmt, **frames)
+    _report(run.counts, run.made, run.repaired, new_times.described(), clip, max_gap, verbose)
 
-        # the latest stamp is known: refused before a byte is written, into a pipe too
-        split_stamps(np.rint(np.maximum(new_times.times[-1:], 0) * 1e9).astype(np.int64))
 
-    def computed():  # in a process of its own: see a2b.io.parallel.produced_apart
-        """The samples, as the trajectory is parsed: each piece of it, with the last pose of
-        the piece before, is a window of segments; the new times up to its end go through it
-        (a spline needs every pose first: one window)."""
+class _Run:
+    """The samples of a resampling, as the trajectory is parsed, and what was counted."""
+
+    def __init__(self, name, mode, max_gap, clip, mark, parameters):
+        self.name, self.mode, self.max_gap, self.clip, self.mark = name, mode, max_gap, clip, mark
+        self.parameters = parameters
+        self.counts = {"outside": 0, "gap": 0, "written": 0, "poses": 0, "built": 0, "warned": 0}
+        self.made, self.repaired = Counter(), []
+
+    def samples(self, pieces, new_times, representation):
+        """Each piece of the trajectory, with the last pose of the piece before, is a window
+        of segments; the new times up to its end go through it (a spline needs every pose
+        first: one window)."""
         from ..errors import InputFileError
-        from ..io.writers import REPRESENTATION, Chunk
         from ..resample import Resampler, windows
 
-        representation = REPRESENTATION[fmt]
-        counts = {"outside": 0, "gap": 0, "written": 0, "poses": 0, "built": 0, "warned": 0}
-        made, repaired, resampler = Counter(), [], None
-        whole = {"size": len(data) + 1} if mode == "spline" else {}  # one piece: every pose
-        pieces = trajectory_pieces(data, name, in_fmt, rate=input_rate, topic=topic,
-                                   child_frame=input_child_frame,
-                                   orthonormalize=orthonormalize, **whole)  # fmt: skip
-        for window in windows(pieces, repaired):
+        counts, resampler = self.counts, None
+        for window in windows(pieces, self.repaired):
             counts["poses"] = window["last"]
             if counts["poses"] < 2:
                 continue  # a first piece of one pose: it is the start of the next window
             del window["last"]
-            resampler = Resampler(mode=mode, max_gap=max_gap, checked=True, **window, **parameters)
+            resampler = Resampler(mode=self.mode, max_gap=self.max_gap, checked=True, **window,
+                                  **self.parameters)  # fmt: skip
             resampler.warned = counts["warned"]  # the first ten of the whole run are shown
             for block in new_times.upto(float(window["times"][-1]), float(window["times"][0])):
-                yield _chunk(resampler, block, clip, representation, mark, counts, Chunk)
+                yield self._samples(resampler, block, representation)
             counts["built"] += resampler.segments_built
             counts["warned"] = resampler.warned
-            made.update(resampler.choices)
+            self.made.update(resampler.choices)
         if counts["poses"] < 2:
-            raise InputFileError(f"{name}: expected at least 2 poses, got {counts['poses']}")
+            raise InputFileError(f"{self.name}: expected at least 2 poses, got {counts['poses']}")
         for block in new_times.upto(None, None):  # after the end: outside the trajectory
-            yield _chunk(resampler, block, clip, representation, mark, counts, Chunk)
-        yield counts, made, repaired, new_times.described()
+            yield self._samples(resampler, block, representation)
 
-    summary = []
+    def _samples(self, resampler, block, representation):
+        """The samples at the new times ``block``."""
+        from ..samples import FIELDS, Samples
 
-    def chunks():
-        from ..io.parallel import produced_apart
-
-        for item in produced_apart(computed):
-            if isinstance(item, tuple):  # the last: what the computing process counted
-                summary.append(item)
-            else:
-                yield item
-
-    options.state_choices(choices, verbose)
-    options.write_chunks(chunks(), fmt, output, frame_id=frame_id, child_frame_id=child_frame_id)
-    _report(*summary[0], clip, max_gap, verbose)
-
-
-def _chunk(resampler, block, clip, representation, mark, counts, chunk_type):
-    """The writer's chunk of the new times ``block``."""
-    located = resampler.locate(block, clip)
-    counts["outside"] += located.outside
-    counts["gap"] += located.gap
-    counts["written"] += len(located.times)
-    values = resampler.sample(located, representation)
-    chunk = chunk_type(located.times)
-    if representation == "quat_trans":
-        chunk.quat_wxyz, chunk.trans = values
-    else:
-        setattr(chunk, representation, values)
-    if mark:
-        chunk.original = (located.pose >= 0).astype(float)
-    return chunk
+        located = resampler.locate(block, self.clip)
+        self.counts["outside"] += located.outside
+        self.counts["gap"] += located.gap
+        self.counts["written"] += len(located.times)
+        values = resampler.sample(located, representation)
+        samples = Samples(located.times)
+        for key, value in zip(FIELDS[representation], values if isinstance(values, tuple)
+                              else (values,)):  # fmt: skip
+            setattr(samples, key, value)
+        if self.mark:
+            samples.original = (located.pose >= 0).astype(float)
+        return samples
 
 
 def _new_times(rate, reference, times_file, choices):

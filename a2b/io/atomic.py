@@ -23,13 +23,9 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import IO
 
-from ..errors import A2bError
+from ..errors import OutputFileError
 
 __all__ = ["OutputFileError", "atomic_directory", "atomic_output", "silence_stdout"]
-
-
-class OutputFileError(A2bError):
-    """The output file cannot be created or renamed into place."""
 
 
 def _is_stdout(path) -> bool:

@@ -433,22 +433,6 @@ class _Built:
         return len(self.head) + self.compressed_size
 
 
-def _nanoseconds(t, duration: float, start_time: float) -> np.ndarray:
-    times = t * duration + start_time
-    if times.size and not (np.isfinite(times).all() and times.min() >= 0):
-        bad = times[~(np.isfinite(times) & (times >= 0))][0]
-        raise ParameterError(
-            f"MCAP times must be finite and not negative; t · duration + start_time reaches "
-            f"{bad:g} s"
-        )
-    ns = np.rint(times * 1e9)
-    if ns.size and ns.max() >= 2.0**63:
-        raise ParameterError(
-            f"MCAP log times must stay below 2**63 ns; {ns.max() / 1e9:g} s is later"
-        )
-    return ns.astype(np.int64)
-
-
 def _serialise(record) -> bytes:
     """The bytes of one of the ``mcap`` package's record objects."""
     from mcap.data_stream import RecordBuilder
@@ -528,8 +512,6 @@ def write_pose_mcap(
     stream: IO,
     samples: Iterable[tuple[np.ndarray, np.ndarray, np.ndarray]],
     *,
-    duration: float = 1.0,
-    start_time: float = 0.0,
     frame_id: str = "world",
     child_frame_id: str = "a2b",
     profile: str = "foxglove",
@@ -546,11 +528,11 @@ def write_pose_mcap(
     ----------
     stream : binary file-like
         Written in order, never sought; not closed.
-    samples : iterable of (t, trans, quat_wxyz) or (t, trans, quat_wxyz, twist)
-        Arrays of shapes ``(n,)``, ``(n, 3)``, ``(n, 4)`` and ``(n, 6)``; the twist (ros2 with
-        ``twist_topic`` only) becomes a ``geometry_msgs/msg/TwistStamped`` in ``frame_id``.
-    duration, start_time : float
-        Log and publish time (and stamp) of sample ``t``: ``t · duration + start_time`` s.
+    samples : iterable of (ns, trans, quat_wxyz) or (ns, trans, quat_wxyz, twist)
+        Arrays of shapes ``(n,)``, ``(n, 3)``, ``(n, 4)`` and ``(n, 6)``: ``ns`` the log and
+        publish time (and stamp) in integer nanoseconds, within the limits of the format
+        (:func:`a2b.output.check_times`); the twist (ros2 with ``twist_topic`` only) becomes
+        a ``geometry_msgs/msg/TwistStamped`` in ``frame_id``.
     frame_id, child_frame_id : str
         The pose's frame (also the transform's parent) and the transform's child frame.
     profile : str
@@ -569,8 +551,7 @@ def write_pose_mcap(
     Raises
     ------
     ParameterError
-        If a time is negative, not finite, or beyond 2**63 ns (ros2: 2**31 s), or a pose is not
-        finite.
+        If a pose is not finite.
     """
     ros2 = profile == "ros2"
     if twist_topic is not None and not ros2:
@@ -589,12 +570,8 @@ def write_pose_mcap(
         for sample in samples:
             t, trans, quat_wxyz = sample[:3]
             twist = sample[3] if moving else None
-            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time, layout, twist):
+            for ns, numbers in _pieces(t, trans, quat_wxyz, layout, twist):
                 n = len(ns)
-                if sequence + n > 2**32:
-                    raise ParameterError(
-                        "MCAP numbers messages with 32-bit sequence numbers: at most 2**32 samples"
-                    )
                 ids = np.broadcast_to(own, (n, len(own)))
                 yield layout, np.arange(sequence, sequence + n, dtype=np.uint64), ns, numbers, ids
                 sequence += n
@@ -630,8 +607,6 @@ def write_topic_mcap(
     stream: IO,
     samples: Iterable[tuple],
     *,
-    duration: float = 1.0,
-    start_time: float = 0.0,
     frame_id: str = "world",
     profile: str = "foxglove",
     library: str = "a2b",
@@ -639,7 +614,7 @@ def write_topic_mcap(
     """Write poses as ``foxglove.PoseInFrame`` (JSON) or ``geometry_msgs/msg/PoseStamped``
     (ros2) messages, each run of rows on its topic.
 
-    ``samples`` yields ``(t, trans, quat_wxyz, topics, counts)``: the first ``counts[0]``
+    ``samples`` yields ``(ns, trans, quat_wxyz, topics, counts)``: the first ``counts[0]``
     rows go to ``topics[0]``, the next ``counts[1]`` to ``topics[1]``, and so on. A topic's
     Channel record is written before its first message, and each topic counts its own
     sequence numbers from 0. Otherwise as :func:`write_pose_mcap` (no ``/tf``, no Path).
@@ -667,7 +642,7 @@ def write_topic_mcap(
             offset = np.asarray(first, np.int64) - (np.cumsum(counts) - counts)
             sequence = (np.arange(len(channel)) + np.repeat(offset, counts)).astype(np.uint64)
             lo = 0
-            for ns, numbers in _pieces(t, trans, quat_wxyz, duration, start_time, layout):
+            for ns, numbers in _pieces(t, trans, quat_wxyz, layout):
                 n = len(ns)
                 item = (layout, sequence[lo : lo + n], ns, numbers, channel[lo : lo + n, None])
                 yield item, new
@@ -791,21 +766,14 @@ def _write_file(stream: IO, layout, library: str, channels, items):
     out.write(MAGIC)
 
 
-def _pieces(
-    t, trans, quat_wxyz, duration: float, start_time: float, layout, twist=None
-) -> Iterator[tuple]:
+def _pieces(ns, trans, quat_wxyz, layout, twist=None) -> Iterator[tuple]:
     """``(log times in ns, numbers x y z qx qy qz qw [vx vy vz wx wy wz])`` of at most
     ``layout.chunk_poses`` poses."""
-    ns = _nanoseconds(np.asarray(t, float), duration, start_time)
     numbers = np.column_stack(
         [trans, np.asarray(quat_wxyz)[:, [1, 2, 3, 0]]] + ([] if twist is None else [twist])
     )
     if not np.isfinite(numbers).all():
         raise ParameterError("MCAP poses must be finite; a sample is NaN or infinite")
-    if layout.profile == "ros2":
-        from .ros2 import split_stamps
-
-        split_stamps(ns.max(initial=0, keepdims=True))  # past 2038: refused before a chunk
     size = layout.chunk_poses
     for lo in range(0, len(ns), size):
         yield ns[lo : lo + size], numbers[lo : lo + size]

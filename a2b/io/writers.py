@@ -1,7 +1,9 @@
 """Writers: sampled motions out as CSV layouts, TUM, KITTI and MCAP.
 
-Every writer takes a binary stream and an iterable of :class:`Chunk` (so a million samples
-never sit in memory at once), writes, and never closes the stream. Numbers are written as
+Every writer takes a binary stream and an iterable of :class:`a2b.samples.Samples` (so a
+million samples never sit in memory at once), writes, and never closes the stream; which writer
+serves which format is the table :mod:`a2b.formats`, and :func:`a2b.output.write` is the
+pipeline that calls them (checks, times, atomic output). Numbers are written as
 Python's ``repr`` (the shortest text that reads back bit for bit), formatted in bulk by
 :mod:`a2b.io.floatrepr`, on a second thread (:mod:`a2b.io.parallel`); MCAP is built a chunk
 at a time by :mod:`a2b.io.mcapwriter`. Each ``write_x`` has a ``read_x`` in
@@ -20,32 +22,29 @@ ros2       MCAP for ROS 2: ``geometry_msgs/msg/PoseStamped`` on ``/a2b/pose``,
            ``tf2_msgs/msg/TFMessage`` on ``/tf``, one ``nav_msgs/msg/Path`` on ``/a2b/path``
 =========  ===========================================================================
 
-In ``tum``, ``mcap`` and ``ros2`` the time of sample ``t`` is ``t · duration + start_time``
-seconds.
+In ``tum``, ``mcap`` and ``ros2`` the time of a sample is :meth:`a2b.samples.Samples.seconds`
+(:func:`a2b.output.write` forms it as ``t · duration + start_time``).
 """
 
 from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Iterator
-from dataclasses import dataclass
 from functools import partial
-from itertools import chain, groupby, repeat
+from itertools import chain
 from typing import IO
 
 import numpy as np
 
 from ..errors import ParameterError
+from ..samples import JobRuns, Samples
 from .floatrepr import BLOCK, format_rows
 from .parallel import in_order
 from .trajectories import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER
 
 __all__ = [
-    "FORMATS",
-    "REPRESENTATION",
-    "Chunk",
     "JobRuns",
-    "sample_chunks",
+    "job_file_name",
     "write_batch_csv",
     "write_batch_files",
     "write_batch_mcap",
@@ -53,118 +52,12 @@ __all__ = [
     "write_kitti",
     "write_matrix_csv",
     "write_mcap",
-    "write_samples",
     "write_study_csv",
     "write_tum",
 ]
 
-#: Samples per chunk: about 10 MB of text for ``csv``.
-CHUNK_SAMPLES = 65536
 
-
-@dataclass
-class Chunk:
-    """Consecutive samples of one motion. Only the fields a format needs are filled.
-
-    ``t (n,)``; ``quat_wxyz (n, 4)`` unit, continuous in t; ``trans (n, 3)``;
-    ``matrices (n, 4, 4)`` robotics layout; ``study (n, 8)``; ``job`` names each row (batch);
-    ``original (n,)`` marks the rows that are poses of a resampled trajectory (written as a
-    last column ``original``, 1 or 0, by the CSV layouts when given); ``twist (n, 6)``
-    velocities ``vx vy vz wx wy wz`` (columns after the pose in the CSV layouts, a
-    ``TwistStamped`` in ros2).
-    """
-
-    t: np.ndarray
-    quat_wxyz: np.ndarray | None = None
-    trans: np.ndarray | None = None
-    matrices: np.ndarray | None = None
-    study: np.ndarray | None = None
-    job: list[str] | JobRuns | None = None
-    original: np.ndarray | None = None
-    twist: np.ndarray | None = None
-
-
-class JobRuns:
-    """A ``job`` column in runs: ``names[0]`` for ``counts[0]`` rows, then ``names[1]`` …
-
-    Iterating gives the name of every row, as the list it stands for would.
-    """
-
-    __slots__ = ("counts", "names")
-
-    def __init__(self, names: list[str], counts: list[int]):
-        if len(names) != len(counts):
-            raise ValueError(f"{len(names)} names for {len(counts)} runs")
-        self.names = names
-        self.counts = counts
-
-    @classmethod
-    def of(cls, job: Iterable[str]) -> JobRuns:
-        """``job`` as runs (a :class:`JobRuns` is returned as it is)."""
-        if isinstance(job, JobRuns):
-            return job
-        names, counts = [], []
-        for name, run in groupby(job):
-            names.append(name)
-            counts.append(sum(1 for _ in run))
-        return cls(names, counts)
-
-    @classmethod
-    def join(cls, parts: Iterable[JobRuns]) -> JobRuns:
-        """The runs of ``parts`` one after the other."""
-        names: list[str] = []
-        counts: list[int] = []
-        for part in parts:
-            names += part.names
-            counts += part.counts
-        return cls(names, counts)
-
-    def __len__(self) -> int:
-        return sum(self.counts)
-
-    def __iter__(self) -> Iterator[str]:
-        for name, count in zip(self.names, self.counts):
-            yield from repeat(name, count)
-
-    def __repr__(self) -> str:
-        return f"JobRuns({self.names!r}, {self.counts!r})"
-
-
-#: What each format needs from the motion: ``quat_trans``, ``matrices`` or ``study``.
-REPRESENTATION = {
-    "csv": "quat_trans",
-    "matrix": "matrices",
-    "study": "study",
-    "tum": "quat_trans",
-    "kitti": "matrices",
-    "mcap": "quat_trans",
-    "ros2": "quat_trans",
-}
-FORMATS = tuple(REPRESENTATION)
-
-
-def sample_chunks(
-    motion, ts: np.ndarray, representation: str, size: int = CHUNK_SAMPLES
-) -> Iterator[Chunk]:
-    """Sample ``motion`` at ``ts`` in chunks of ``size``, in the representation a format needs.
-
-    ``motion`` is an :class:`a2b.motions.base.Motion` (anything with ``quat_trans``,
-    ``matrices`` and ``study`` methods of ``ts``).
-    """
-    for lo in range(0, len(ts), size):
-        t = ts[lo : lo + size]
-        if representation == "quat_trans":
-            quat, trans = motion.quat_trans(t)
-            yield Chunk(t, quat_wxyz=quat, trans=trans)
-        elif representation == "matrices":
-            yield Chunk(t, matrices=motion.matrices(t))
-        elif representation == "study":
-            yield Chunk(t, study=motion.study(t))
-        else:
-            raise ValueError(f"unknown representation {representation!r}")
-
-
-def _rows(fmt: str, chunk: Chunk, time: bool = True) -> np.ndarray:
+def _rows(fmt: str, chunk: Samples, time: bool = True) -> np.ndarray:
     """The numeric columns of one chunk in the layout of ``fmt`` (without tum's time, and
     without ``t`` if not ``time``)."""
     n = len(chunk.t)
@@ -200,65 +93,79 @@ def _write_rows(stream: IO, tables: Iterable[np.ndarray], sep: str = ",") -> Non
         stream.write(piece)
 
 
+def _marked(text: bytes) -> bytes:
+    """Rows whose last column is resample's ``original`` (1.0 or 0.0) with it as 1 or 0: each
+    line ends in the one ``.0\n`` of that column."""
+    return text.replace(b".0\n", b"\n")
+
+
 def _write_table(
-    stream: IO, fmt: str, header: str | None, chunks: Iterable[Chunk], sep: str = ","
+    stream: IO, fmt: str, header: str | None, chunks: Iterable[Samples], sep: str = ","
 ) -> None:
     chunks = iter(chunks)
     first = next(chunks, None)
+    mark = first is not None and first.original is not None and fmt != "kitti"
     if header is not None:
-        mark = first is not None and first.original is not None
         moving = first is not None and first.twist is not None
         stream.write(header.encode() + VELOCITY_HEADER * moving + b",original" * mark + b"\n")
     if first is not None:
-        _write_rows(stream, (_rows(fmt, chunk) for chunk in chain([first], chunks)), sep)
+        rows = (_rows(fmt, chunk) for chunk in chain([first], chunks))
+        if mark:
+            _write_rows(_Marking(stream), rows, sep)
+        else:
+            _write_rows(stream, rows, sep)
+
+
+class _Marking:
+    """A stream that writes rows through :func:`_marked` (whole lines are written at a time)."""
+
+    def __init__(self, stream: IO):
+        self.stream = stream
+
+    def write(self, text: bytes) -> None:
+        self.stream.write(_marked(text))
 
 
 #: The velocity columns of the CSV layouts.
 VELOCITY_HEADER = b",vx,vy,vz,wx,wy,wz"
 
 
-def write_csv(stream: IO, chunks: Iterable[Chunk]) -> None:
+def write_csv(stream: IO, chunks: Iterable[Samples]) -> None:
     """Write ``t,tx,ty,tz,qw,qx,qy,qz`` with a header line. Needs ``quat_wxyz`` and ``trans``."""
     _write_table(stream, "csv", CSV_HEADER, chunks)
 
 
-def write_matrix_csv(stream: IO, chunks: Iterable[Chunk]) -> None:
+def write_matrix_csv(stream: IO, chunks: Iterable[Samples]) -> None:
     """Write ``t`` and the 12 entries of ``[R | t]`` row by row, with a header. Needs
     ``matrices``."""
     _write_table(stream, "matrix", MATRIX_HEADER, chunks)
 
 
-def write_study_csv(stream: IO, chunks: Iterable[Chunk]) -> None:
+def write_study_csv(stream: IO, chunks: Iterable[Samples]) -> None:
     """Write ``t,p0,p1,p2,p3,q0,q1,q2,q3`` with a header. Needs ``study``."""
     _write_table(stream, "study", STUDY_HEADER, chunks)
 
 
-def write_kitti(stream: IO, chunks: Iterable[Chunk]) -> None:
+def write_kitti(stream: IO, chunks: Iterable[Samples]) -> None:
     """Write KITTI poses: 12 space-separated numbers per line, no time. Needs ``matrices``."""
     _write_table(stream, "kitti", None, chunks, sep=" ")
 
 
-def _times(t: np.ndarray, duration: float, start_time: float) -> np.ndarray:
-    return t * duration + start_time
-
-
-def write_tum(
-    stream: IO, chunks: Iterable[Chunk], duration: float = 1.0, start_time: float = 0.0
-) -> None:
-    """Write TUM ``time tx ty tz qx qy qz qw`` (space-separated, one ``#`` comment line).
+def write_tum(stream: IO, chunks: Iterable[Samples]) -> None:
+    """Write TUM ``time tx ty tz qx qy qz qw`` (space-separated, one ``#`` comment line); the
+    time is :meth:`a2b.samples.Samples.seconds`.
 
     The quaternion is rolled from a2b's ``wxyz`` to TUM's ``xyzw`` here, at the edge.
     """
     stream.write(TUM_HEADER)
-    _write_rows(stream, (_tum_rows(c, duration, start_time) for c in chunks), sep=" ")
+    _write_rows(stream, (_tum_rows(c) for c in chunks), sep=" ")
 
 
 TUM_HEADER = b"# time tx ty tz qx qy qz qw\n"
 
 
-def _tum_rows(chunk: Chunk, duration: float, start_time: float) -> np.ndarray:
-    times = _times(chunk.t, duration, start_time)
-    return np.column_stack([times, chunk.trans, chunk.quat_wxyz[:, [1, 2, 3, 0]]])
+def _tum_rows(chunk: Samples) -> np.ndarray:
+    return np.column_stack([chunk.seconds(), chunk.trans, chunk.quat_wxyz[:, [1, 2, 3, 0]]])
 
 
 _QUOTED = frozenset(',"\n\r')
@@ -275,7 +182,7 @@ def _csv_field(name: str) -> str:
 NAME_BYTES = 1 << 22
 
 
-def write_batch_csv(stream: IO, chunks: Iterable[Chunk], fmt: str = "csv") -> None:
+def write_batch_csv(stream: IO, chunks: Iterable[Samples], fmt: str = "csv") -> None:
     """Write many motions into one CSV whose first column, ``job``, names the motion of each row.
 
     ``fmt`` is one of the CSV layouts ``csv``, ``matrix``, ``study``; every chunk needs
@@ -345,10 +252,6 @@ def _batch_text(piece: tuple) -> bytes:
     return b"".join(out)
 
 
-#: The suffix of the file of each job in a directory of tum or kitti files.
-FILE_SUFFIXES = {"tum": ".tum", "kitti": ".kitti"}
-
-
 def job_file_name(name: str, fmt: str) -> str:
     """The file name of job ``name`` in a directory of ``fmt`` files: the name and a suffix.
 
@@ -358,7 +261,9 @@ def job_file_name(name: str, fmt: str) -> str:
         If the name cannot be a file name: empty, ``.`` or ``..``, with a ``/`` or a NUL
         character, not encodable for the file system, or longer than 255 bytes with the suffix.
     """
-    file_name = name + FILE_SUFFIXES[fmt]
+    from ..formats import BY_NAME
+
+    file_name = name + BY_NAME[fmt].suffixes[0]
     why = None
     if name in ("", ".", "..") or "/" in name or "\0" in name or os.sep in name:
         why = "it is empty, . or .., or holds a / or a NUL character"
@@ -378,10 +283,8 @@ def job_file_name(name: str, fmt: str) -> str:
 
 def write_batch_files(
     directory: str,
-    chunks: Iterable[Chunk],
+    chunks: Iterable[Samples],
     fmt: str,
-    duration: float = 1.0,
-    start_time: float = 0.0,
 ) -> None:
     """Write each job of ``chunks`` into a file of its own in ``directory``: ``NAME.tum`` or
     ``NAME.kitti`` (:func:`job_file_name`), as :func:`write_tum` or :func:`write_kitti` would.
@@ -395,7 +298,7 @@ def write_batch_files(
         for chunk in chunks:
             if not len(chunk.t):
                 continue
-            rows = _tum_rows(chunk, duration, start_time) if fmt == "tum" else _rows(fmt, chunk)
+            rows = _tum_rows(chunk) if fmt == "tum" else _rows(fmt, chunk)
             lines = format_rows(rows, sep=" ").split(b"\n")
             lo = 0
             for name, count in zip(*_runs(chunk)):
@@ -420,7 +323,7 @@ def write_batch_files(
             stream.close()
 
 
-def _runs(chunk: Chunk) -> tuple[list, list]:
+def _runs(chunk: Samples) -> tuple[list, list]:
     """The job names and row counts of a batch chunk, which must cover its rows exactly."""
     runs = JobRuns.of(chunk.job)
     if sum(runs.counts) != len(chunk.t):
@@ -433,17 +336,11 @@ JOB_TOPIC = "/a2b/{name}/pose"
 
 
 def write_batch_mcap(
-    stream: IO,
-    chunks: Iterable[Chunk],
-    duration: float = 1.0,
-    start_time: float = 0.0,
-    frame_id: str = "world",
-    profile: str = "foxglove",
+    stream: IO, chunks: Iterable[Samples], fmt: str = "mcap", frame_id: str = "world"
 ) -> None:
     """Write an MCAP file with one topic per job: ``foxglove.PoseInFrame`` (``ros2``:
     ``geometry_msgs/msg/PoseStamped``) messages in ``frame_id`` on ``/a2b/NAME/pose``
-    (:data:`JOB_TOPIC`), each job's times ``t · duration + start_time``. Otherwise as
-    :func:`write_mcap`.
+    (:data:`JOB_TOPIC`). Otherwise as :func:`write_mcap`.
 
     Raises
     ------
@@ -454,6 +351,7 @@ def write_batch_mcap(
     from .mcapwriter import write_topic_mcap
     from .ros2 import check_frame_id, check_topic
 
+    profile = "ros2" if fmt == "ros2" else "foxglove"
     if profile == "ros2":
         check_frame_id(frame_id)
 
@@ -466,24 +364,16 @@ def write_batch_mcap(
     def samples():
         for c in chunks:
             names, counts = _runs(c)
-            yield c.t, c.trans, c.quat_wxyz, [topic(n) for n in names], counts
+            yield c.nanoseconds(), c.trans, c.quat_wxyz, [topic(n) for n in names], counts
 
     write_topic_mcap(
-        stream,
-        samples(),
-        duration=duration,
-        start_time=start_time,
-        frame_id=frame_id,
-        profile=profile,
-        library=f"a2b {__version__}",
+        stream, samples(), frame_id=frame_id, profile=profile, library=f"a2b {__version__}"
     )
 
 
 def write_mcap(
     stream: IO,
-    chunks: Iterable[Chunk],
-    duration: float = 1.0,
-    start_time: float = 0.0,
+    chunks: Iterable[Samples],
     frame_id: str = "world",
     child_frame_id: str = "a2b",
     pose_topic: str = "/a2b/pose",
@@ -505,15 +395,15 @@ def write_mcap(
       time; the frame ids must be
       ROS 2 frame ids (:func:`a2b.io.ros2.check_frame_id`).
 
-    Log and publish times (and stamps) are ``t · duration + start_time`` in nanoseconds. The
-    file is chunked (zstd) and carries only chunk and message indexes. The stream needs no
-    ``seek`` or ``tell``: pipes work. The chunks are built in bulk by :mod:`a2b.io.mcapwriter`.
+    Log and publish times (and stamps) are :meth:`a2b.samples.Samples.nanoseconds`, whose
+    limits :func:`a2b.output.check_times` checks. The file is chunked (zstd) and carries only
+    chunk and message indexes. The stream needs no ``seek`` or ``tell``: pipes work. The
+    chunks are built in bulk by :mod:`a2b.io.mcapwriter`.
 
     Raises
     ------
     ParameterError
-        If a time is negative (MCAP times are unsigned) or, for ros2, past 2**31 − 1 s, a pose
-        is not finite, or a ros2 frame id has a leading ``/`` or whitespace.
+        If a pose is not finite, or a ros2 frame id has a leading ``/`` or whitespace.
     """
     from .. import __version__
     from .mcapwriter import write_pose_mcap
@@ -529,11 +419,9 @@ def write_mcap(
     write_pose_mcap(
         stream,
         (
-            (c.t, c.trans, c.quat_wxyz, c.twist)
+            (c.nanoseconds(), c.trans, c.quat_wxyz, c.twist)
             for c in chain([first] * (first is not None), chunks)
         ),
-        duration=duration,
-        start_time=start_time,
         frame_id=frame_id,
         child_frame_id=child_frame_id,
         profile=profile,
@@ -543,30 +431,3 @@ def write_mcap(
         count=count,
         twist_topic="/a2b/twist" if moving else None,
     )
-
-
-_TABLE_WRITERS = {
-    "csv": write_csv,
-    "matrix": write_matrix_csv,
-    "study": write_study_csv,
-    "kitti": write_kitti,
-}
-
-
-def write_samples(stream: IO, fmt: str, chunks: Iterable[Chunk], **options) -> None:
-    """Write ``chunks`` in format ``fmt`` (one of :data:`FORMATS`).
-
-    ``options``: ``duration`` and ``start_time`` for ``tum``, ``mcap`` and ``ros2``;
-    ``frame_id``, ``child_frame_id`` and ``count`` (of samples, if known) for ``mcap`` and
-    ``ros2``. Options a format does not use are ignored.
-    """
-    if fmt in _TABLE_WRITERS:
-        _TABLE_WRITERS[fmt](stream, chunks)
-    elif fmt == "tum":
-        write_tum(stream, chunks, options.get("duration", 1.0), options.get("start_time", 0.0))
-    elif fmt in ("mcap", "ros2"):
-        keys = ("duration", "start_time", "frame_id", "child_frame_id", "count")
-        profile = "ros2" if fmt == "ros2" else "foxglove"
-        write_mcap(stream, chunks, profile=profile, **{k: options[k] for k in keys if k in options})
-    else:
-        raise ValueError(f"unknown format {fmt!r}; expected one of {', '.join(FORMATS)}")
