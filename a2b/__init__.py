@@ -25,6 +25,7 @@ __all__ = [
     "motion",
     "spline",
     "timing",
+    "write",
 ]
 
 
@@ -41,6 +42,10 @@ def __getattr__(name):  # lazy: keep `import a2b` (and so `a2b --version`) light
         from .timelaw import timing
 
         return timing
+    if name == "write":
+        from .output import write
+
+        return write
     if name in ("bezier", "spline"):
         from .motions import bezier
 

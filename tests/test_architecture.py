@@ -1,4 +1,5 @@
-"""The arrows of the package point one way: cli → plot → io → jobs → api → motions → core.
+"""The arrows of the package point one way: cli → plot → output → io → jobs → api → motions →
+core.
 
 Every import of every module (at the top or inside a function) is read from the source. A
 module may import its own layer or a lower one, never a higher one, and no two modules import
@@ -17,11 +18,13 @@ PACKAGE = Path(__file__).resolve().parent.parent / "a2b"
 #: Layers, lowest first: a module's layer is that of its longest matching prefix.
 LAYERS = [
     ("core", ["a2b.errors", "a2b.names", "a2b.parameters", "a2b.elements", "a2b.study",
-              "a2b.poses", "a2b.extended", "a2b.frames", "a2b.fibers", "a2b.kinematics"]),
+              "a2b.poses", "a2b.extended", "a2b.frames", "a2b.fibers", "a2b.kinematics",
+              "a2b.formats"]),
     ("motions", ["a2b.motions"]),
     ("api", ["a2b.api"]),
-    ("jobs", ["a2b.jobs", "a2b.resample", "a2b.timelaw"]),
+    ("jobs", ["a2b.jobs", "a2b.resample", "a2b.timelaw", "a2b.samples"]),
     ("io", ["a2b.io"]),
+    ("output", ["a2b.output"]),
     ("plot", ["a2b.plot", "a2b.view"]),
     ("cli", ["a2b.cli", "a2b.__main__"]),
 ]  # fmt: skip
@@ -110,5 +113,5 @@ def test_no_import_cycle():
 def test_the_checks_see_an_upward_arrow_and_a_cycle(tmp_path):
     """The reader of imports finds function-level and relative imports (so the checks can fail)."""
     assert "a2b.api" in MODULES["a2b.jobs"]
-    assert "a2b.io.atomic" in MODULES["a2b.cli.batch"]
+    assert "a2b.output" in MODULES["a2b.cli.batch"]
     assert rank("a2b.cli.batch") > rank("a2b.io.writers") > rank("a2b.motions.base")

@@ -253,12 +253,12 @@ def test_jobs_of_mixed_kinds_come_out_in_order_as_alone(rng):
         start, end, [None, "b", None, "d", "e", None, "g", "h", None], modes, counts, params
     )
     pieces = list(sample([block], mode="cubic", samples=4, rows=64))
-    names = [name for p in pieces for name, c in zip(p.names, p.counts) for _ in range(c)]
+    names = [name for p in pieces for name in p.job]
     expected_names = ["0", "b", "2", "d", "e", "5", "g", "h", "8"]
     expected_counts = [3, 5, 4, 5, 5, 2, 3, 70, 4]
     assert names == [m for m, c in zip(expected_names, expected_counts) for _ in range(c)]
     assert max(len(p.t) for p in pieces) <= 64
-    rows = np.concatenate([p.fields["trans"] for p in pieces])
+    rows = np.concatenate([p.trans for p in pieces])
     ref = np.concatenate(
         [
             a2b.motion(start[i], end[i], modes[i] or "cubic", **params[i]).quat_trans(
@@ -279,7 +279,7 @@ def test_a_failing_job_comes_after_the_jobs_before_it(rng):
     seen = []
     with pytest.raises(SingularMotionError, match=r"^job x: the cubic motion passes through"):
         for piece in sample([block]):
-            seen += piece.names
+            seen += piece.job.names
     assert seen == ["v", "w"]
 
 

@@ -521,14 +521,10 @@ LONGEST_ARGUMENT = "f" * (128 * 1024 - 1)
 _MCAP_WITH_LONG_FRAMES = """
 import sys
 import numpy as np
-from a2b.io.writers import Chunk, write_mcap
-t = np.linspace(0.0, 1.0, 1_000)
-quat = np.tile([1.0, 0.0, 0.0, 0.0], (len(t), 1))
-trans = np.zeros((len(t), 3))
-chunks = (Chunk(t[i : i + 4096], quat_wxyz=quat[i : i + 4096], trans=trans[i : i + 4096])
-          for i in range(0, len(t), 4096))
-with open(sys.argv[1], "wb") as f:
-    write_mcap(f, chunks, frame_id="w" * 1_000_000, child_frame_id="c" * 1_000_000)
+import a2b
+motion = a2b.motion(np.eye(4), np.eye(4))
+a2b.write(motion, sys.argv[1], "mcap", samples=1_000, frame_id="w" * 1_000_000,
+          child_frame_id="c" * 1_000_000)
 """  # fmt: skip
 
 

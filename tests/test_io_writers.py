@@ -10,7 +10,9 @@ import pytest
 from a2b.errors import ParameterError
 from a2b.io import parallel, readers, trajectories, writers
 from a2b.io.floatrepr import format_rows, integer_words, number_words, text_words
+from a2b.output import stamped, write
 from a2b.poses import matrices_from_quat_trans, rotations_from_quaternions, study_from_matrices
+from a2b.samples import JobRuns, Samples
 
 from .conftest import NonSeekableStream
 
@@ -142,7 +144,7 @@ def _chunks(rng, n, size):
     study = study_from_matrices(mats) * rng.uniform(0.5, 2.0, size=(n, 1))
     t = np.linspace(0, 1, n)
     return [
-        writers.Chunk(
+        Samples(
             t[i : i + size],
             quat[i : i + size],
             trans[i : i + size],
@@ -157,7 +159,7 @@ def _chunks(rng, n, size):
 def test_writer_reader_pairs(rng, fmt):
     chunks, (t, quat, trans, mats, study) = _chunks(rng, 25, 7)
     stream = io.BytesIO()
-    writers.write_samples(stream, fmt, chunks, duration=2.0, start_time=3.0)
+    write(list(stamped(chunks, 2.0, 3.0)), stream, fmt)
     stream.seek(0)
     if fmt == "csv":
         got_t, got_q, got_tr = trajectories.read_csv(stream)
@@ -232,13 +234,13 @@ def test_formatting_error_reaches_the_caller(monkeypatch):
         raise RuntimeError("formatter failed")
 
     monkeypatch.setattr(writers, "format_rows", broken)
-    chunk = writers.Chunk(np.zeros(3), np.tile([1.0, 0, 0, 0], (3, 1)), np.zeros((3, 3)))
+    chunk = Samples(np.zeros(3), np.tile([1.0, 0, 0, 0], (3, 1)), np.zeros((3, 3)))
     with pytest.raises(RuntimeError, match="formatter failed"):
         writers.write_csv(io.BytesIO(), [chunk])
 
 
 def test_batch_job_name_with_nul_is_an_error():
-    chunk = writers.Chunk(np.zeros(1), np.array([[1.0, 0, 0, 0]]), np.zeros((1, 3)), job=["a\0b"])
+    chunk = Samples(np.zeros(1), np.array([[1.0, 0, 0, 0]]), np.zeros((1, 3)), job=["a\0b"])
     with pytest.raises(ParameterError, match="NUL"):
         writers.write_batch_csv(io.BytesIO(), [chunk])
 
@@ -305,14 +307,14 @@ def test_format_rows_takes_prefix_words():
 
 
 def test_job_runs_stand_for_the_list_of_names():
-    runs = writers.JobRuns(["a", "b", "a"], [2, 1, 3])
+    runs = JobRuns(["a", "b", "a"], [2, 1, 3])
     assert list(runs) == ["a", "a", "b", "a", "a", "a"] and len(runs) == 6
-    assert writers.JobRuns.of(list(runs)).names == ["a", "b", "a"]
-    assert writers.JobRuns.of(runs) is runs
-    joined = writers.JobRuns.join([runs, writers.JobRuns(["c"], [4])])
+    assert JobRuns.of(list(runs)).names == ["a", "b", "a"]
+    assert JobRuns.of(runs) is runs
+    joined = JobRuns.join([runs, JobRuns(["c"], [4])])
     assert list(joined) == list(runs) + ["c"] * 4
     with pytest.raises(ValueError, match="2 names for 1 runs"):
-        writers.JobRuns(["a", "b"], [1])
+        JobRuns(["a", "b"], [1])
 
 
 @pytest.mark.parametrize("fmt", ["csv", "matrix", "study"])
@@ -330,16 +332,16 @@ def test_batch_csv_is_the_rows_formatted_one_by_one(rng, fmt):
     mats[:, 3, 3] = 1.0
     study = rng.normal(size=(n, 8))
     names = ["a", "b, c", "d", "e", "f"]
-    job = writers.JobRuns(names, counts)
+    job = JobRuns(names, counts)
     # one chunk with one pattern of t and one without; and a list of names for a job column
     chunks = [
-        writers.Chunk(
+        Samples(
             t[:15], quat[:15], trans[:15], mats[:15], study[:15],
-            job=writers.JobRuns(names[:3], counts[:3]),
+            job=JobRuns(names[:3], counts[:3]),
         ),
-        writers.Chunk(
+        Samples(
             t[15:], quat[15:], trans[15:], mats[15:], study[15:],
-            job=list(writers.JobRuns(names[3:], counts[3:])),
+            job=list(JobRuns(names[3:], counts[3:])),
         ),
     ]  # fmt: skip
     stream = io.BytesIO()
@@ -357,7 +359,7 @@ def test_batch_csv_is_the_rows_formatted_one_by_one(rng, fmt):
 
 
 def test_a_batch_chunk_without_rows_writes_nothing():
-    empty = writers.Chunk(np.empty(0), np.empty((0, 4)), np.empty((0, 3)), job=[])
+    empty = Samples(np.empty(0), np.empty((0, 4)), np.empty((0, 3)), job=[])
     stream = io.BytesIO()
     writers.write_batch_csv(stream, [empty])
     assert stream.getvalue() == b"job,t,tx,ty,tz,qw,qx,qy,qz\n"
@@ -367,13 +369,13 @@ def test_long_names_go_out_in_bounded_pieces(monkeypatch):
     """A long name makes pieces of fewer rows: names in one piece stay within NAME_BYTES."""
     monkeypatch.setattr(writers, "NAME_BYTES", 1000)
     t = np.tile(np.linspace(0, 1, 50), 3)
-    runs = writers.JobRuns(["a", "x" * 300, "b"], [50, 50, 50])
+    runs = JobRuns(["a", "x" * 300, "b"], [50, 50, 50])
     rows = np.column_stack([t, np.zeros((150, 3)), np.tile([1.0, 0, 0, 0], (150, 1))])
     pieces = list(writers._batch_pieces(rows, runs))
     for _, leads, counts in pieces:
         assert sum(len(lead) * c for lead, c in zip(leads, counts)) <= 1000 or sum(counts) == 1
     assert sum(sum(counts) for _, _, counts in pieces) == 150
-    chunk = writers.Chunk(t, rows[:, 4:], rows[:, 1:4], job=runs)
+    chunk = Samples(t, rows[:, 4:], rows[:, 1:4], job=runs)
     stream = io.BytesIO()
     writers.write_batch_csv(stream, [chunk])
     stream.seek(0)

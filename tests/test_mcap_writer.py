@@ -21,6 +21,8 @@ from mcap.stream_reader import StreamReader, breakup_chunk
 from a2b.errors import ParameterError
 from a2b.io import mcapwriter, parallel, writers
 from a2b.io.mcapwriter import MAGIC
+from a2b.output import stamped, write
+from a2b.samples import Samples
 
 from .conftest import NonSeekableStream
 
@@ -36,7 +38,7 @@ def _samples(rng, n, sizes):
     chunks, lo = [], 0
     for size in sizes:
         chunks.append(
-            writers.Chunk(
+            Samples(
                 t[lo : lo + size], quat_wxyz=quat[lo : lo + size], trans=trans[lo : lo + size]
             )
         )
@@ -45,9 +47,10 @@ def _samples(rng, n, sizes):
     return chunks, t, quat, trans
 
 
-def _write(chunks, **options) -> bytes:
+def _write(chunks, duration=1.0, start_time=0.0, **options) -> bytes:
+    """MCAP of ``chunks`` through the library's pipeline, times ``t · duration + start_time``."""
     stream = io.BytesIO()
-    writers.write_mcap(stream, chunks, **options)
+    write(list(stamped(chunks, duration, start_time)), stream, "mcap", **options)
     return stream.getvalue()
 
 

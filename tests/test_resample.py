@@ -10,7 +10,6 @@ from __future__ import annotations
 import io
 import os
 import subprocess
-import sys
 import warnings
 from pathlib import Path
 
@@ -586,32 +585,6 @@ def test_a_damaged_mcap_file_is_one_clear_error(cuts, tmp_path_factory):
         assert str(e).startswith("x.mcap")
 
 
-def _items_with_pids(fail_at=None):
-    for i in range(5):
-        if i == fail_at:
-            raise InputFileError(f"item {i} failed")
-        if i == 2:
-            warnings.warn(a2b.errors.A2bWarning("a warning in the child"), stacklevel=1)
-        yield i, os.getpid()
-
-
-def test_items_produced_apart_come_in_order_from_another_process_with_their_errors():
-    from a2b.io.parallel import produced_apart
-
-    with pytest.warns(a2b.errors.A2bWarning, match="^a warning in the child$"):
-        got = list(produced_apart(_items_with_pids))  # issued here, where stderr is watched
-    assert [i for i, _ in got] == [0, 1, 2, 3, 4]
-    if sys.platform == "linux":
-        assert {pid for _, pid in got} != {os.getpid()}  # computed in a forked child
-    items = produced_apart(lambda: _items_with_pids(fail_at=3))
-    with pytest.warns(a2b.errors.A2bWarning):
-        assert [next(items)[0] for _ in range(3)] == [0, 1, 2]
-    with pytest.raises(InputFileError, match="^item 3 failed$"):
-        next(items)
-    early = produced_apart(lambda: ((i, os.getpid()) for i in range(10**9)))
-    assert next(early)[0] == 0
-    early.close()  # the child is stopped, not left running
-
 
 def test_resample_takes_the_motion_options_of_its_mode():
     result = run("resample", SAMPLES / "reference.tum", "--rate", 3, "--mode", "darboux",
@@ -671,6 +644,6 @@ def test_a_bad_line_after_many_poses_leaves_the_old_output(tmp_path):
 
 
 def test_the_command_line_knows_every_trajectory_format():
-    from a2b.cli.options import TRAJECTORY_FORMATS
+    from a2b.formats import INPUT_NAMES
 
-    assert TRAJECTORY_FORMATS == trajectories.TRAJECTORY_FORMATS
+    assert set(INPUT_NAMES) == set(trajectories.TRAJECTORY_FORMATS)

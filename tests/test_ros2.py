@@ -22,7 +22,8 @@ from a2b.cli import cli
 from a2b.errors import InputFileError, ParameterError
 from a2b.io import ros2
 from a2b.io.trajectories import read_trajectory
-from a2b.io.writers import Chunk, sample_chunks, write_batch_mcap, write_mcap
+from a2b.io.writers import write_batch_mcap
+from a2b.samples import Samples
 from tests.conftest import TOOLS, NonSeekableStream, random_pose
 
 HERE = Path(__file__).parent
@@ -39,9 +40,10 @@ def _motion(rng):
 
 def _write(path, motion, n, **options):
     ts = np.linspace(0, 1, n)
-    with open(path, "wb") as f:
-        write_mcap(f, sample_chunks(motion, ts, "quat_trans", size=97), profile="ros2", **options)
-    return motion.quat_trans(ts)
+    a2b.write(motion, path, "ros2", samples=n, **options)
+    quat, trans = motion.quat_trans(ts)
+    trans[[0, -1]] = motion.start[:3, 3], motion.end[:3, 3]  # t = 0 and 1: A and B as given
+    return quat, trans
 
 
 def _clients(clients, *args):
@@ -332,13 +334,13 @@ def test_profile_chooses_the_messages_of_an_mcap_file(tmp_path):
 def test_ros2_streams_into_a_pipe_and_batches_alike(rng):
     motion = _motion(rng)
     stream = NonSeekableStream()
-    write_mcap(stream, sample_chunks(motion, np.linspace(0, 1, 9), "quat_trans"), profile="ros2")
+    a2b.write(motion, stream, "ros2", samples=9)
     tr = read_trajectory(io.BytesIO(bytes(stream.data)))
     assert np.array_equal(tr.quat_wxyz, motion.quat_trans(np.linspace(0, 1, 9))[0])
     batch = NonSeekableStream()
     quat, trans = motion.quat_trans(np.linspace(0, 1, 4))
-    chunk = Chunk(np.linspace(0, 1, 4), quat_wxyz=quat, trans=trans, job=["a", "a", "b", "b"])
-    write_batch_mcap(batch, [chunk], profile="ros2")
+    chunk = Samples(np.linspace(0, 1, 4), quat_wxyz=quat, trans=trans, job=["a", "a", "b", "b"])
+    write_batch_mcap(batch, [chunk], "ros2")
     for job, rows in (("a", slice(0, 2)), ("b", slice(2, 4))):
         tr = read_trajectory(io.BytesIO(bytes(batch.data)), topic=f"/a2b/{job}/pose")
         assert np.array_equal(tr.translations, trans[rows])
@@ -372,8 +374,7 @@ def test_the_indexed_reader_gives_what_the_mcap_package_reads(tmp_path, clients,
 
     motion = _motion(rng)
     _write(tmp_path / "r.mcap", motion, 5000)
-    with open(tmp_path / "j.mcap", "wb") as f:
-        write_mcap(f, sample_chunks(motion, np.linspace(0, 1, 5000), "quat_trans", size=777))
+    a2b.write(motion, tmp_path / "j.mcap", "mcap", samples=5000)
     bag = _clients(clients, "write", tmp_path / "bag")["file"]
     for path in (tmp_path / "r.mcap", tmp_path / "j.mcap", bag):
         data = Path(path).read_bytes()

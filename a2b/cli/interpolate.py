@@ -21,15 +21,7 @@ def command(poses, mode, samples, verbose, orthonormalize, **parameters):
     each number reads back as the same double. Samples are computed and written in chunks,
     so any count runs in bounded memory (`--samples 1000000000 | head` starts at once).
 
-    \b
-    Formats:
-      csv     t,tx,ty,tz,qw,qx,qy,qz
-      matrix  t and the 12 entries of [R | t], row by row
-      study   t,p0,p1,p2,p3,q0,q1,q2,q3 (unit Study parameters)
-      tum     time tx ty tz qx qy qz qw (time = t · duration + start_time)
-      kitti   12 numbers of [R | t] per line
-      mcap    foxglove.PoseInFrame on /a2b/pose and foxglove.FrameTransform on /tf
-      ros2    MCAP for ROS 2: PoseStamped on /a2b/pose, TFMessage on /tf, a Path at the end
+    --format lists the formats and what a line or message of each holds.
 
     Pitches are screw-theory pitches: translation per radian, dz/dω. -v states on stderr
     every choice a2b makes for you: defaults, the sign of a quaternion, the screw axis of a
