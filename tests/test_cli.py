@@ -290,7 +290,9 @@ def test_parameters_from_file_and_command_line(tmp_path, rng):
         ).exit_code
         == 0
     )
-    assert np.array_equal(matrices(), _as_given(a, b, mats=a2b.interpolate(a, b, ts, pitch_start=0.1)))
+    assert np.array_equal(
+        matrices(), _as_given(a, b, mats=a2b.interpolate(a, b, ts, pitch_start=0.1))
+    )
     # --mode drops the file's parameters of other modes
     assert (
         run(

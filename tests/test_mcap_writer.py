@@ -38,9 +38,7 @@ def _samples(rng, n, sizes):
     chunks, lo = [], 0
     for size in sizes:
         chunks.append(
-            Samples(
-                t[lo : lo + size], quat_wxyz=quat[lo : lo + size], trans=trans[lo : lo + size]
-            )
+            Samples(t[lo : lo + size], quat_wxyz=quat[lo : lo + size], trans=trans[lo : lo + size])
         )
         lo += size
     assert lo == n

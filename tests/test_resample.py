@@ -585,7 +585,6 @@ def test_a_damaged_mcap_file_is_one_clear_error(cuts, tmp_path_factory):
         assert str(e).startswith("x.mcap")
 
 
-
 def test_resample_takes_the_motion_options_of_its_mode():
     result = run("resample", SAMPLES / "reference.tum", "--rate", 3, "--mode", "darboux",
                  "--delta", 10000, "-o", "/dev/null")  # fmt: skip
