@@ -13,7 +13,7 @@ import pytest
 from click.testing import CliRunner
 
 from a2b.cli import COMMANDS, cli
-from a2b.cli.options import FORMATS
+from a2b.formats import OUTPUT_NAMES as FORMATS
 
 ROOT = Path(__file__).resolve().parent.parent
 README = (ROOT / "README.md").read_text()
