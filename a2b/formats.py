@@ -83,6 +83,8 @@ class Format:
         :class:`Limits`; the pip extra the format needs (``None``: the base install).
     read_as
         The format that reads it back, if not its own reader (``ros2``: ``mcap``).
+    header
+        The column names of a text table (tum: after ``# ``).
     """
 
     name: str
@@ -100,6 +102,7 @@ class Format:
     limits: Limits = Limits()
     extra: str | None = None
     read_as: str | None = None
+    header: str | None = None
 
     @property
     def timed(self) -> bool:
@@ -121,19 +124,19 @@ TABLE = (
         name="csv", suffixes=(".csv",), layout="t,tx,ty,tz,qw,qx,qy,qz", holds=_TABLE_ROWS,
         binary=False, representation="quat_trans", batch="rows",
         writer=f"{_TEXT}:write_csv", batch_writer=f"{_TEXT}:write_batch_csv",
-        reader=f"{_READ}:read_csv",
+        reader=f"{_READ}:read_csv", header="t,tx,ty,tz,qw,qx,qy,qz",
     ),
     Format(
         name="matrix", suffixes=(), layout="t and the 12 entries of [R | t], row by row",
         holds=_TABLE_ROWS, binary=False, representation="matrices", batch="rows",
         writer=f"{_TEXT}:write_matrix_csv", batch_writer=f"{_TEXT}:write_batch_csv",
-        reader=f"{_READ}:read_matrix_csv",
+        reader=f"{_READ}:read_matrix_csv", header="t,r11,r12,r13,tx,r21,r22,r23,ty,r31,r32,r33,tz",
     ),
     Format(
         name="study", suffixes=(), layout="t,p0,p1,p2,p3,q0,q1,q2,q3 (unit Study parameters)",
         holds=_TABLE_ROWS, binary=False, representation="study", batch="rows",
         writer=f"{_TEXT}:write_study_csv", batch_writer=f"{_TEXT}:write_batch_csv",
-        reader=f"{_READ}:read_study_csv",
+        reader=f"{_READ}:read_study_csv", header="t,p0,p1,p2,p3,q0,q1,q2,q3",
     ),
     Format(
         name="tum", suffixes=(".tum",),
@@ -141,6 +144,7 @@ TABLE = (
         holds=frozenset({"poses", "times"}), binary=False, representation="quat_trans",
         batch="files", writer=f"{_TEXT}:write_tum", batch_writer=f"{_TEXT}:write_batch_files",
         reader=f"{_READ}:read_tum", options=_STAMPED, limits=Limits(distinct_times=True),
+        header="time tx ty tz qx qy qz qw",
     ),
     Format(
         name="kitti", suffixes=(".kitti",), layout="12 numbers of [R | t] per line",

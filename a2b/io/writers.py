@@ -37,10 +37,10 @@ from typing import IO
 import numpy as np
 
 from ..errors import ParameterError
+from ..formats import BY_NAME
 from ..samples import JobRuns, Samples
 from .floatrepr import BLOCK, format_rows
 from .parallel import in_order
-from .trajectories import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER
 
 __all__ = [
     "JobRuns",
@@ -57,22 +57,24 @@ __all__ = [
 ]
 
 
-def _rows(fmt: str, chunk: Samples, time: bool = True) -> np.ndarray:
-    """The numeric columns of one chunk in the layout of ``fmt`` (without tum's time, and
-    without ``t`` if not ``time``)."""
-    n = len(chunk.t)
-    t = [chunk.t] if time else []
-    mark = [] if chunk.original is None or fmt == "kitti" else [chunk.original]
-    if chunk.twist is not None and fmt != "kitti":
-        mark = [chunk.twist, *mark]
-    if fmt == "csv":
-        return np.column_stack([*t, chunk.trans, chunk.quat_wxyz, *mark])
-    if fmt in ("matrix", "kitti"):
-        flat = chunk.matrices[:, :3, :].reshape(n, 12)
-        return flat if fmt == "kitti" or not (time or mark) else np.column_stack([*t, flat, *mark])
-    if fmt == "study":
-        return np.column_stack([*t, chunk.study, *mark])
-    raise ValueError(f"no table layout for {fmt!r}")
+def _rows(fmt: str, chunk: Samples) -> np.ndarray:
+    """The numeric columns of one chunk in the layout of ``fmt`` (:mod:`a2b.formats`): ``t`` if
+    it holds times, the pose in its representation, then twists and marks if it holds them
+    (tum's time comes from :func:`_tum_rows`)."""
+    row = BY_NAME[fmt]
+    holds = row.holds
+    columns = [chunk.t] if "times" in holds else []
+    if row.representation == "matrices":
+        columns.append(chunk.matrices[:, :3, :].reshape(len(chunk.t), 12))
+    elif row.representation == "study":
+        columns.append(chunk.study)
+    else:
+        columns += [chunk.trans, chunk.quat_wxyz]
+    if chunk.twist is not None and "velocities" in holds:
+        columns.append(chunk.twist)
+    if chunk.original is not None and "mark" in holds:
+        columns.append(chunk.original)
+    return columns[0] if len(columns) == 1 else np.column_stack(columns)
 
 
 #: Numbers per task handed to a worker: a few of the formatter's blocks.
@@ -104,7 +106,7 @@ def _write_table(
 ) -> None:
     chunks = iter(chunks)
     first = next(chunks, None)
-    mark = first is not None and first.original is not None and fmt != "kitti"
+    mark = first is not None and first.original is not None and "mark" in BY_NAME[fmt].holds
     if header is not None:
         moving = first is not None and first.twist is not None
         stream.write(header.encode() + VELOCITY_HEADER * moving + b",original" * mark + b"\n")
@@ -132,18 +134,18 @@ VELOCITY_HEADER = b",vx,vy,vz,wx,wy,wz"
 
 def write_csv(stream: IO, chunks: Iterable[Samples]) -> None:
     """Write ``t,tx,ty,tz,qw,qx,qy,qz`` with a header line. Needs ``quat_wxyz`` and ``trans``."""
-    _write_table(stream, "csv", CSV_HEADER, chunks)
+    _write_table(stream, "csv", BY_NAME["csv"].header, chunks)
 
 
 def write_matrix_csv(stream: IO, chunks: Iterable[Samples]) -> None:
     """Write ``t`` and the 12 entries of ``[R | t]`` row by row, with a header. Needs
     ``matrices``."""
-    _write_table(stream, "matrix", MATRIX_HEADER, chunks)
+    _write_table(stream, "matrix", BY_NAME["matrix"].header, chunks)
 
 
 def write_study_csv(stream: IO, chunks: Iterable[Samples]) -> None:
     """Write ``t,p0,p1,p2,p3,q0,q1,q2,q3`` with a header. Needs ``study``."""
-    _write_table(stream, "study", STUDY_HEADER, chunks)
+    _write_table(stream, "study", BY_NAME["study"].header, chunks)
 
 
 def write_kitti(stream: IO, chunks: Iterable[Samples]) -> None:
@@ -161,7 +163,7 @@ def write_tum(stream: IO, chunks: Iterable[Samples]) -> None:
     _write_rows(stream, (_tum_rows(c) for c in chunks), sep=" ")
 
 
-TUM_HEADER = b"# time tx ty tz qx qy qz qw\n"
+TUM_HEADER = b"# " + BY_NAME["tum"].header.encode() + b"\n"
 
 
 def _tum_rows(chunk: Samples) -> np.ndarray:
@@ -191,7 +193,7 @@ def write_batch_csv(stream: IO, chunks: Iterable[Samples], fmt: str = "csv") -> 
     in front of its rows (quoted as CSV needs); a piece holds at most :data:`TASK` numbers and
     :data:`NAME_BYTES` of names.
     """
-    header = {"csv": CSV_HEADER, "matrix": MATRIX_HEADER, "study": STUDY_HEADER}[fmt]
+    header = BY_NAME[fmt].header
     stream.write(b"job," + header.encode() + b"\n")
 
     def pieces():
