@@ -170,9 +170,11 @@ def atomic_directory(path: str | os.PathLike | None) -> Iterator[str]:
 
     The files are written into a temporary directory beside ``path``. When the block ends
     normally, ``path`` is created if it does not exist, and each file is renamed into it,
-    replacing a file of the same name; other files in ``path`` are left alone. If the block
-    raises (including ``KeyboardInterrupt``, SIGTERM and a failed write), the temporary
-    directory is removed and ``path`` is left as it was.
+    replacing a file of the same name; other files in ``path`` are left alone. The moves are
+    all or none: a name taken by a directory is refused before any, and if a move fails the
+    files moved so far are taken back and the replaced ones restored. If the block raises
+    (including ``KeyboardInterrupt``, SIGTERM and a failed write), the temporary directory is
+    removed and ``path`` is left as it was.
 
     Raises
     ------
@@ -198,13 +200,44 @@ def atomic_directory(path: str | os.PathLike | None) -> Iterator[str]:
         try:
             with _write_errors(os.fspath(path)):
                 yield tmp
-                os.makedirs(target, exist_ok=True)
-                mode = _default_mode()
-                for name in os.listdir(tmp):
-                    os.chmod(os.path.join(tmp, name), mode)
-                    os.replace(os.path.join(tmp, name), os.path.join(target, name))
+                _move_all(tmp, target, os.fspath(path))
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _move_all(source: str, target: str, path: str) -> None:
+    """Move every file of ``source`` into ``target``, all or none: the files they replace are
+    first moved aside (into ``source``), and put back if any move fails."""
+    names = sorted(os.listdir(source))
+    blocked = [n for n in names if os.path.isdir(os.path.join(target, n))]
+    if blocked:
+        more = f" and {len(blocked) - 3} more" if len(blocked) > 3 else ""
+        shown = ", ".join(repr(n) for n in blocked[:3])
+        raise OutputFileError(
+            f"cannot write into {path}: {shown}{more} already there as a directory"
+        )
+    made = not os.path.isdir(target)
+    os.makedirs(target, exist_ok=True)
+    aside = tempfile.mkdtemp(prefix=".old.", dir=source)
+    mode = _default_mode()
+    kept, placed = [], []
+    try:
+        for name in names:
+            if os.path.lexists(os.path.join(target, name)):
+                os.replace(os.path.join(target, name), os.path.join(aside, name))
+                kept.append(name)
+        for name in names:
+            os.chmod(os.path.join(source, name), mode)
+            os.replace(os.path.join(source, name), os.path.join(target, name))
+            placed.append(name)
+    except BaseException:
+        for name in placed:
+            os.unlink(os.path.join(target, name))
+        for name in kept:
+            os.replace(os.path.join(aside, name), os.path.join(target, name))
+        if made:
+            os.rmdir(target)
+        raise
 
 
 @contextmanager
