@@ -192,3 +192,57 @@ def test_a_directory_format_needs_a_directory(tmp_path, jobs_file):
     result = run("batch", path, "-o", tmp_path)
     assert result.exit_code == 2
     assert "is a directory" in result.output
+
+
+def test_a_failing_move_into_the_directory_changes_nothing(tmp_path, jobs_file, monkeypatch):
+    """The files of a batch are moved into DIR all or none: a move that fails after others
+    (here the fourth) takes the moved ones back and restores the files they replaced."""
+    import os
+
+    path, jobs = jobs_file
+    out = tmp_path / "motions"
+    out.mkdir()
+    old = {"0.tum": "old 0", "1.tum": "old 1", "keep.txt": "mine"}
+    for name, text in old.items():
+        (out / name).write_text(text)
+    real, moves = os.replace, []
+
+    def failing(src, dst):
+        if str(dst).startswith(str(out)) and str(src).startswith(str(tmp_path / ".motions")):
+            moves.append(dst)
+            if len(moves) == 4:
+                raise OSError(28, "No space left on device")
+        return real(src, dst)
+
+    monkeypatch.setattr(os, "replace", failing)
+    result = run("batch", path, "--format", "tum", "-o", out)
+    assert result.exit_code == 1 and "No space left on device" in result.output
+    assert {p.name: p.read_text() for p in out.iterdir()} == old
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["jobs.jsonl", "motions"]
+
+
+def test_a_directory_in_the_way_is_refused_before_any_file_moves(tmp_path, jobs_file):
+    path, _ = jobs_file
+    out = tmp_path / "motions"
+    (out / "1.tum").mkdir(parents=True)
+    (out / "0.tum").write_text("old")
+    result = run("batch", path, "--format", "tum", "-o", out)
+    assert result.exit_code == 1
+    assert "'1.tum' already there as a directory" in result.output
+    assert (out / "0.tum").read_text() == "old"
+    assert sorted(p.name for p in out.iterdir()) == ["0.tum", "1.tum"]
+
+
+def test_batch_refuses_options_its_format_does_not_take(tmp_path, jobs_file):
+    path, _ = jobs_file
+    result = run("batch", path, "--frame-id", "map", "-o", tmp_path / "m.csv")
+    assert result.exit_code == 2 and "--frame-id: not for csv output" in result.output
+    result = run("batch", path, "--duration", 2, "--format", "kitti", "-o", tmp_path / "k")
+    assert result.exit_code == 2 and "--duration: not for kitti output" in result.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["jobs.jsonl"]
+
+
+def test_batch_help_says_what_ros2_writes():
+    result = run("batch", "-h")
+    assert "PoseStamped per job" in result.output
+    assert "TFMessage" not in result.output and "Path" not in result.output.split("--profile")[1]
