@@ -121,13 +121,12 @@ def pinned(motion, samples: Samples) -> Samples:
 def motion_samples(
     motion, count: int, representation: str, duration: float = 1.0, start_time: float = 0.0
 ) -> Iterator[Samples]:
-    """``motion`` at ``count`` evenly spaced t in [0, 1], a chunk at a time, checked finite;
+    """``motion`` at ``count`` evenly spaced t in [0, 1], a chunk at a time;
     the time of t is ``t · duration + start_time`` seconds, and t = 0, 1 give A and B."""
     from .motions.base import evenly_spaced
 
     for ts in evenly_spaced(count, CHUNK_SAMPLES):
         samples = Samples(ts, **poses_of(motion, ts, representation))
-        check_finite(samples)
         yield from stamped([pinned(motion, samples)], duration, start_time)
 
 
@@ -141,8 +140,8 @@ def stamped(samples: Iterable[Samples], duration: float, start_time: float) -> I
 def timed_samples(
     timed, times, representation: str, velocities: bool = False, start_time: float = 0.0
 ) -> Iterator[Samples]:
-    """The timed motion ``timed`` at ``times`` (seconds from its start), a chunk at a time,
-    checked finite: ``t`` and the time are ``start_time + time``; with ``velocities`` the
+    """The timed motion ``timed`` at ``times`` (seconds from its start), a chunk at a time:
+    ``t`` and the time are ``start_time + time``; with ``velocities`` the
     twist of the law's point.
 
     ``times`` is an array, or an iterable of arrays (blocks of a time grid, such as
@@ -156,9 +155,7 @@ def timed_samples(
     for block in blocks:
         ts, twists = timed.sample(block, velocities)
         stamped = block + start_time
-        samples = Samples(stamped, twist=twists, **poses_of(timed.motion, ts, representation))
-        check_finite(samples, "time")
-        yield samples
+        yield Samples(stamped, twist=twists, **poses_of(timed.motion, ts, representation))
 
 
 def _options(fmt: Format, options: dict) -> dict:
@@ -208,11 +205,11 @@ def write_samples(
 
 
 def _checked(samples: Iterable[Samples], fmt: Format) -> Iterator[Samples]:
-    """``samples`` with each block's times checked against the limits of ``fmt``."""
-    written = 0
+    """``samples``, each block checked finite (named by ``t``, or by ``time`` where ``t`` is the
+    time) and its times checked against the limits of ``fmt``."""
     try:
         for block in samples:
-            written += len(block.t)
+            check_finite(block, "t" if block.time is not None else "time")
             if fmt.limits.max_nanoseconds is not None and len(block.t):
                 seconds = block.seconds()
                 check_times(fmt, float(seconds.min()), float(seconds.max()), None)
@@ -274,8 +271,7 @@ def write(
     if chosen is not None and choices is not None:
         choices.append(chosen)
     frames = {"frame_id": frame_id, "child_frame_id": child_frame_id}
-    timing = {"duration": duration, "start_time": start_time}
-    _options(fmt, {**frames, **timing})
+    _options(fmt, frames)
     start = start_time or 0.0
     if isinstance(source, Samples):
         source = [source]
@@ -287,6 +283,7 @@ def write(
     if rate is not None or dt is not None or velocities:
         raise OptionError("rate, dt and velocities are for a timed motion (a2b.timing)")
     if hasattr(source, "quat_trans"):  # a motion
+        _options(fmt, {"duration": duration, "start_time": start_time})
         count = 101 if samples is None else samples
         return write_motion(source, count, target, fmt, duration or 1.0, start, **frames)
     if samples is not None or duration is not None or start_time is not None:
