@@ -9,7 +9,8 @@ from contextlib import nullcontext
 
 import click
 
-from . import CONTEXT_SETTINGS, options
+from ..names import MAX_SAMPLES, MIN_SAMPLES
+from . import CONTEXT_SETTINGS, options, writing
 
 
 def _progress(total: int | None):
@@ -38,10 +39,10 @@ def _progress(total: int | None):
 )
 @click.option(
     "--samples",
-    type=options.Count(min=options.MIN_SAMPLES, max=options.MAX_SAMPLES),
+    type=options.Count(min=MIN_SAMPLES, max=MAX_SAMPLES),
     help="Samples per motion for jobs that do not say  [default: 101]",
 )
-@options.format_option(batch=True)
+@writing.format_option(batch=True)
 @click.option(
     "--chunk-size",
     type=options.Count(min=1),
@@ -50,9 +51,9 @@ def _progress(total: int | None):
     help="Jobs read and built together, and the most in one chunk of output; memory is "
     "bounded by them.",
 )
-@options.timing_options
-@options.frame_id_option
-@options.output_option(directory=True)
+@writing.timing_options
+@writing.frame_id_option
+@writing.output_option(directory=True)
 @options.verbose_option
 @options.orthonormalize_option
 def command(
@@ -88,13 +89,13 @@ def command(
     from ..output import check_plan, stamped, write_samples
 
     choices: list[str] = []
-    fmt = BY_NAME[options.format_from(fmt, output, choices, profile, batch=True)]
+    fmt = BY_NAME[writing.format_from(fmt, output, choices, profile, batch=True)]
     if mode is None:
         choices.append("mode darboux for jobs that name none: the default (--mode to change)")
     if samples is None:
         choices.append("101 samples for jobs that give none: the default (--samples to change)")
     options.state_choices(choices, verbose)
-    frames = options.refuse_defaults(fmt, {"duration": duration, "start_time": start_time,
+    frames = writing.refuse_defaults(fmt, {"duration": duration, "start_time": start_time,
                                            "frame_id": frame_id})  # fmt: skip
     check_plan(fmt, output, samples or 101, start_time, duration)
     if fmt.batch == "files" and output == "-":

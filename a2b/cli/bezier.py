@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from . import CONTEXT_SETTINGS, options
+from . import CONTEXT_SETTINGS, options, writing
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
@@ -25,7 +25,7 @@ from . import CONTEXT_SETTINGS, options
 @options.basis_option("matrix: the kernel basis of --alpha", default=None)
 @options.offsets_option("study: κ-fiber offsets s, one per control pose (h + s εp).")
 @options.trajectory_input_options(rate=False)
-@options.trajectory_options
+@writing.trajectory_options
 @options.time_law_options
 def command(
     poses,
@@ -64,7 +64,7 @@ def command(
       a2b bezier samples/planar-bezier.yaml --weights 1,2,2,1 --format mcap -o planar.mcap
       a2b bezier samples/reference.tum --space study --samples 5
     """
-    out = options.pop_trajectory(parameters)
+    out = writing.pop_trajectory(parameters)
     out.update(options.pop_time_law(parameters))
     choices: list[str] = []
     curve = options.read_pose_list_option(
@@ -72,4 +72,4 @@ def command(
     )
     parameters["alphas"] = parameters["alphas"] or None
     motion = options.curve_motion(curve, space, choices, parameters)
-    options.sample_and_write(motion, samples, curve.samples, choices, verbose, out)
+    writing.sample_and_write(motion, samples, curve.samples, choices, verbose, out)

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import click
 
-from . import CONTEXT_SETTINGS, options
+from . import CONTEXT_SETTINGS, options, writing
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
 @click.argument("poses", type=options.INPUT)
 @options.motion_options
 @options.orthonormalize_option
-@options.trajectory_options
+@writing.trajectory_options
 @options.time_law_options
 def command(poses, mode, samples, verbose, orthonormalize, **parameters):
     """Sample the motion from the start to the end pose in POSES (a file, or - for stdin).
@@ -39,7 +39,7 @@ def command(poses, mode, samples, verbose, orthonormalize, **parameters):
 
     from ..io.readers import read_poses
 
-    out = options.pop_trajectory(parameters)
+    out = writing.pop_trajectory(parameters)
     out.update(options.pop_time_law(parameters))
     choices: list[str] = []
     with options.repairing(orthonormalize, choices):
@@ -47,4 +47,4 @@ def command(poses, mode, samples, verbose, orthonormalize, **parameters):
         parameters = options.merge_parameters(job.parameters, parameters, mode)
     mode = options.pick("mode", mode, job.mode, "darboux", choices, "--mode")
     motion = a2b.motion(job.start, job.end, mode, **parameters)
-    options.sample_and_write(motion, samples, job.samples, choices, verbose, out)
+    writing.sample_and_write(motion, samples, job.samples, choices, verbose, out)

@@ -6,7 +6,7 @@ from collections import Counter
 
 import click
 
-from . import CONTEXT_SETTINGS, options
+from . import CONTEXT_SETTINGS, options, writing
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
@@ -58,9 +58,9 @@ from . import CONTEXT_SETTINGS, options
     "TRAJECTORY, 0 where it is interpolated.",
 )
 @options.motion_parameter_options
-@options.output_option
-@options.format_option
-@options.frame_options
+@writing.output_option
+@writing.format_option
+@writing.frame_options
 @options.verbose_option
 def command(trajectory, input_format, topic, input_child_frame, input_rate, orthonormalize,
             rate, reference, times_file, mode, clip, max_gap, mark, output, fmt, profile, frame_id,
@@ -114,11 +114,11 @@ def command(trajectory, input_format, topic, input_child_frame, input_rate, orth
     from ..formats import BY_NAME
     from ..output import check_plan, write_samples
 
-    fmt = BY_NAME[options.format_from(fmt, output, choices, profile)]
+    fmt = BY_NAME[writing.format_from(fmt, output, choices, profile)]
     if mark and "mark" not in fmt.holds:
         takes = ", ".join(row.name for row in BY_NAME.values() if "mark" in row.holds)
         raise click.UsageError(f"--mark adds a column to {takes}, not to {fmt.name}")
-    frames = options.refuse_defaults(fmt, {"frame_id": frame_id, "child_frame_id": child_frame_id})
+    frames = writing.refuse_defaults(fmt, {"frame_id": frame_id, "child_frame_id": child_frame_id})
     new_times = _new_times(rate, reference, times_file, choices)
     check_plan(fmt, output, 2, 0.0, 1.0)
     if new_times.times is not None and len(new_times.times):

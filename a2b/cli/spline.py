@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from . import CONTEXT_SETTINGS, options
+from . import CONTEXT_SETTINGS, options, writing
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
@@ -15,7 +15,7 @@ from . import CONTEXT_SETTINGS, options
     "quaternions]"
 )
 @options.trajectory_input_options(rate=False)
-@options.trajectory_options
+@writing.trajectory_options
 @options.time_law_options
 def command(
     poses, space, m, samples, verbose, input_format, topic, input_child_frame, orthonormalize, **out
@@ -50,4 +50,4 @@ def command(
         poses, "poses", input_format, topic, input_child_frame, orthonormalize, choices
     )
     motion = options.curve_motion(curve, space, choices, {"m": m})
-    options.sample_and_write(motion, samples, curve.samples, choices, verbose, out)
+    writing.sample_and_write(motion, samples, curve.samples, choices, verbose, out)
