@@ -110,19 +110,10 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
         raise OutputFileError(f"cannot write {path}: a path ending in / names a directory")
     fd = _descriptor(os.fspath(path))
     if fd is not None:
-        # The descriptor itself, not the file it points to: `-o /dev/stdout >> log` appends.
-        with _write_errors(os.fspath(path), on_error=silence_stdout if fd == 1 else None):
-            try:
-                stream = os.fdopen(os.dup(fd), "wb")
-            except OSError as e:
-                raise OutputFileError(f"cannot write {path}: {e.strerror or e}") from e
-            with stream:
-                if fd == 1:
-                    sys.stdout.flush()
-                yield stream
+        with _through_descriptor(path, fd) as stream:
+            yield stream
         return
     target = os.path.realpath(os.fspath(path))
-    directory = os.path.dirname(target)
     try:
         info = os.stat(target)
     except FileNotFoundError:
@@ -143,10 +134,32 @@ def atomic_output(path: str | os.PathLike | None) -> Iterator[IO[bytes]]:
             # bits count even for root, who may write anything: read-only means "keep this".
             raise OutputFileError(f"cannot write {path}: Permission denied (the file is read-only)")
         mode = info.st_mode & 0o7777 & ~(stat.S_ISUID | stat.S_ISGID)  # never set-id bits
+    with _renamed_into_place(path, target, mode) as stream:
+        yield stream
+
+
+@contextmanager
+def _through_descriptor(path, fd: int) -> Iterator[IO[bytes]]:
+    """The descriptor itself, not the file it points to: `-o /dev/stdout >> log` appends."""
+    with _write_errors(os.fspath(path), on_error=silence_stdout if fd == 1 else None):
+        try:
+            stream = os.fdopen(os.dup(fd), "wb")
+        except OSError as e:
+            raise OutputFileError(f"cannot write {path}: {e.strerror or e}") from e
+        with stream:
+            if fd == 1:
+                sys.stdout.flush()
+            yield stream
+
+
+@contextmanager
+def _renamed_into_place(path, target: str, mode: int) -> Iterator[IO[bytes]]:
+    """A temporary file beside ``target``, given ``mode`` and renamed to ``target`` when the
+    block ends normally, removed if it raises (a terminating signal included)."""
     with _terminate_as_exit():
         try:
             fd, tmp = tempfile.mkstemp(
-                prefix=f".{os.path.basename(target)}.", suffix=".tmp", dir=directory
+                prefix=f".{os.path.basename(target)}.", suffix=".tmp", dir=os.path.dirname(target)
             )
         except OSError as e:
             raise OutputFileError(f"cannot write {path}: {e.strerror or e}") from e

@@ -657,15 +657,7 @@ def _write_file(stream: IO, layout, library: str, channels, items):
 
     ``items`` yields ``((layout, sequence, ns, numbers, channel ids), new Channel records)``.
     """
-    from mcap.records import (
-        ChunkIndex,
-        DataEnd,
-        Footer,
-        Header,
-        Schema,
-        Statistics,
-        SummaryOffset,
-    )
+    from mcap.records import Header, Schema
 
     out = _Output(stream)
     out.write(MAGIC)
@@ -677,6 +669,15 @@ def _write_file(stream: IO, layout, library: str, channels, items):
     channel_records = [_serialise(channel) for channel in channels]
     for record in schema_records + channel_records:
         out.write(record)
+    data = _write_chunks(out, layout, items, channel_records)
+    _write_summary(out, schema_records, channel_records, *data)
+
+
+def _write_chunks(out: _Output, layout, items, channel_records: list) -> tuple:
+    """The data section: each chunk built from ``items`` (on a second thread), after the new
+    channels it brings (added to ``channel_records``), with its message indexes; then
+    DataEnd. Returns ``(chunk indexes, message counts by channel, first and last time)``."""
+    from mcap.records import ChunkIndex, DataEnd
 
     def build(item):
         chunk, new = item
@@ -725,6 +726,15 @@ def _write_file(stream: IO, layout, library: str, channels, items):
         first = built.start if first is None else min(first, built.start)
         last = built.end if last is None else max(last, built.end)
     out.write(_serialise(DataEnd(data_section_crc=0)))  # not computed: each chunk has its CRC
+    return chunk_indexes, counts, first, last
+
+
+def _write_summary(out: _Output, schema_records, channel_records, chunk_indexes, counts,
+                   first, last) -> None:  # fmt: skip
+    """The summary section (schemas, channels, statistics, chunk indexes), its offsets, the
+    footer with the summary's CRC, and the closing magic."""
+    from mcap.records import Footer, Statistics, SummaryOffset
+
     statistics = Statistics(
         message_count=sum(counts.values()),
         schema_count=len(schema_records),
