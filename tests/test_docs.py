@@ -35,3 +35,12 @@ def test_the_documentation_stays_inside_the_repository():
         text = path.read_text()
         assert "MATH.md" not in text and "STYLE.md" not in text, path
         assert "'a2b[" not in text and '"a2b[' not in text, path
+
+
+def test_the_bench_extra_installs_what_the_benchmarks_import():
+    import tomllib
+
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"][
+        "optional-dependencies"
+    ]
+    assert any(requirement.startswith("ruckig") for requirement in extras["bench"])

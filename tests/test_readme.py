@@ -73,3 +73,11 @@ def test_the_readme_command_lines_run(line, tmp_path, monkeypatch):
     argv = shlex.split(line.split("#")[0])[1:]
     result = CliRunner().invoke(cli, argv, catch_exceptions=False)
     assert result.exit_code == 0, result.output
+
+
+def test_the_readme_counts_every_command():
+    words = ["Two", "Three", "Four", "Five", "Six", "Seven", "Eight", "Nine", "Ten", "Eleven"]
+    line = next(line for line in README.splitlines() if " commands: `a2b " in line)
+    assert line.startswith(f"{words[len(COMMANDS) - 2]} commands:"), line
+    listed = README[README.index(line) :].split("Every command", 1)[0]
+    assert all(f"`a2b {name}`" in listed for name in COMMANDS)

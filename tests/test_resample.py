@@ -317,7 +317,8 @@ def test_resample_streams_every_format_and_marks_the_originals(tmp_path):
     assert result.exit_code == 0, result.output
     rows = result.output.splitlines()
     assert rows[0] == "t,tx,ty,tz,qw,qx,qy,qz,original"
-    assert [row.rsplit(",", 1)[1] for row in rows[1:]] == ["0", "1", "0", "1"]  # 1 or 0, as README says
+    marks = [row.rsplit(",", 1)[1] for row in rows[1:]]
+    assert marks == ["0", "1", "0", "1"]  # 1 or 0, as README says
 
 
 def test_resample_refusals_are_one_line_with_the_fix(tmp_path):
