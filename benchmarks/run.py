@@ -927,9 +927,9 @@ def csv_section(n: int, repeats: int, work: Path, exe: list[str]) -> tuple[list[
     motion = a2b.motion(start, end, "darboux")
     ts = np.linspace(0.0, 1.0, n)
     try:
-        from a2b.io.writers import sample_chunks
+        from a2b.output import motion_samples
 
-        parts = [(c.t, c.trans, c.quat_wxyz) for c in sample_chunks(motion, ts, "quat_trans")]
+        parts = [(c.t, c.trans, c.quat_wxyz) for c in motion_samples(motion, n, "quat_trans")]
         expected = np.column_stack([np.concatenate([p[i] for p in parts]) for i in range(3)])
     except ImportError:
         quat, trans = motion.quat_trans(ts)
