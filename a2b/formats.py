@@ -110,10 +110,13 @@ class Format:
         return "duration" in self.options
 
 
+#: The output options that name frames, for the formats that hold them (``options``).
+FRAME_OPTIONS = ("frame_id", "child_frame_id")
+
 _TEXT = "a2b.io.writers"
 _READ = "a2b.io.trajectories"
 _STAMPED = frozenset({"duration", "start_time"})
-_FRAMED = _STAMPED | {"frame_id", "child_frame_id"}
+_FRAMED = _STAMPED | set(FRAME_OPTIONS)
 
 _TABLE_ROWS = frozenset({"poses", "times", "velocities", "mark"})
 _MCAP = {"writer": f"{_TEXT}:write_mcap", "batch_writer": f"{_TEXT}:write_batch_mcap"}

@@ -21,7 +21,7 @@ from collections.abc import Iterable, Iterator
 import numpy as np
 
 from .errors import A2bError, OptionError, ParameterError
-from .formats import BY_NAME, OUTPUT_NAMES, Format, from_suffix, resolve
+from .formats import BY_NAME, FRAME_OPTIONS, OUTPUT_NAMES, Format, from_suffix, resolve
 from .samples import Samples, check_finite, poses_of
 
 __all__ = ["CHUNK_SAMPLES", "check_plan", "check_times", "format_of", "write", "write_samples"]
@@ -165,8 +165,7 @@ def _options(fmt: Format, options: dict) -> dict:
     if refused:
         names = ", ".join("--" + k.replace("_", "-") for k in refused)
         raise OptionError(f"{names}: not for {fmt.name} output")
-    return {k: v for k, v in options.items() if v is not None and k in ("frame_id",
-            "child_frame_id")}  # fmt: skip
+    return {k: v for k, v in options.items() if v is not None and k in FRAME_OPTIONS}
 
 
 def write_samples(
@@ -192,7 +191,7 @@ def write_samples(
         keywords = {**fmt.writer_options, **keywords}
         if "count" in fmt.writer_options:
             keywords["count"] = count
-    stream = _checked(samples, fmt)
+    stream = _checked(samples, fmt, batch)
     try:
         if hasattr(target, "write"):
             writer(target, stream, **keywords)
@@ -204,15 +203,19 @@ def write_samples(
         stream.close()
 
 
-def _checked(samples: Iterable[Samples], fmt: Format) -> Iterator[Samples]:
+def _checked(samples: Iterable[Samples], fmt: Format, batch: bool) -> Iterator[Samples]:
     """``samples``, each block checked finite (named by ``t``, or by ``time`` where ``t`` is the
-    time) and its times checked against the limits of ``fmt``."""
+    time) and its times and the count so far (of one stream: not a batch, whose jobs are
+    counted apart) checked against the limits of ``fmt``."""
+    written = 0
     try:
         for block in samples:
             check_finite(block, "t" if block.time is not None else "time")
+            written += len(block.t)
             if fmt.limits.max_nanoseconds is not None and len(block.t):
                 seconds = block.seconds()
-                check_times(fmt, float(seconds.min()), float(seconds.max()), None)
+                count = None if batch else written
+                check_times(fmt, float(seconds.min()), float(seconds.max()), count)
             yield block
     finally:
         if hasattr(samples, "close"):

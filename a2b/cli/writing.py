@@ -11,6 +11,7 @@ from __future__ import annotations
 import click
 
 from .. import formats
+from ..formats import FRAME_OPTIONS
 from ..names import MAX_SAMPLES, MIN_SAMPLES
 from .options import (
     FLOAT,
@@ -236,10 +237,6 @@ def sample_and_write(motion, samples, from_file, choices: list, verbose: bool, o
     by = {"rate": law["rate"], "dt": law["dt"]}
     times = timed.times(**by, samples=None if law["rate"] or law["dt"] else samples)
     write_timed(timed, times, target, fmt, law["velocities"], out["start_time"], **frames)
-
-
-#: The options that name frames, for the formats that hold them.
-FRAME_OPTIONS = ("frame_id", "child_frame_id")
 
 
 def refuse_defaults(fmt, out: dict) -> dict:

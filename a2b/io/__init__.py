@@ -4,8 +4,9 @@
 with errors that name the file, the key and the line; ``jobscan`` scans JSON Lines jobs files
 line by line, the common forms fast; ``trajectories`` reads the trajectory files users keep
 (TUM, KITTI, EuRoC, a2b's CSV layouts, MCAP), MCAP through its indexes (``mcapreader``).
-``writers`` turns sampled motions into CSV layouts, TUM, KITTI and MCAP, with numbers
-formatted by ``floatrepr`` and built into MCAP by ``mcapwriter``, on a second thread
-(``parallel``); ``ros2`` holds ROS 2's message definitions, names and CDR, written and read
-with numpy. ``atomic`` puts output in place only when it is complete.
+``writers`` turns samples (:class:`a2b.samples.Samples`) into CSV layouts, TUM, KITTI and
+MCAP, with numbers formatted by ``floatrepr`` and built into MCAP by ``mcapwriter``, on a second
+thread (``parallel``); which writer serves which format is the table :mod:`a2b.formats`, and
+:mod:`a2b.output` is the pipeline that calls them; ``ros2`` holds ROS 2's message definitions,
+names and CDR, written and read with numpy. ``atomic`` puts output in place only when it is complete.
 """
