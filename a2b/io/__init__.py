@@ -8,5 +8,6 @@ line by line, the common forms fast; ``trajectories`` reads the trajectory files
 MCAP, with numbers formatted by ``floatrepr`` and built into MCAP by ``mcapwriter``, on a second
 thread (``parallel``); which writer serves which format is the table :mod:`a2b.formats`, and
 :mod:`a2b.output` is the pipeline that calls them; ``ros2`` holds ROS 2's message definitions,
-names and CDR, written and read with numpy. ``atomic`` puts output in place only when it is complete.
+names and CDR, written and read with numpy. ``atomic`` puts output in place only when it is
+complete.
 """
