@@ -160,3 +160,11 @@ def test_mark_is_one_or_zero():
     rows = run("resample", reference, "--rate", 20, "--mark").output.splitlines()
     assert rows[0].endswith(",original")
     assert {row.rsplit(",", 1)[1] for row in rows[1:]} == {"0", "1"}
+
+
+def test_a_timed_motion_starts_and_ends_at_the_poses_as_given(tmp_path):
+    path = tmp_path / "poses.yaml"
+    path.write_text(TILTED)
+    rows = run("interpolate", path, "--max-speed", 0.5, "--rate", 2).output.splitlines()
+    assert rows[1].split(",")[:4] == ["0.0", "0.45", "-0.7", "0.3"]
+    assert rows[-1].split(",")[1:4] == ["0.1", "0.25", "1.3"]
