@@ -29,6 +29,12 @@ class InputFileError(A2bError):
     """An input file cannot be read or does not have the expected structure."""
 
 
+class MissingDependencyError(A2bError, ImportError):
+    """An optional dependency (matplotlib for ``a2b plot``, plotly for ``a2b view``) is not
+    installed. An :class:`A2bError` (the CLI reports it in one line) and an
+    :class:`ImportError` (for library callers who test for it)."""
+
+
 class A2bWarning(UserWarning):
     """A result that a2b computes but that is sensitive to rounding of the input (near a
     singularity)."""
