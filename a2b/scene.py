@@ -197,6 +197,7 @@ def make_scene(
         raise ParameterError("start and end must each be one 4x4 matrix")
     frame = screw_frame(a, b)
     tracks = make_tracks(a, b, motions, int(samples), int(instants))
+    _check_span(np.concatenate([t.mats[:, :3, 3] for t in tracks]))
     if axis_length is None:
         axis_length = default_axis_length(tracks)
     elif not (math.isfinite(axis_length) and axis_length > 0):
@@ -472,6 +473,17 @@ def _nice(x: float) -> float:
     exp = math.floor(math.log10(x))
     base = x / 10**exp
     return (5 if base >= 5 else 2 if base >= 2 else 1) * 10.0**exp
+
+
+def _check_span(origins: np.ndarray) -> None:
+    """Refuse origins ``(N, 3)`` whose span overflows a double (±1.5e308)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        span = np.ptp(origins, axis=0)
+    if not np.isfinite(span).all():
+        raise ParameterError(
+            f"the poses reach coordinates of {float(np.abs(origins).max()):.3g}, too far apart "
+            "to draw: their span overflows a double"
+        )
 
 
 def default_axis_length(tracks: list[Track]) -> float:

@@ -46,6 +46,9 @@ MAX_FRAMES = 201
 #: Points per drawn line at most (a long trajectory file is thinned for drawing).
 MAX_LINE_POINTS = 4001
 _DASHES = ("solid", "dash", "dot", "dashdot")
+#: Where the camera stands: 1.2 times plotly's (1.5, −1.5, 0.9) away, so that the cube's tick
+#: labels fit in the scene's domain (at 1200 px the z labels were cut off at the left edge).
+_EYE = {"x": 1.8, "y": -1.8, "z": 1.08}
 #: Where each motion's name stands beside its body, so that the names of several bodies at
 #: the same pose (A, B) do not cover each other; A's own label stands top left.
 _NAME_POSITIONS = ("top right", "bottom right", "bottom left", "middle right", "middle left")
@@ -321,9 +324,9 @@ def _layout(scene: Scene, box, frames: list, prefix: str, title: str) -> dict:
     angle = "°" if scene.angle_unit == "deg" else " rad"
     unit = scene.length_label
     box_lo, box_hi = box
-    # the 3D scene leaves room on the right for its z tick labels, which plotly draws
-    # outside the scene's domain (at 1200 px wide they were cut off by the transmission panel)
-    right = 0.56 if scene.has_transmission else 1.0
+    # a curve through other poses has no transmission panel and no note: the scene takes the
+    # width
+    right = 0.6 if scene.has_transmission or scene.show_axis else 1.0
     layout = {
         "title": {"text": html.escape(title), "x": 0.02, "font": {"size": 18}},
         "font": {"size": 14},
@@ -331,7 +334,7 @@ def _layout(scene: Scene, box, frames: list, prefix: str, title: str) -> dict:
                   **{f"{k}axis": {"range": [float(box_lo[j]), float(box_hi[j])],
                                   "title": {"text": k + unit}}
                      for j, k in enumerate("xyz")},
-                  "camera": {"eye": {"x": 1.5, "y": -1.5, "z": 0.9}}},
+                  "camera": {"eye": _EYE}},
         "xaxis": {"domain": [0.68, 1.0], "anchor": "y",
                   "title": {"text": f"ω, rotation about the screw axis [{angle.strip()}]"}},
         "yaxis": {"domain": [0.3, 0.95], "anchor": "x",
@@ -347,7 +350,7 @@ def _layout(scene: Scene, box, frames: list, prefix: str, title: str) -> dict:
         note = ("no transmission curve: the motion is not in the<br>cylinder group of A and B "
                 "(rotations about and slides along their screw axis)")  # fmt: skip
         layout["annotations"] = [
-            {"text": note, "xref": "paper", "yref": "paper", "x": 0.5, "y": 0.06,
+            {"text": note, "xref": "paper", "yref": "paper", "x": 0.84, "y": 0.6,
              "showarrow": False}
         ]  # fmt: skip
     return layout
