@@ -46,9 +46,9 @@ MAX_FRAMES = 201
 #: Points per drawn line at most (a long trajectory file is thinned for drawing).
 MAX_LINE_POINTS = 4001
 _DASHES = ("solid", "dash", "dot", "dashdot")
-#: Where the camera stands: 1.2 times plotly's (1.5, −1.5, 0.9) away, so that the cube's tick
+#: Where the camera stands: 1.3 times plotly's (1.5, −1.5, 0.9) away, so that the cube's tick
 #: labels fit in the scene's domain (at 1200 px the z labels were cut off at the left edge).
-_EYE = {"x": 1.8, "y": -1.8, "z": 1.08}
+_EYE = {"x": 1.95, "y": -1.95, "z": 1.17}
 #: Where each motion's name stands beside its body, so that the names of several bodies at
 #: the same pose (A, B) do not cover each other; A's own label stands top left.
 _NAME_POSITIONS = ("top right", "bottom right", "bottom left", "middle right", "middle left")

@@ -15,19 +15,15 @@ import numpy as np
 import pytest
 
 import a2b
-from a2b.errors import A2bError, ParameterError
+from a2b.errors import A2bError, MissingDependencyError, ParameterError
 from a2b.plot import (
-    AXIS_COLOURS,
-    MissingDependencyError,
-    closed_form_z,
-    family_members,
     figure_format,
-    in_cylinder_group,
     plot_motions,
     plot_speeds,
     require_matplotlib,
     write_figure,
 )
+from a2b.scene import AXIS_COLOURS, closed_form_z, family_members, in_cylinder_group
 
 from .conftest import pose_about_axis, random_pose
 
@@ -305,23 +301,6 @@ def test_family_through_a_and_b(poses, mode, kind, count):
         line(fig, f"transmission-closed-form:{mode}").get_linewidth()
         > 2 * line(fig, f"family:{mode}:0").get_linewidth()
     )
-
-
-def test_family_of_darboux_varies_delta(poses):
-    motion = a2b.motion(*poses, "darboux", delta=0.2)
-    name, members, chosen = family_members(motion)
-    assert name == "δ" and chosen == 0.2
-    deltas = [m.delta for _, m in members]
-    assert deltas == sorted(deltas) and len(set(deltas)) == len(deltas)
-
-
-def test_family_errors(poses):
-    with pytest.raises(ParameterError, match="no family"):
-        family_members(a2b.motion(*poses, "screw"))
-    with pytest.raises(ParameterError, match="varies delta"):
-        family_members(a2b.motion(*poses, "darboux"), "m")
-    with pytest.raises(ParameterError, match="given frame"):
-        family_members(a2b.motion(*poses, "cubic", frame="given"))
 
 
 def test_equal_aspect_and_labels(poses):
