@@ -207,22 +207,14 @@ def plot_motions(
         The poses A and B (robotics layout). They define the screw axis of ``B A⁻¹`` and the
         canonical coordinates of the transmission panel.
     motions : str, tuple, Motion, callable or sequence of these
-        What to draw; several entries are overlaid, one colour each, with a legend (the
-        picture for choosing between interpolants). Each entry is one of
-
-        * a mode name, ``"darboux"``, ``"cubic"`` or ``"screw"``;
-        * a pair ``(mode, parameters)``, the parameters of :func:`a2b.motion` as a dict;
-        * a :class:`a2b.motions.base.Motion` made by :func:`a2b.motion`;
-        * any other object with a ``matrices(ts)`` method, such as an
-          :class:`a2b.motions.bezier.BezierMotion`, labelled by its ``kind`` attribute;
-        * a pair ``(label, sampler)``: any callable taking ``ts`` of shape ``(N,)`` in
-          ``[0, 1]`` and returning robotics matrices ``(N, 4, 4)`` (for instance a Bézier
-          motion through several control poses);
-        * a pair ``(label, matrices)``: precomputed samples ``(N, 4, 4)``, taken as equally
-          spaced in t; the instants of the frame panel are the nearest samples.
+        What to draw: a mode name, a ``(mode, parameters)`` pair, a Motion, a sampler or
+        samples, or a sequence of these (:func:`a2b.scene.make_tracks`); several are
+        overlaid, one colour each, with a legend (the picture for choosing between
+        interpolants).
 
         A sampler or samples get the transmission panel only when every sample lies in the
-        cylinder group of A and B (:func:`in_cylinder_group`), and then without a closed form.
+        cylinder group of A and B (:func:`a2b.scene.in_cylinder_group`), and then without a
+        closed form.
         Motions outside the cylinder group (also the cubic motion in the ``given`` frame) are
         left out of that panel and named in a note under it; when no motion is in the
         group, the panel is omitted and the figure has two panels.
@@ -231,8 +223,8 @@ def plot_motions(
         the tips of the moving frame's axes, at distance ``axis_length`` from its origin.
     family : bool or {"delta", "ab", "m"}
         Also draw the one-parameter family of transmission curves through A and B that each
-        darboux and cubic motion belongs to (:func:`family_members`), with the chosen member
-        highlighted. ``True`` varies δ for darboux and ``(1 + b) / (1 + a)`` for cubic;
+        darboux and cubic motion belongs to (:func:`a2b.scene.family_members`), with the
+        chosen member highlighted. ``True`` varies δ for darboux and ``(1 + b) / (1 + a)`` for cubic;
         ``"m"`` varies ``m3 : m0`` for cubic instead.
     angle_unit : {"deg", "rad"}
         Unit of ω on the transmission panel's axis and of the angles in the title.

@@ -279,7 +279,27 @@ def _sampled(obj, label: str, samples: int, instants: int) -> tuple[np.ndarray, 
 
 
 def make_tracks(start, end, motions, samples: int, instants: int) -> list[Track]:
-    """The tracks of ``motions`` (see :func:`a2b.plot.plot_motions`), labels made distinct."""
+    """The tracks of ``motions``, one entry or a sequence of entries, labels made distinct.
+
+    Each entry is one of
+
+    * a mode name, ``"darboux"``, ``"cubic"`` or ``"screw"``;
+    * a pair ``(mode, parameters)``, the parameters of :func:`a2b.motion` as a dict;
+    * a :class:`a2b.motions.base.Motion` made by :func:`a2b.motion`;
+    * any other object with a ``matrices(ts)`` method, such as an
+      :class:`a2b.motions.bezier.BezierMotion`, labelled by its ``kind`` attribute;
+    * a pair ``(label, sampler)``: any callable taking ``ts`` of shape ``(N,)`` in ``[0, 1]``
+      and returning robotics matrices ``(N, 4, 4)`` (for instance a Bézier motion through
+      several control poses);
+    * a pair ``(label, matrices)``: precomputed samples ``(N, 4, 4)``, taken as equally spaced
+      in t; the instants of the frame panel are the nearest samples.
+
+    Raises
+    ------
+    ParameterError
+        For an entry of none of these kinds, an unknown mode, a sampler returning the wrong
+        shape, or no entry.
+    """
     from .motions.base import Motion
 
     one_pair = isinstance(motions, tuple) and len(motions) == 2 and isinstance(motions[0], str)

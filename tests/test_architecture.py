@@ -1,4 +1,4 @@
-"""The arrows of the package point one way: cli → plot → io → jobs → api → motions → core.
+"""The arrows of the package point one way: cli → plot → scene → io → jobs → api → motions → core.
 
 Every import of every module (at the top or inside a function) is read from the source. A
 module may import its own layer or a lower one, never a higher one, and no two modules import
@@ -22,6 +22,7 @@ LAYERS = [
     ("api", ["a2b.api"]),
     ("jobs", ["a2b.jobs", "a2b.resample", "a2b.timelaw"]),
     ("io", ["a2b.io"]),
+    ("scene", ["a2b.scene"]),
     ("plot", ["a2b.plot", "a2b.view"]),
     ("cli", ["a2b.cli", "a2b.__main__"]),
 ]  # fmt: skip

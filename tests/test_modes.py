@@ -58,7 +58,7 @@ def test_the_finder_finds_what_it_looks_for():
         'if mode == "darboux": pass\n'
         'x = motion.mode in ("darboux", "cubic")\n'
         'y = getattr(m, "mode", "") != "screw"\n'
-        'z = mode in MODES\n'  # a table, not a branch
+        "z = mode in MODES\n"  # a table, not a branch
         'w = kind == "ab"\n'
     )
     assert mode_comparisons(source) == [1, 2, 3]

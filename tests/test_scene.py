@@ -111,3 +111,24 @@ def test_family_errors(poses):
         family_members(a2b.motion(*poses, "darboux"), "m")
     with pytest.raises(ParameterError, match="given frame"):
         family_members(a2b.motion(*poses, "cubic", frame="given"))
+
+
+FIGURE_MODULES = ["scene.py", "plot.py", "view.py", "cli/plot.py", "cli/view.py",
+                  "cli/describe.py", "motions/__init__.py", "motions/text.py"]  # fmt: skip
+
+
+@pytest.mark.parametrize("name", FIGURE_MODULES)
+def test_the_figure_modules_stay_small(name):
+    """No module over 800 lines; no function over 80 lines of code (its docstring aside)."""
+    import ast
+    from pathlib import Path
+
+    source = (Path(__file__).resolve().parent.parent / "a2b" / name).read_text()
+    assert len(source.splitlines()) <= 800
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            doc = node.body[0] if ast.get_docstring(node) else None
+            lines = node.end_lineno - node.lineno + 1
+            if doc is not None:
+                lines -= doc.end_lineno - doc.lineno + 1
+            assert lines <= 80, (node.name, lines)
