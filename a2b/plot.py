@@ -224,8 +224,8 @@ def plot_motions(
     family : bool or {"delta", "ab", "m"}
         Also draw the one-parameter family of transmission curves through A and B that each
         darboux and cubic motion belongs to (:func:`a2b.scene.family_members`), with the
-        chosen member highlighted. ``True`` varies δ for darboux and ``(1 + b) / (1 + a)`` for cubic;
-        ``"m"`` varies ``m3 : m0`` for cubic instead.
+        chosen member highlighted. ``True`` varies δ for darboux and ``(1 + b) / (1 + a)``
+        for cubic; ``"m"`` varies ``m3 : m0`` for cubic instead.
     angle_unit : {"deg", "rad"}
         Unit of ω on the transmission panel's axis and of the angles in the title.
     length_unit : str, optional
