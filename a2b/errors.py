@@ -58,3 +58,12 @@ def printable(text: str) -> str:
         else:
             out.append(ascii(ch)[1:-1])
     return "".join(out)
+
+
+def quoted(text, most: int = 60) -> str:
+    """``text`` quoted for a one-line message: :func:`printable` within quotes, cut after
+    ``most`` characters with their count, ``'abc…' (1000000 characters)``."""
+    text = str(text)
+    if len(text) <= most:
+        return f"'{printable(text)}'"
+    return f"'{printable(text[:most])}…' ({len(text)} characters)"

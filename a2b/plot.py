@@ -35,7 +35,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .errors import MissingDependencyError, ParameterError
+from .errors import MissingDependencyError, ParameterError, quoted
 from .motions import REGISTRY
 from .motions.text import number_text
 from .scene import (
@@ -91,9 +91,9 @@ def figure_format(path) -> str:
     """
     suffix = os.path.splitext(os.fspath(path))[1].lower()
     if suffix not in FORMATS:
-        shown = f"suffix {suffix!r}" if suffix else "no suffix"
+        shown = f"suffix {quoted(suffix)}" if suffix else "no suffix"
         raise ParameterError(
-            f"cannot tell the figure format from {os.fspath(path)!r} ({shown}); "
+            f"cannot tell the figure format from {quoted(os.fspath(path))} ({shown}); "
             "use a file name ending in .png, .svg or .pdf"
         )
     return FORMATS[suffix]
@@ -106,7 +106,7 @@ def write_figure(figure, fh, fmt: str, *, dpi: float | None = None) -> None:
     so that the same figure gives the same bytes.
     """
     if fmt not in FORMATS.values():
-        raise ParameterError(f"unknown figure format {fmt!r}; expected png, svg or pdf")
+        raise ParameterError(f"unknown figure format {quoted(fmt)}; expected png, svg or pdf")
     metadata = {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[
         fmt
     ]

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import ParameterError
+from .errors import ParameterError, quoted
 from .motions.text import angle_text, number_text
 
 ANGLE_UNITS = ("deg", "rad")
@@ -188,7 +188,7 @@ def make_scene(
     from .poses import check_matrices
 
     if angle_unit not in ANGLE_UNITS:
-        raise ParameterError(f"unknown angle unit {angle_unit!r}; expected deg or rad")
+        raise ParameterError(f"unknown angle unit {quoted(angle_unit)}; expected deg or rad")
     for name, value in (("samples", samples), ("instants", instants)):
         if not (isinstance(value, numbers.Real) and float(value).is_integer() and value >= 2):
             raise ParameterError(f"{name} must be an integer ≥ 2, got {value!r}")
@@ -241,7 +241,7 @@ def _as_entry(entry, start, end) -> tuple[str, str | None, object, dict]:
             return label, None, what, {}
         if label not in MODES:
             raise ParameterError(
-                f"unknown mode {label!r}; expected one of {', '.join(MODES)} "
+                f"unknown mode {quoted(label)}; expected one of {', '.join(MODES)} "
                 "(or a (label, callable) or (label, matrices) pair)"
             )
         params = {k: v for k, v in what.items() if v is not None}
@@ -265,14 +265,14 @@ def _sampled(obj, label: str, samples: int, instants: int) -> tuple[np.ndarray, 
         inst = check_matrices(obj(t_inst))
         if mats.shape != (samples, 4, 4) or inst.shape != (instants, 4, 4):
             raise ParameterError(
-                f"the sampler of {label!r} must return (len(ts), 4, 4) matrices, "
+                f"the sampler of {quoted(label)} must return (len(ts), 4, 4) matrices, "
                 f"got shape {mats.shape} for {samples} parameters"
             )
         return mats, inst
     mats = check_matrices(obj)
     if mats.ndim != 3 or mats.shape[0] < 2:
         raise ParameterError(
-            f"the samples of {label!r} must have shape (N, 4, 4) with N ≥ 2, got {mats.shape}"
+            f"the samples of {quoted(label)} must have shape (N, 4, 4) with N ≥ 2, got {mats.shape}"
         )
     picks = np.round(np.linspace(0, mats.shape[0] - 1, min(instants, mats.shape[0]))).astype(int)
     return mats, mats[picks]
@@ -427,7 +427,9 @@ def family_members(
         raise ParameterError(f"there is no family of transmission curves to draw for {why}")
     kind = kind or kinds[0]
     if kind not in kinds:
-        raise ParameterError(f"a {motion.mode} family varies {' or '.join(kinds)}, not {kind!r}")
+        raise ParameterError(
+            f"a {motion.mode} family varies {' or '.join(kinds)}, not {quoted(kind)}"
+        )
     name, members, chosen = motion.family(kind, FAMILY_SIDE)
     start, end = motion.start, motion.end
     return (

@@ -132,3 +132,17 @@ def test_the_figure_modules_stay_small(name):
             if doc is not None:
                 lines -= doc.end_lineno - doc.lineno + 1
             assert lines <= 80, (node.name, lines)
+
+
+def test_messages_are_one_bounded_line(poses):
+    long = "x" * 100_000 + "\n\x1b[31m"
+    for call in (
+        lambda: make_scene(*poses, (long, {}), samples=3, instants=2),
+        lambda: make_scene(*poses, "darboux", samples=3, instants=2, angle_unit=long),
+        lambda: make_scene(*poses, [(long, np.eye(4))], samples=3, instants=2),
+    ):
+        with pytest.raises(ParameterError) as info:
+            call()
+        message = str(info.value)
+        assert "\n" not in message and "\x1b" not in message and len(message) < 300, message
+        assert "(100006 characters)" in message
