@@ -6,6 +6,7 @@ import numpy as np
 
 from .errors import ParameterError
 from .frames import screw_frame
+from .motions import REGISTRY
 from .motions.base import Motion, check_ends, check_excursion, check_table
 from .names import MODES
 from .parameters import OF_MODE, TABLE
@@ -87,19 +88,7 @@ def checked_motion(a, b, mode: str = "darboux", /, quaternions=None, **parameter
 
 def _build(a, b, mode, params, quaternions=None) -> Motion:
     frame = screw_frame(a, b, quaternions)
-    if mode == "darboux":
-        from .motions.darboux import DarbouxMotion
-
-        result = DarbouxMotion(a, b, frame, **params)
-    elif mode == "cubic":
-        from .motions.cubic import CubicMotion
-
-        frame_name = params.pop("frame", "canonical")
-        result = CubicMotion(a, b, frame, frame_name=frame_name, **params)
-    else:
-        from .motions.screw import ScrewMotion
-
-        result = ScrewMotion(a, b, frame)
+    result = REGISTRY[mode].motion.from_parameters(a, b, frame, params)
     check_table(result.table, result.shape)
     if params:  # the defaults of every mode reach their ends to 2e-15 and stay within 0.5 of
         check_ends(result)  # the excursion ratio: only a parameter can upset either

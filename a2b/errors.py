@@ -36,6 +36,10 @@ class OptionError(A2bError):
 
 class OutputFileError(A2bError):
     """The output file cannot be created, written or renamed into place."""
+class MissingDependencyError(A2bError, ImportError):
+    """An optional dependency (matplotlib for ``a2b plot``, plotly for ``a2b view``) is not
+    installed. An :class:`A2bError` (the CLI reports it in one line) and an
+    :class:`ImportError` (for library callers who test for it)."""
 
 
 class A2bWarning(UserWarning):
@@ -61,3 +65,12 @@ def printable(text: str) -> str:
         else:
             out.append(ascii(ch)[1:-1])
     return "".join(out)
+
+
+def quoted(text, most: int = 60) -> str:
+    """``text`` quoted for a one-line message: :func:`printable` within quotes, cut after
+    ``most`` characters with their count, ``'abc…' (1000000 characters)``."""
+    text = str(text)
+    if len(text) <= most:
+        return f"'{printable(text)}'"
+    return f"'{printable(text[:most])}…' ({len(text)} characters)"

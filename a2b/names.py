@@ -6,8 +6,8 @@ Lines jobs, :mod:`a2b.io.jobscan`) can check them without importing either.
 
 from __future__ import annotations
 
-#: The motions :func:`a2b.motion` builds.
-MODES = ("darboux", "cubic", "screw")
+from .parameters import MODES  # noqa: F401  (listed with their parameters)
+
 #: The frames of a cubic motion (:class:`a2b.motions.cubic.CubicMotion`).
 FRAMES = ("canonical", "given")
 #: The fewest samples: t = 0 and t = 1.

@@ -57,6 +57,9 @@ class Parameter:
         return {"vector": 1, "pose": 2}.get(self.kind, 0)
 
 
+#: The motions :func:`a2b.motion` builds, each a class in :data:`a2b.motions.REGISTRY`.
+MODES = ("darboux", "cubic", "screw")
+
 #: δ's group: the ways to choose the one essential parameter of a Darboux motion.
 SOLVERS = ("delta", "kappa", "lam", "pitch_start", "pitch_end", "through")
 
@@ -144,9 +147,7 @@ TABLE = (
 BY_NAME = {p.name: p for p in TABLE}
 
 #: mode -> the names of its parameters, in the table's order.
-OF_MODE = {
-    mode: tuple(p.name for p in TABLE if p.mode == mode) for mode in ("darboux", "cubic", "screw")
-}
+OF_MODE = {mode: tuple(p.name for p in TABLE if p.mode == mode) for mode in MODES}
 
 #: Groups of parameters that choose the same thing (a command-line option drops the file's
 #: others of its group). ``branch`` goes with ``lam``: it is dropped with the δ group.

@@ -3,7 +3,7 @@
 :func:`view_page` returns the page. It shows, on the left, a 3D scene with
 
 * the moving frame (axes x, y, z in red, green, blue), animated along t with a play/pause
-  button and a slider;
+  button and a slider (for a trajectory with times, the slider shows its seconds);
 * the trajectories of body points (the tips of the frame's axes unless others are given);
 * the screw axis of ``B A⁻¹`` (dashed), the poses A and B, and marked poses (the inner
   control or key poses of a curve);
@@ -14,8 +14,10 @@ motions (``--compare``), each is one body with its own colour, and clicking its 
 hides or shows everything that belongs to it.
 
 The page inlines plotly.js from the ``plotly`` package (the ``[view]`` extra), unmodified, and
-loads nothing from the network. The geometry is that of :mod:`a2b.plot`: the same tracks,
-screw frame, cylinder-group test, closed forms and parameter summaries.
+loads nothing from the network. What it shows is the scene of :mod:`a2b.scene`, as for
+:mod:`a2b.plot`. User text (labels, titles, units, file names) reaches the page in its HTML,
+escaped by :func:`html.escape`, and in the figure's JSON inside a script element, escaped by
+:func:`script_json` so that it cannot end the script.
 """
 
 from __future__ import annotations
@@ -25,30 +27,46 @@ import json
 
 import numpy as np
 
-from .errors import ParameterError
-from .plot import (
+from .errors import MissingDependencyError, ParameterError
+from .motions.text import number_text
+from .scene import (
     A_COLOUR,
     AXIS_COLOURS,
     B_COLOUR,
-    MissingDependencyError,
-    _as_tracks,
-    _body_points,
-    _curve_title,
-    _default_axis_length,
-    _format_number,
-    _screw_axis_segment,
-    closed_form_z,
-    essential_parameters,
-    in_cylinder_group,
+    Scene,
+    make_scene,
+    screw_axis_segment,
+    transmission_curve,
 )
 
-__all__ = ["MAX_FRAMES", "require_plotly", "view_page"]
+__all__ = ["MAX_FRAMES", "animation_steps", "require_plotly", "script_json", "view_page"]
 
 #: Animation frames at most; more samples are drawn as lines but animated at fewer instants.
 MAX_FRAMES = 201
 #: Points per drawn line at most (a long trajectory file is thinned for drawing).
 MAX_LINE_POINTS = 4001
 _DASHES = ("solid", "dash", "dot", "dashdot")
+#: Where the camera stands: 1.3 times plotly's (1.5, −1.5, 0.9) away, so that the cube's tick
+#: labels fit in the scene's domain (at 1200 px the z labels were cut off at the left edge).
+_EYE = {"x": 1.95, "y": -1.95, "z": 1.17}
+#: Where each motion's name stands beside its body, so that the names of several bodies at
+#: the same pose (A, B) do not cover each other; A's own label stands top left.
+_NAME_POSITIONS = ("top right", "bottom right", "bottom left", "middle right", "middle left")
+#: What JSON text must not hold inside an HTML script element: ``</script``, ``<!--`` and
+#: ``<script`` change how the HTML parser reads the script, and U+2028/2029 end a line in
+#: older JavaScript. Escaped as JSON string escapes, the same text to JavaScript.
+_SCRIPT_ESCAPES = {"<": "\\u003c", ">": "\\u003e", "&": "\\u0026",
+                   "\u2028": "\\u2028", "\u2029": "\\u2029"}  # fmt: skip
+
+
+def script_json(value) -> str:
+    """``value`` as JSON text that is safe inside an HTML ``<script>`` element: no ``<``,
+    ``>``, ``&``, U+2028 or U+2029 appears in it (each is written as its ``\\uXXXX`` escape,
+    which JSON and JavaScript read as the same character)."""
+    text = json.dumps(value)
+    for char, escape in _SCRIPT_ESCAPES.items():
+        text = text.replace(char, escape)
+    return text
 
 
 def require_plotly():
@@ -65,6 +83,11 @@ def require_plotly():
 def _picks(n: int, most: int) -> np.ndarray:
     """Indices of at most ``most`` samples of ``n``, evenly spread, first and last included."""
     return np.unique(np.round(np.linspace(0, n - 1, min(n, most))).astype(int))
+
+
+def animation_steps(samples: int) -> int:
+    """How many of ``samples`` samples are animation frames: at most :data:`MAX_FRAMES`."""
+    return len(_picks(int(samples), MAX_FRAMES))
 
 
 def _line(points: np.ndarray) -> dict:
@@ -95,6 +118,7 @@ def view_page(
     length_unit: str | None = None,
     marks=None,
     title: str | None = None,
+    times=None,
 ) -> str:
     """The HTML page of motions from A to B (see the module docstring).
 
@@ -118,219 +142,266 @@ def view_page(
         Further poses to show with a label.
     title : str, optional
         Replaces the generated title.
+    times : array_like, shape (samples,), optional
+        The times in seconds of the samples (of a trajectory): the slider shows them, from
+        the first, instead of t.
 
     Returns
     -------
     str
         A complete HTML document with plotly.js inlined.
+
+    Raises
+    ------
+    A2bError
+        Invalid poses, motions or parameters (:func:`a2b.scene.make_scene`), ``times`` of
+        another length than ``samples`` or not increasing.
+    MissingDependencyError
+        When plotly is not installed.
     """
-    from .frames import screw_frame
-    from .poses import check_matrices
-
     plotly_offline = require_plotly()
-    if angle_unit not in ("deg", "rad"):
-        raise ParameterError(f"unknown angle unit {angle_unit!r}; expected deg or rad")
-    if int(samples) != samples or samples < 2:
-        raise ParameterError(f"samples must be an integer ≥ 2, got {samples!r}")
-    a, b = check_matrices(start), check_matrices(end)
-    if a.shape != (4, 4) or b.shape != (4, 4):
-        raise ParameterError("start and end must each be one 4x4 matrix")
-    frame = screw_frame(a, b)
-    tracks = _as_tracks(a, b, motions, int(samples), 2)
-    length = _default_axis_length(tracks)
-    body, point_names, default_points = _body_points(points, length)
-    marked = [(str(label), check_matrices(pose)) for label, pose in (marks or ())]
-    single = len(tracks) == 1
-    in_group = [in_cylinder_group(frame, t.mats) for t in tracks]
-    scale = np.degrees if angle_unit == "deg" else np.asarray
-    unit = " [" + length_unit + "]" if length_unit else ""
-
+    scene = make_scene(start, end, motions, points=points, samples=samples, instants=2,
+                       marks=marks, angle_unit=angle_unit, length_unit=length_unit)  # fmt: skip
+    steps = _picks(int(samples), MAX_FRAMES)
+    labels, prefix = _step_labels(steps, int(samples), times)
     data: list[dict] = []
+    box = _static_traces(scene, data)
+    _transmission_traces(scene, data)
+    frames = _animated_traces(scene, data, steps, labels)
+    title = title or scene.page_title()
+    return _PAGE.format(
+        title=html.escape(title),
+        panel=_panel(scene),
+        plotly=plotly_offline.get_plotlyjs(),
+        figure=script_json(
+            {"data": data, "layout": _layout(scene, box, frames, prefix, title), "frames": frames}
+        ),  # fmt: skip
+    )
+
+
+def _step_labels(steps: np.ndarray, samples: int, times) -> tuple[list[str], str]:
+    """The slider's label of each step and its prefix: ``t = 0.25``, or with ``times`` the
+    seconds from the first sample, with as many digits as tell the steps apart."""
+    if times is None:
+        return [f"{t:.4g}" for t in np.linspace(0.0, 1.0, samples)[steps]], "t = "
+    times = np.asarray(times, dtype=float)
+    if times.shape != (samples,) or not (np.isfinite(times).all() and np.all(np.diff(times) > 0)):
+        raise ParameterError(f"times must be {samples} increasing finite numbers, one a sample")
+    since = times[steps] - times[0]
+    for digits in range(4, 18):
+        labels = [f"{s:.{digits}g} s" for s in since]
+        if len(set(labels)) == len(labels):
+            break
+    return labels, "time = " if times[0] == 0 else "time from the first stamp = "
+
+
+def _static_traces(scene: Scene, data: list) -> tuple[np.ndarray, np.ndarray]:
+    """The trajectories, the origin paths, A, B, the marks and the screw axis; returns the
+    corners of the 3D scene's cube."""
+    a, b, length, single = scene.start, scene.end, scene.axis_length, scene.single
     everything = [a[:3, 3], b[:3, 3]]
-
-    def add(trace: dict) -> int:
-        data.append(trace)
-        return len(data) - 1
-
-    # static: trajectories, origin paths, A, B, marks
-    for track in tracks:
-        keep = _picks(len(track.mats), MAX_LINE_POINTS)
-        mats = track.mats[keep]
-        world = np.einsum("nij,kj->kni", mats[:, :3, :3], body) + mats[None, :, :3, 3]
+    for track in scene.tracks:
+        mats = track.mats[_picks(len(track.mats), MAX_LINE_POINTS)]
+        world = scene.trajectories(track, mats)
         everything += [world.reshape(-1, 3), mats[:, :3, 3]]
         for k, path in enumerate(world):
-            colour = AXIS_COLOURS[k % 3] if single and default_points else track.colour
+            colour = AXIS_COLOURS[k % 3] if single and scene.default_points else track.colour
             dash = "solid" if single else _DASHES[k % 4]
-            name = point_names[k] if single else f"{track.label}: {point_names[k]}"
+            name = scene.point_names[k] if single else f"{track.label}: {scene.point_names[k]}"
             line = {"color": colour, "width": 4, "dash": dash}
-            add(_scene(path, line=line, name=name, legendgroup=track.label, showlegend=single,
-                       hoverinfo="name"))  # fmt: skip
-        add({"type": "scatter3d", "mode": "lines", **_line(mats[:, :3, 3]),
-             "line": {"color": track.colour if not single else "#595959", "width": 3},
-             "name": track.label if not single else "origin", "legendgroup": track.label,
-             "showlegend": not single, "hoverinfo": "name"})  # fmt: skip
+            data.append(_scene(path, line=line, name=name, legendgroup=track.label,
+                               showlegend=single, hoverinfo="name"))  # fmt: skip
+        data.append({"type": "scatter3d", "mode": "lines", **_line(mats[:, :3, 3]),
+                     "line": {"color": track.colour if not single else "#595959", "width": 3},
+                     "name": track.label if not single else "origin", "legendgroup": track.label,
+                     "showlegend": not single, "hoverinfo": "name"})  # fmt: skip
     for pose, name, colour, width in [(a, "A", A_COLOUR, 8), (b, "B", B_COLOUR, 8)] + [
-        (pose, label, "#404040", 4) for label, pose in marked
+        (pose, label, "#404040", 4) for label, pose in scene.marks
     ]:
         for j, segment in enumerate(_axes(pose, length)):
-            add({"type": "scatter3d", "mode": "lines", **_line(segment),
-                 "line": {"color": AXIS_COLOURS[j], "width": width}, "showlegend": False,
-                 "hoverinfo": "skip", "opacity": 0.7})  # fmt: skip
-        add({"type": "scatter3d", "mode": "markers+text", **_line(pose[None, :3, 3]),
-             "text": [name], "textposition": "top left", "marker": {"size": 4, "color": colour},
-             "textfont": {"color": colour, "size": 16 if len(name) == 1 else 12},
-             "showlegend": False, "hoverinfo": "text"})  # fmt: skip
+            data.append({"type": "scatter3d", "mode": "lines", **_line(segment),
+                         "line": {"color": AXIS_COLOURS[j], "width": width}, "showlegend": False,
+                         "hoverinfo": "skip", "opacity": 0.7})  # fmt: skip
+        data.append({"type": "scatter3d", "mode": "markers+text", **_line(pose[None, :3, 3]),
+                     "text": [name], "textposition": "top left",
+                     "marker": {"size": 4, "color": colour},
+                     "textfont": {"color": colour, "size": 16 if len(name) == 1 else 12},
+                     "showlegend": False, "hoverinfo": "text"})  # fmt: skip
         everything += _axes(pose, length)
-    points_all = np.concatenate([np.atleast_2d(p) for p in everything])
-    lo, hi = points_all.min(axis=0), points_all.max(axis=0)
-    centre, half = (lo + hi) / 2, max(float((hi - lo).max()) / 2, 1e-9) * 1.1
-    box_lo, box_hi = centre - half, centre + half
-    segment = _screw_axis_segment(frame, box_lo, box_hi) if any(t.mode for t in tracks) else None
+    box = _cube(np.concatenate([np.atleast_2d(p) for p in everything]))
+    segment = screw_axis_segment(scene.frame, *box) if scene.show_axis else None
     if segment is not None:
-        add({"type": "scatter3d", "mode": "lines", **_line(segment),
-             "line": {"color": "#737373", "width": 3, "dash": "dash"}, "name": "screw axis",
-             "hoverinfo": "name"})  # fmt: skip
+        data.append({"type": "scatter3d", "mode": "lines", **_line(segment),
+                     "line": {"color": "#737373", "width": 3, "dash": "dash"},
+                     "name": "screw axis", "hoverinfo": "name"})  # fmt: skip
+    return box
 
-    # the transmission panel
-    for track, ok in zip(tracks, in_group):
+
+def _cube(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The corners of a cube around ``points``, a tenth larger.
+
+    Raises
+    ------
+    ParameterError
+        When the cube overflows a double (poses near ±1.8e308).
+    """
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        centre, half = (lo + hi) / 2, max(float((hi - lo).max()) / 2, 1e-9) * 1.1
+        corners = (centre - half, centre + half)
+    if not np.isfinite(corners).all():
+        raise ParameterError(
+            f"the poses reach coordinates of {float(np.abs(points).max()):.3g}, too far apart "
+            "to draw: the size of the scene overflows a double"
+        )
+    return corners
+
+
+def _transmission_traces(scene: Scene, data: list) -> None:
+    """The transmission panel: each track's closed form and samples."""
+    scale = np.degrees if scene.angle_unit == "deg" else np.asarray
+    for track, ok in zip(scene.tracks, scene.in_group):
         if not ok:
             continue
-        omega, z = frame.transmission(track.mats)
-        if track.motion is not None and omega[-1] != omega[0]:
-            dense = np.linspace(omega[0], omega[-1], 241)
-            form = closed_form_z(track.motion, dense)
-            if form is not None:
-                add({"type": "scatter", "mode": "lines", "x": scale(dense).tolist(),
-                     "y": form.tolist(), "line": {"color": track.colour, "width": 2},
-                     "name": f"{track.label}: closed form", "legendgroup": track.label,
+        curve = transmission_curve(scene, track)
+        if curve.closed is not None:
+            data.append({"type": "scatter", "mode": "lines", "x": scale(curve.dense).tolist(),
+                         "y": curve.closed.tolist(), "line": {"color": track.colour, "width": 2},
+                         "name": f"{track.label}: closed form", "legendgroup": track.label,
+                         "showlegend": False, "xaxis": "x", "yaxis": "y"})  # fmt: skip
+        keep = _picks(len(curve.omega), MAX_LINE_POINTS)
+        data.append({"type": "scatter", "mode": "markers", "x": scale(curve.omega[keep]).tolist(),
+                     "y": curve.z[keep].tolist(), "marker": {"color": track.colour, "size": 4},
+                     "name": f"{track.label}: samples", "legendgroup": track.label,
                      "showlegend": False, "xaxis": "x", "yaxis": "y"})  # fmt: skip
-        keep = _picks(len(omega), MAX_LINE_POINTS)
-        add({"type": "scatter", "mode": "markers", "x": scale(omega[keep]).tolist(),
-             "y": z[keep].tolist(), "marker": {"color": track.colour, "size": 4},
-             "name": f"{track.label}: samples", "legendgroup": track.label,
-             "showlegend": False, "xaxis": "x", "yaxis": "y"})  # fmt: skip
 
-    # the animated traces and their frames
-    steps = _picks(int(samples), MAX_FRAMES)
-    ts = np.linspace(0.0, 1.0, int(samples))[steps]
+
+def _animated_traces(scene: Scene, data: list, steps: np.ndarray, labels: list) -> list[dict]:
+    """The moving frame, the body's name and the marker on the transmission curve of each
+    track at the first step, and the animation frames that move them."""
+    scale = np.degrees if scene.angle_unit == "deg" else np.asarray
+    single, length = scene.single, scene.axis_length
     animated: list[int] = []
     per_frame: list[list[dict]] = [[] for _ in steps]
-    for track, ok in zip(tracks, in_group):
+
+    def add(trace: dict) -> None:
+        animated.append(len(data))
+        data.append(trace)
+
+    for n, (track, ok) in enumerate(zip(scene.tracks, scene.in_group)):
         mats = track.mats[steps]
         for j in range(3):
-            line = {"color": AXIS_COLOURS[j], "width": 9}
-            axis = _scene(_axes(mats[0], length)[j], line=line, hoverinfo="name",
-                          name=f"{track.label}: {'xyz'[j]} axis", legendgroup=track.label,
-                          showlegend=single)  # fmt: skip
-            animated.append(add(axis))
+            add(_scene(_axes(mats[0], length)[j], line={"color": AXIS_COLOURS[j], "width": 9},
+                       hoverinfo="name", name=f"{track.label}: {'xyz'[j]} axis",
+                       legendgroup=track.label, showlegend=single))  # fmt: skip
             for f, pose in enumerate(mats):
                 per_frame[f].append(_line(_axes(pose, length)[j]))
-        animated.append(add({"type": "scatter3d", "mode": "markers+text",
-                             "marker": {"size": 5, "color": track.colour},
-                             "text": ["" if single else track.label], "textposition": "top right",
-                             "textfont": {"color": track.colour}, "name": track.label,
-                             "legendgroup": track.label, "showlegend": False,
-                             "hoverinfo": "name", **_line(mats[:1, :3, 3])}))  # fmt: skip
+        add({"type": "scatter3d", "mode": "markers+text",
+             "marker": {"size": 5, "color": track.colour},
+             "text": ["" if single else track.label],
+             "textposition": _NAME_POSITIONS[n % len(_NAME_POSITIONS)],
+             "textfont": {"color": track.colour}, "name": track.label,
+             "legendgroup": track.label, "showlegend": False,
+             "hoverinfo": "name", **_line(mats[:1, :3, 3])})  # fmt: skip
         for f, pose in enumerate(mats):
             per_frame[f].append(_line(pose[None, :3, 3]))
         if ok:
-            omega, z = frame.transmission(track.mats)
-            animated.append(add({"type": "scatter", "mode": "markers", "xaxis": "x", "yaxis": "y",
-                                 "x": [float(scale(omega[0]))], "y": [float(z[0])],
-                                 "marker": {"color": track.colour, "size": 13, "symbol": "circle",
-                                            "line": {"color": "white", "width": 2}},
-                                 "name": f"{track.label} at t", "legendgroup": track.label,
-                                 "showlegend": False}))  # fmt: skip
+            omega, z = scene.frame.transmission(track.mats)
+            add({"type": "scatter", "mode": "markers", "xaxis": "x", "yaxis": "y",
+                 "x": [float(scale(omega[0]))], "y": [float(z[0])],
+                 "marker": {"color": track.colour, "size": 13, "symbol": "circle",
+                            "line": {"color": "white", "width": 2}},
+                 "name": f"{track.label} at t", "legendgroup": track.label,
+                 "showlegend": False})  # fmt: skip
             for f, k in enumerate(steps):
                 per_frame[f].append({"x": [float(scale(omega[k]))], "y": [float(z[k])]})
-    frames = [
-        {"name": f"{t:.4g}", "data": update, "traces": animated} for t, update in zip(ts, per_frame)
-    ]
+    return [{"name": name, "data": update, "traces": animated}
+            for name, update in zip(labels, per_frame)]  # fmt: skip
 
-    angle = "°" if angle_unit == "deg" else " rad"
+
+def _layout(scene: Scene, box, frames: list, prefix: str, title: str) -> dict:
+    """The page's layout: the 3D scene, the transmission panel, play and pause, the slider."""
+    angle = "°" if scene.angle_unit == "deg" else " rad"
+    unit = scene.length_label
+    box_lo, box_hi = box
+    # a curve through other poses has no transmission panel and no note: the scene takes the
+    # width
+    right = 0.6 if scene.has_transmission or scene.show_axis else 1.0
     layout = {
-        "title": {"text": html.escape(title or _title(tracks, frame, angle_unit)), "x": 0.02,
-                  "font": {"size": 18}},
+        "title": {"text": html.escape(title), "x": 0.02, "font": {"size": 18}},
         "font": {"size": 14},
-        "scene": {"domain": {"x": [0.0, 0.6], "y": [0.12, 1.0]}, "aspectmode": "cube",
+        "scene": {"domain": {"x": [0.0, right], "y": [0.12, 1.0]}, "aspectmode": "cube",
                   **{f"{k}axis": {"range": [float(box_lo[j]), float(box_hi[j])],
                                   "title": {"text": k + unit}}
                      for j, k in enumerate("xyz")},
-                  "camera": {"eye": {"x": 1.5, "y": -1.5, "z": 0.9}}},
+                  "camera": {"eye": _EYE}},
         "xaxis": {"domain": [0.68, 1.0], "anchor": "y",
                   "title": {"text": f"ω, rotation about the screw axis [{angle.strip()}]"}},
         "yaxis": {"domain": [0.3, 0.95], "anchor": "x",
                   "title": {"text": "z, translation along the axis" + unit}},
         "legend": {"x": 0.0, "y": 1.0, "bgcolor": "rgba(255,255,255,0.7)"},
         "margin": {"l": 10, "r": 10, "t": 60, "b": 10},
-        "updatemenus": [{
-            "type": "buttons", "direction": "left", "x": 0.0, "y": 0.0, "xanchor": "left",
-            "yanchor": "bottom", "showactive": False, "pad": {"r": 10, "t": 10},
-            "buttons": [
-                {"label": "▶ play", "method": "animate",
-                 "args": [None, {"frame": {"duration": 60, "redraw": True}, "fromcurrent": True,
-                                 "transition": {"duration": 0}, "mode": "immediate"}]},
-                {"label": "❚❚ pause", "method": "animate",
-                 "args": [[None], {"frame": {"duration": 0, "redraw": False},
-                                   "mode": "immediate", "transition": {"duration": 0}}]},
-            ]}],
-        "sliders": [{
-            "x": 0.16, "y": 0.0, "len": 0.82, "xanchor": "left", "yanchor": "bottom",
-            "currentvalue": {"prefix": "t = ", "font": {"size": 16, "color": "#222"},
-                             "xanchor": "left"},
-            "font": {"color": "rgba(0,0,0,0)"},  # no label under each of the many steps
-            "ticklen": 0, "pad": {"t": 10, "b": 10},
-            "steps": [{"label": frame_["name"], "method": "animate",
-                       "args": [[frame_["name"]], {"frame": {"duration": 0, "redraw": True},
-                                                   "mode": "immediate",
-                                                   "transition": {"duration": 0}}]}
-                      for frame_ in frames]}],
+        "updatemenus": [_PLAY],
+        "sliders": [_slider(frames, prefix)],
     }  # fmt: skip
-    if not any(in_group):
+    if not scene.has_transmission:
         layout["xaxis"]["visible"] = layout["yaxis"]["visible"] = False
+    if not scene.has_transmission and scene.show_axis:  # not for a curve through other poses
         note = ("no transmission curve: the motion is not in the<br>cylinder group of A and B "
                 "(rotations about and slides along their screw axis)")  # fmt: skip
         layout["annotations"] = [
             {"text": note, "xref": "paper", "yref": "paper", "x": 0.84, "y": 0.6,
              "showarrow": False}
         ]  # fmt: skip
-    return _PAGE.format(
-        title=html.escape(title or _title(tracks, frame, angle_unit)),
-        panel=_panel(tracks, frame, angle_unit),
-        plotly=plotly_offline.get_plotlyjs(),
-        # "</" cannot end the script early: user text (labels, titles) is in this JSON
-        figure=json.dumps({"data": data, "layout": layout, "frames": frames}).replace("</", "<\\/"),
-    )
+    return layout
 
 
-def _title(tracks, frame, angle_unit: str) -> str:
-    angle = (f"{_format_number(np.degrees(frame.phi))}°" if angle_unit == "deg"
-             else f"{_format_number(frame.phi)} rad")  # fmt: skip
-    ends = f"A to B: φ = {angle}, d = {_format_number(frame.d)}"
-    if len(tracks) == 1 and _curve_title(tracks[0]):
-        return _curve_title(tracks[0])
-    names = ", ".join(t.label for t in tracks)
-    return f"{names} motion{'s' * (len(tracks) > 1)}, {ends}"
+_PLAY = {
+    "type": "buttons", "direction": "left", "x": 0.0, "y": 0.0, "xanchor": "left",
+    "yanchor": "bottom", "showactive": False, "pad": {"r": 10, "t": 10},
+    "buttons": [
+        {"label": "▶ play", "method": "animate",
+         "args": [None, {"frame": {"duration": 60, "redraw": True}, "fromcurrent": True,
+                         "transition": {"duration": 0}, "mode": "immediate"}]},
+        {"label": "❚❚ pause", "method": "animate",
+         "args": [[None], {"frame": {"duration": 0, "redraw": False},
+                           "mode": "immediate", "transition": {"duration": 0}}]},
+    ]}  # fmt: skip
 
 
-def _panel(tracks, frame, angle_unit: str) -> str:
+def _slider(frames: list, prefix: str) -> dict:
+    """One step per animation frame; the current step's label after ``prefix``."""
+    return {
+        "x": 0.16, "y": 0.0, "len": 0.82, "xanchor": "left", "yanchor": "bottom",
+        "currentvalue": {"prefix": prefix, "font": {"size": 16, "color": "#222"},
+                         "xanchor": "left"},
+        "font": {"color": "rgba(0,0,0,0)"},  # no label under each of the many steps
+        "ticklen": 0, "pad": {"t": 10, "b": 10},
+        "steps": [{"label": frame["name"], "method": "animate",
+                   "args": [[frame["name"]], {"frame": {"duration": 0, "redraw": True},
+                                              "mode": "immediate",
+                                              "transition": {"duration": 0}}]}
+                  for frame in frames]}  # fmt: skip
+
+
+def _panel(scene: Scene) -> str:
     """The side panel: each motion's essential parameters and the numbers of ``describe()``."""
     rows = []
-    for track in tracks:
+    for track in scene.tracks:
         rows.append(f'<h2 style="color:{track.colour}">{html.escape(track.label)}</h2>')
         source = track.motion if track.motion is not None else track.source
         if track.motion is not None:
-            rows.append(f"<p>{html.escape(essential_parameters(track.motion, angle_unit))}</p>")
+            rows.append(f"<p>{html.escape(track.motion.summary(scene.angle_unit))}</p>")
         info = source.describe() if source is not None and hasattr(source, "describe") else {}
         items = []
         for key, value in info.items():
             if isinstance(value, (list, tuple, np.ndarray)) and not 0 < np.asarray(value).size <= 8:
                 continue  # long tables, and empty lists (no warnings, no choices)
             if isinstance(value, (float, int, np.floating)) and not isinstance(value, bool):
-                value = _format_number(float(value))
+                value = number_text(float(value))
             elif isinstance(value, (list, tuple, np.ndarray)):
                 try:
-                    value = "(" + ", ".join(_format_number(float(v)) for v in value) + ")"
+                    value = "(" + ", ".join(number_text(float(v)) for v in value) + ")"
                 except (TypeError, ValueError):  # words: the choices a2b made
                     value = "; ".join(map(str, value))
             items.append(f"<tr><th>{html.escape(str(key))}</th>"

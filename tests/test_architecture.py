@@ -1,5 +1,5 @@
-"""The arrows of the package point one way: cli → plot → output → io → jobs → api → motions →
-core.
+"""The arrows of the package point one way: cli → plot → scene → output → io → jobs → api →
+motions → core.
 
 Every import of every module (at the top or inside a function) is read from the source. A
 module may import its own layer or a lower one, never a higher one, and no two modules import
@@ -25,6 +25,7 @@ LAYERS = [
     ("jobs", ["a2b.jobs", "a2b.resample", "a2b.timelaw", "a2b.samples"]),
     ("io", ["a2b.io"]),
     ("output", ["a2b.output"]),
+    ("scene", ["a2b.scene"]),
     ("plot", ["a2b.plot", "a2b.view"]),
     ("cli", ["a2b.cli", "a2b.__main__"]),
 ]  # fmt: skip

@@ -93,13 +93,8 @@ def law_figures(motion, law: dict, duration) -> dict:
     out = timed.describe()
     peaks = out.pop("peaks")
     out.update(peaks)
-    table = getattr(motion, "table", None)
-    if getattr(motion, "mode", "") == "screw":
-        out["degree"] = "not rational (trigonometric)"
-    elif table is not None:
-        out["degree"] = int(table.shape[-2] - 1)
-    else:
-        out["degree"] = int(motion._tables().shape[-2] - 1)
+    degree = getattr(motion, "pose_degree", None)  # a mode's; else a Bézier motion's tables
+    out["degree"] = degree() if degree else int(motion._tables().shape[-2] - 1)
     out["binding"] = out["binding"] or "duration"
     if out["profile"] in ("linear", "trapezoid"):  # steps in σ̈ (trapezoid) or σ̇ (linear)
         out["jerk"] = "unbounded (the acceleration steps)"
@@ -190,7 +185,7 @@ def command(poses, mode, space, as_json, orthonormalize, duration, compare, **pa
             raise click.UsageError(
                 "--compare shows each mode with its defaults: give no --mode or motion parameter"
             )
-        modes = ("darboux", "cubic", "screw") if compare else None
+        modes = options.MODES if compare else None
         if not compare:
             mode = options.pick("mode", mode, job.mode, "darboux", defaults, "--mode")
             modes = (mode,)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from ..errors import quoted
 from . import CONTEXT_SETTINGS, options
 
 #: More samples than a figure can show are refused rather than held in memory.
@@ -23,12 +24,12 @@ class ModeList(click.ParamType):
         if unknown or not modes:
             self.fail(
                 f"expected modes from {', '.join(options.MODES)} separated by commas, got "
-                f"{value!r}",
+                f"{quoted(value)}",
                 param,
                 ctx,
             )
         if len(set(modes)) != len(modes):
-            self.fail(f"a mode is repeated in {value!r}", param, ctx)
+            self.fail(f"a mode is repeated in {quoted(value)}", param, ctx)
         return modes
 
 

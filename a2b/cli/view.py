@@ -68,7 +68,7 @@ def command(poses, output, open_, mode, space, compare, points, angle_unit, leng
     from ..io.jobscan import stream_name
     from ..io.readers import read_motion_file
     from ..io.trajectories import read_trajectory, sniff_format
-    from ..view import require_plotly, view_page
+    from ..view import MAX_FRAMES, MAX_LINE_POINTS, animation_steps, require_plotly, view_page
 
     require_plotly()
     if output is None and not open_:
@@ -98,8 +98,10 @@ def command(poses, output, open_, mode, space, compare, points, angle_unit, leng
                                child_frame=input_child_frame, orthonormalize=orthonormalize,
                                minimum=2)  # fmt: skip
         mats = path.matrices
-        page = view_page(mats[0], mats[-1], [("trajectory", mats)], samples=len(mats),
-                         title=f"{name}: {len(mats)} poses", **style)  # fmt: skip
+        samples = len(mats)
+        times = None if fmt == "kitti" and input_rate is None else path.times  # else indices
+        page = view_page(mats[0], mats[-1], [("trajectory", mats)], samples=samples,
+                         times=times, title=f"{name}: {samples} poses", **style)  # fmt: skip
     else:
         if topic or input_child_frame or input_rate:
             raise click.UsageError("--topic, --input-child-frame and --input-rate are for "
@@ -111,6 +113,11 @@ def command(poses, output, open_, mode, space, compare, points, angle_unit, leng
             job, mode, compare, space, parameters, choices
         )
         page = view_page(start, end, motions, samples=samples, marks=marks, **style)
+    steps = animation_steps(samples)
+    if steps < samples:
+        lines = "all of them" if samples <= MAX_LINE_POINTS else f"{MAX_LINE_POINTS} of them"
+        choices.append(f"animation: {steps} of the {samples} samples as frames (at most "
+                       f"{MAX_FRAMES}); the lines drawn through {lines}")  # fmt: skip
     if output is None:
         handle, output = tempfile.mkstemp(prefix="a2b-view-", suffix=".html")
         os.close(handle)

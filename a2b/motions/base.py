@@ -451,6 +451,47 @@ class Motion(Kinematic):
         out["warnings"] = self.warnings
         return out
 
+    # -- what the mode tells describe, plot and view (a2b.motions.REGISTRY) -------------------
+    #: One line for ``--help`` and the docs.
+    description: str = ""
+    #: The closed form of the transmission curve z(ω) (:meth:`transmission`), for legends:
+    #: ``"sine"``, ``"tangent"``, ``"line"``; ``""`` when the mode has none.
+    transmission_form: str = ""
+    #: What :meth:`family` can vary, the default first; empty when the mode has no family.
+    family_kinds: tuple = ()
+
+    @classmethod
+    def from_parameters(cls, start, end, frame: ScrewFrame, params: dict) -> Motion:
+        """The motion of the mode from :func:`a2b.motion`'s checked parameters; a mode takes
+        out of ``params`` what is no constructor keyword (so that :func:`a2b.motion` sees what
+        was left)."""
+        return cls(start, end, frame, **params)
+
+    def transmission(self, omega: np.ndarray) -> np.ndarray | None:
+        """The closed-form transmission curve ``z(ω)`` in canonical coordinates, or None when
+        the mode has none (a Darboux, cubic and screw motion override it)."""
+        return None
+
+    def family(self, kind: str, side: int) -> tuple[str, list, float]:
+        """The one-parameter family of motions through A and B that this motion belongs to:
+        ``(name, [(value, parameters of a2b.motion), ...], chosen)``, ``2 side + 1`` members
+        ordered by value, the middle one this motion. ``kind`` is one of :attr:`family_kinds`.
+
+        Raises
+        ------
+        ParameterError
+            When the mode has no family.
+        """
+        raise ParameterError(f"there is no family of transmission curves to draw for a {self.what}")
+
+    def summary(self, angle_unit: str = "deg") -> str:
+        """A one-line summary of the essential parameters, as in a figure's title."""
+        return ""
+
+    def pose_degree(self) -> int | str:
+        """The degree in t of the pose entries, for ``a2b describe``."""
+        return int(self.table.shape[-2] - 1)
+
 
 def _nested_map(motion: Motion, shape: tuple) -> list:
     return [

@@ -27,6 +27,8 @@ no term divides by ``sin(φ/2)``, so tiny rotation angles lose no accuracy.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..elements import as_numbers, refuse, value
@@ -44,6 +46,7 @@ from ._rational import (
     make_table,
 )
 from .base import Motion, _vec, broadcast_parameter, linear_root
+from .text import number_text
 
 #: Relative sensitivity to rounding of the input above which a canonical cubic motion warns.
 SENSITIVITY_WARNING = 1e-9
@@ -354,3 +357,68 @@ class CubicMotion(Motion):
                 "tan(omega/2) by eq. 17, z = t d (1+b) / ((1-t)(1+a) + t(1+b)) (eq. 18)"
             ),
         }
+
+    description = "the cubic circular motion (a line in the extended matrix model, by μ_[m])"
+    transmission_form = "tangent"
+    family_kinds = ("ab", "m")
+
+    @classmethod
+    def from_parameters(cls, start, end, frame: ScrewFrame, params: dict) -> CubicMotion:
+        frame_name = params.pop("frame", "canonical")
+        return cls(start, end, frame, frame_name=frame_name, **params)
+
+    def transmission(self, omega: np.ndarray) -> np.ndarray | None:
+        """Eq. 17 solved for t and put into eq. 18, a scaled and shifted tangent:
+
+        .. math:: t = \\frac{−2 m_0 \\sin\\frac ω2}{Q \\sin\\frac ω2 + P \\cos\\frac ω2},\\quad
+                  z = \\frac{t d (1 + b)}{(1 − t)(1 + a) + t (1 + b)}
+
+        where ``P = m3 (cos φ − 1) − m0 sin φ`` and ``Q = m0 (cos φ − 1) + m3 sin φ``; NaN where
+        the tangent has its pole. None in the given frame (not in a cylinder group). One motion.
+        """
+        if self.frame_name != "canonical":
+            return None
+        m0, m3 = self.canonical_m()
+        phi = float(self.frame.phi)
+        p = m3 * (math.cos(phi) - 1) - m0 * math.sin(phi)
+        q = m0 * (math.cos(phi) - 1) + m3 * math.sin(phi)
+        omega = np.asarray(omega, dtype=float)
+        sin_h, cos_h = np.sin(omega / 2), np.cos(omega / 2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = -2 * m0 * sin_h / (q * sin_h + p * cos_h)
+            z = self.z_of_t(t)
+        return np.where(np.isfinite(z), z, np.nan)
+
+    def family(self, kind: str, side: int) -> tuple[str, list, float]:
+        """``"ab"``: the ratio ``(1 + b) / (1 + a)`` with a fixed, which alone decides z(t)
+        (eq. 18); ``"m"``: the ratio ``m3 : m0`` through ``wB / wA``, which decides ω(t)
+        (eq. 17). Both step by factors of 2."""
+        if self.frame_name != "canonical":
+            raise ParameterError(
+                "a cubic motion in the given frame is not in a cylinder group and has no "
+                "transmission curve"
+            )
+        a, steps = self.psi_a - 1.0, [2.0**k for k in range(-side, side + 1)]
+        if kind == "ab":
+            chosen = self.psi_b / self.psi_a
+            members = [(chosen * f, {"m": self.m, "a": a, "b": self.psi_a * chosen * f - 1.0})
+                       for f in steps]  # fmt: skip
+            return "(1+b)/(1+a)", members, chosen
+        m0, m3 = self.canonical_m()
+        c = float(self.frame.r[0])
+        s = float(np.linalg.norm(self.frame.r[1:]))
+        ratio = (m0 * c + m3 * s) / m0  # wB / wA
+        members = []
+        for f in steps:
+            m = np.array(self.m, dtype=float)
+            m[3] = m0 * (ratio * f - c) / s
+            members.append((m[3] / m0, {"m": m, "a": a, "b": self.psi_b - 1.0}))
+        return "m3/m0", members, m3 / m0
+
+    def summary(self, angle_unit: str = "deg") -> str:
+        info = self.describe()
+        text = (
+            f"m0:m3 = {number_text(info['m0'])}:{number_text(info['m3'])}, "
+            f"a = {number_text(info['a'])}, b = {number_text(info['b'])}"
+        )
+        return text + (", given frame" if info["frame"] == "given" else "")

@@ -26,6 +26,7 @@ from ..poses import check_matrices, quat_trans_from_matrices, rotations_from_qua
 from ..study import quat_conj, quat_mul, rotation_numerators, translation_numerators
 from ._rational import bernstein_basis, bernstein_derivatives, make_table
 from .base import Motion, boolean_parameter, broadcast_parameter
+from .text import angle_text, number_text
 
 #: Relative tolerance for a third pose to count as a member of the cylinder group of A and B.
 CYLINDER_TOL = 1e-9
@@ -370,3 +371,30 @@ class DarbouxMotion(Motion):
         out["fiber_offsets"] = [float(x) for x in self.fiber_offsets]
         out["transmission_curve"] = "z = z0 + lam * sin(omega + kappa)"
         return out
+
+    description = "the vertical Darboux motion (a line in the extended dual-quaternion model)"
+    transmission_form = "sine"
+    family_kinds = ("delta",)
+
+    def family(self, kind: str, side: int) -> tuple[str, list, float]:
+        """δ varies: the curves' midpoints step by a quarter of the length scale (|d|, else the
+        size of the displacement, else 1)."""
+        frame = self.frame
+        scale = abs(frame.d) or float(np.linalg.norm(frame.t_disp)) or 1.0
+        step = 0.25 * scale / abs(math.tan(self.phi_eff / 4))
+        chosen = self.delta
+        values = [chosen + k * step for k in range(-side, side + 1)]
+        return "δ", [(v, {"delta": v, "long_way": self.long_way}) for v in values], chosen
+
+    def summary(self, angle_unit: str = "deg") -> str:
+        info = self.describe()
+        if self.frame.phi == 0.0:
+            text = "pure translation, δ has no effect"
+        else:
+            text = f"δ = {number_text(info['delta'])}"
+            if info.get("kappa") is not None:
+                text += (
+                    f", z0 = {number_text(info['z0'])}, λ = {number_text(info['lam'])}, "
+                    f"κ = {angle_text(info['kappa'], angle_unit)}"
+                )
+        return text + (", long way round" if info["long_way"] else "")

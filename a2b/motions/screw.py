@@ -19,6 +19,7 @@ from ..frames import ScrewFrame
 from ..poses import rotations_from_quaternions
 from ..study import quat_mul
 from .base import Motion
+from .text import number_text
 
 #: Largest |tφ/2| for which the screw basis is computed from tan(tφ/2) (see ``_basis``); numpy's
 #: vectorised tan reduces larger arguments less accurately, and there np.sin is used.
@@ -136,3 +137,22 @@ class ScrewMotion(Motion):
             "pitch": d / phi if phi > 0 else None,
             "transmission_curve": "z = d * omega / phi (a straight line)",
         }
+
+    description = "the screw motion (ScLERP), the baseline"
+    transmission_form = "line"
+
+    def transmission(self, omega: np.ndarray) -> np.ndarray | None:
+        """The straight line ``z = d ω / φ``; None for a pure translation (φ = 0)."""
+        phi, d = np.asarray(self.frame.phi), np.asarray(self.frame.d)
+        if np.any(phi == 0.0):
+            return None
+        if self.shape:
+            phi, d = phi[..., None], d[..., None]
+        return d * np.asarray(omega, dtype=float) / phi
+
+    def summary(self, angle_unit: str = "deg") -> str:
+        pitch = self.describe()["pitch"]
+        return "pure translation" if pitch is None else f"pitch = {number_text(pitch)} per rad"
+
+    def pose_degree(self) -> str:
+        return "not rational (trigonometric)"
