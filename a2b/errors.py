@@ -36,6 +36,8 @@ class OptionError(A2bError):
 
 class OutputFileError(A2bError):
     """The output file cannot be created, written or renamed into place."""
+
+
 class MissingDependencyError(A2bError, ImportError):
     """An optional dependency (matplotlib for ``a2b plot``, plotly for ``a2b view``) is not
     installed. An :class:`A2bError` (the CLI reports it in one line) and an
