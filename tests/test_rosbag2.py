@@ -236,8 +236,11 @@ def test_rosbags_reads_every_message_of_a2b_bag(tmp_path, rng):
             "/a2b/pose": ("geometry_msgs/msg/PoseStamped", len(ns)),
             "/tf": ("tf2_msgs/msg/TFMessage", len(ns)),
         }
-        qos = {c.topic: [(q.history.value, q.depth, q.reliability.value, q.durability.value)
-                         for q in c.ext.offered_qos_profiles] for c in reader.connections}  # fmt: skip
+        qos = {
+            c.topic: [(q.history.value, q.depth, q.reliability.value, q.durability.value)
+                      for q in c.ext.offered_qos_profiles]
+            for c in reader.connections
+        }  # fmt: skip
         assert qos == {"/a2b/pose": [(1, 10, 1, 2)], "/tf": [(1, 100, 1, 2)]}
     with AnyReader([bag]) as reader:  # its types from the bag's message_definitions
         got = {"/a2b/pose": [], "/tf": []}
@@ -277,8 +280,9 @@ def test_a2b_bag_is_what_rosbags_writes(tmp_path, rng):
     with sqlite3.connect(tmp_path / "ours" / "ours_0.db3") as db:
         rows = db.execute("SELECT topic_type, encoding, encoded_message_definition, "
                           "type_description_hash FROM message_definitions").fetchall()  # fmt: skip
-    assert rows == [(n, "ros2msg", STORE.generate_msgdef(n, ros_version=2)[0], TYPE_HASHES[n])
-                    for n in ("geometry_msgs/msg/PoseStamped", "tf2_msgs/msg/TFMessage")]  # fmt: skip
+    names = ("geometry_msgs/msg/PoseStamped", "tf2_msgs/msg/TFMessage")
+    definitions = [STORE.generate_msgdef(n, ros_version=2)[0] for n in names]
+    assert rows == [(n, "ros2msg", d, TYPE_HASHES[n]) for n, d in zip(names, definitions)]
     info = yaml.safe_load((tmp_path / "ours" / "metadata.yaml").read_text())
     theirs = yaml.safe_load((tmp_path / "theirs" / "metadata.yaml").read_text())
     assert info.keys() == theirs.keys()
