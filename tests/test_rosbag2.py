@@ -19,13 +19,13 @@ from a2b.errors import InputFileError, ParameterError
 from a2b.io import ros2
 from a2b.io.atomic import OutputFileError
 from a2b.io.rosbag2 import (
-    TYPE_HASHES,
     bag_files,
     bag_messages,
     bag_topics,
     is_bag,
     write_sqlite_bag,
 )
+from a2b.io.sqlitebag import TYPE_HASHES
 
 rosbags = pytest.importorskip("rosbags")
 from rosbags.highlevel import AnyReader  # noqa: E402

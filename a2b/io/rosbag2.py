@@ -7,18 +7,11 @@ the folder; before, prefixed with the folder's name), ``topics_with_message_coun
 ``topic_metadata`` with ``name``, ``type``, ``serialization_format`` and, from version 4,
 ``offered_qos_profiles``; from version 7 ``type_description_hash``) and the compression.
 
-A SQLite file (``.db3``) holds the tables ``topics`` (``id``, ``name``, ``type``,
-``serialization_format``, ``offered_qos_profiles``) and ``messages`` (``id``, ``topic_id``,
-``timestamp``: the receive time in integer nanoseconds, ``data``: the serialized message).
-Schema version 3 (ROS 2 Humble) adds the tables ``schema`` and ``metadata``; version 4 (Iron,
-Jazzy) the column ``topics.type_description_hash`` and the table ``message_definitions``.
-A ``.db3`` alone, without its folder, reads as a bag of one file.
-
-Reading opens each SQLite file read-only and immutable (``file:…?mode=ro&immutable=1``): the
-file is never changed and no ``-wal`` or ``-shm`` file is made. One scan of the ``messages``
-table counts every topic's messages and bytes before any message is fetched, so a topic is
-refused, not allocated, when it holds more than the caller allows. A problem with a file is
-one :class:`~a2b.errors.InputFileError` that starts with the file's name.
+The storage files are SQLite (:mod:`a2b.io.sqlitebag`: ``.db3``, the default of ROS 2 Humble
+and older) or MCAP (read here with the ``mcap`` package). A ``.db3`` alone, without its
+folder, reads as a bag of one file. Every problem is one :class:`~a2b.errors.InputFileError`
+that starts with the name of the file at fault; a topic is refused, not allocated, when it
+holds more than the caller allows.
 
 Writing (:func:`write_sqlite_bag`) makes what ``ros2 bag record -s sqlite3`` on Iron makes:
 ``NAME/NAME_0.db3`` of schema version 4 and ``NAME/metadata.yaml`` of version 8 (the QoS
@@ -34,16 +27,16 @@ import shutil
 import sqlite3
 import stat
 import tempfile
-import urllib.parse
 from collections.abc import Iterable, Iterator, Sequence
 from contextlib import closing, contextmanager
-from itertools import islice
 from typing import NamedTuple
 
 import numpy as np
 
 from ..errors import InputFileError, ParameterError, printable
+from . import sqlitebag
 from .atomic import OutputFileError, _terminate_as_exit
+from .sqlitebag import few
 
 __all__ = [
     "MAX_TOPIC_BYTES",
@@ -56,35 +49,12 @@ __all__ = [
 ]
 
 METADATA = "metadata.yaml"
-SQLITE_MAGIC = b"SQLite format 3\x00"
 #: The metadata versions read (rosbag2's history: 9 is Jazzy's), and the one written.
 LATEST_VERSION, WRITTEN_VERSION = 9, 8
-#: The SQLite schema written: Iron's and Jazzy's (``schema``, ``metadata``, ``topics`` with
-#: ``type_description_hash``, ``message_definitions``, ``messages``).
-SCHEMA_VERSION = 4
 #: A metadata.yaml larger than this is refused unread (a real one is a few kB per topic).
 MAX_METADATA_BYTES = 16 << 20
 #: The default bound on the bytes of one topic that :func:`bag_messages` returns.
 MAX_TOPIC_BYTES = 1 << 30
-#: The bytes each message costs beyond its data (a Python ``bytes``, a list slot, a time),
-#: counted against the bound.
-MESSAGE_OVERHEAD = 64
-#: Messages inserted per ``executemany`` and fetched per page.
-BLOCK = 4096
-#: RIHS01 type hashes (REP 2011) of the types a2b writes, as rosbag2 records them in
-#: ``type_description_hash``. The same in Humble's, Iron's and Jazzy's definitions.
-TYPE_HASHES = {
-    "geometry_msgs/msg/PoseStamped": (
-        "RIHS01_10f3786d7d40fd2b54367835614bff85d4ad3b5dab62bf8bca0cc232d73b4cd8"
-    ),
-    "tf2_msgs/msg/TFMessage": (
-        "RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087"
-    ),
-    "nav_msgs/msg/Path": "RIHS01_1957a5bb3cee5da65c4e52e52b65a93df227efce4c20f8458b36e73066ca334b",
-    "geometry_msgs/msg/TwistStamped": (
-        "RIHS01_5f0fcd4f81d5d06ad9b4c4c63e3ea51b82d6ae4d0558f1d475229b1121db6f64"
-    ),
-}
 
 
 class BagTopic(NamedTuple):
@@ -95,13 +65,6 @@ class BagTopic(NamedTuple):
     type_name: str
     serialization_format: str
     count: int
-
-
-def _few(items: Sequence, shown: int = 4) -> str:
-    """``a, b, c, d and 5 more``: a bounded list of user text for a one-line message."""
-    names = [printable(str(item)) for item in items[:shown]]
-    more = f" and {len(items) - shown} more" if len(items) > shown else ""
-    return (", ".join(names) or "none") + more
 
 
 # -- the folder and its metadata.yaml ------------------------------------------------------------
@@ -115,7 +78,7 @@ def is_bag(path: str | os.PathLike) -> bool:
         return os.path.isfile(os.path.join(path, METADATA))
     try:
         with open(path, "rb") as f:
-            return f.read(len(SQLITE_MAGIC)) == SQLITE_MAGIC
+            return f.read(len(sqlitebag.SQLITE_MAGIC)) == sqlitebag.SQLITE_MAGIC
     except OSError:
         return False
 
@@ -220,7 +183,7 @@ def _files(folder: str, info: dict, where: str) -> list[str]:
     if missing:
         raise InputFileError(
             f"{where}: {len(missing)} of the {len(names)} files it lists are missing: "
-            f"{_few(missing)}"
+            f"{few(missing)}"
         )
     for file in files:
         _regular(file, file)
@@ -265,103 +228,6 @@ def _metadata_topics(info: dict, where: str) -> dict:
     return topics
 
 
-# -- SQLite files --------------------------------------------------------------------------------
-
-
-@contextmanager
-def _database(path: str) -> Iterator[sqlite3.Connection]:
-    """``path`` opened read-only and immutable, checked to hold rosbag2's tables; every
-    :class:`sqlite3.Error` inside the block becomes an InputFileError naming the file."""
-    with open(path, "rb") as f:
-        head = f.read(len(SQLITE_MAGIC))
-    if head != SQLITE_MAGIC:
-        raise InputFileError(f"{path}: not a SQLite file (a rosbag2 .db3 starts 'SQLite format 3')")
-    wal = path + "-wal"
-    if os.path.exists(wal) and os.path.getsize(wal) > 0:
-        raise InputFileError(
-            f"{path}: its write-ahead log {os.path.basename(wal)} is not empty: the bag is being "
-            "recorded, or its recorder stopped before closing it"
-        )
-    uri = "file:" + urllib.parse.quote(os.path.abspath(path)) + "?mode=ro&immutable=1"
-    try:
-        with closing(sqlite3.connect(uri, uri=True)) as connection:
-            connection.execute("PRAGMA query_only = 1")
-            _check_tables(connection, path)
-            yield connection
-    except sqlite3.Error as e:
-        problem = printable(str(e))[:200]
-        raise InputFileError(f"{path}: not a readable rosbag2 SQLite file ({problem})") from None
-
-
-#: The columns a2b reads from each table of a rosbag2 SQLite file.
-_COLUMNS = {
-    "topics": ("id", "name", "type", "serialization_format"),
-    "messages": ("id", "topic_id", "timestamp", "data"),
-}
-
-
-def _check_tables(connection: sqlite3.Connection, path: str) -> None:
-    for table, needed in _COLUMNS.items():
-        have = {row[1] for row in connection.execute(f"PRAGMA table_info({table})")}
-        lacking = [column for column in needed if column not in have]
-        if lacking:
-            what = f"no table {table}" if not have else f"the table {table} lacks {_few(lacking)}"
-            raise InputFileError(f"{path}: a SQLite file but not a rosbag2 bag: {what}")
-
-
-def _db_topics(connection: sqlite3.Connection, path: str) -> dict[int, tuple[str, str, str]]:
-    """``{id: (name, type, serialization format)}`` of the ``topics`` table."""
-    topics = {}
-    query = "SELECT id, name, type, serialization_format FROM topics ORDER BY id"
-    for topic_id, name, type_name, form in connection.execute(query):
-        if not all(isinstance(v, str) for v in (name, type_name, form)):
-            raise InputFileError(f"{path}: the topic of id {topic_id!r} lacks a name or a type")
-        topics[topic_id] = (name, type_name, form)
-    return topics
-
-
-class _Survey(NamedTuple):
-    """What one scan of the ``messages`` table finds for one topic id."""
-
-    count: int
-    data_bytes: int
-    not_blob: int
-    not_integer: int
-
-
-def _db_survey(connection: sqlite3.Connection, path: str, topics: dict) -> dict[int, _Survey]:
-    """Per topic id: its messages, their bytes, and how many have data that is no blob (NULL,
-    text) or a timestamp that is no integer. One pass over the table, no data is loaded
-    (SQLite's ``length`` of a blob reads only the record's header)."""
-    query = (
-        "SELECT topic_id, count(*), total(length(data)), sum(typeof(data) != 'blob'), "
-        "sum(typeof(timestamp) != 'integer') FROM messages GROUP BY topic_id"
-    )
-    survey = {
-        row[0]: _Survey(row[1], int(row[2]), row[3], row[4]) for row in connection.execute(query)
-    }
-    orphans = [topic_id for topic_id in survey if topic_id not in topics]
-    if orphans:
-        count = sum(survey[topic_id].count for topic_id in orphans)
-        raise InputFileError(
-            f"{path}: {count} message{'s' * (count != 1)} name topic ids that the topics table "
-            f"lacks: {_few(sorted(map(repr, orphans)))}"
-        )
-    return survey
-
-
-def _db_rows(connection: sqlite3.Connection, ids: list) -> Iterator[tuple]:
-    """``(timestamp, data)`` of the messages of topic ids ``ids`` in the order of their
-    timestamps, fetched :data:`BLOCK` at a time."""
-    marks = ",".join("?" * len(ids))
-    cursor = connection.execute(
-        f"SELECT timestamp, data FROM messages WHERE topic_id IN ({marks}) ORDER BY timestamp, id",
-        ids,
-    )
-    while rows := cursor.fetchmany(BLOCK):
-        yield from rows
-
-
 # -- topics and messages -------------------------------------------------------------------------
 
 
@@ -385,11 +251,11 @@ def bag_topics(path: str | os.PathLike) -> list[BagTopic]:
         return [BagTopic(name, *entry) for name, entry in listed.items()]
     found: dict[str, BagTopic] = {}
     for file in files:
-        with _database(file) as connection:
-            topics = _db_topics(connection, file)
-            survey = _db_survey(connection, file, topics)
+        with sqlitebag.database(file) as connection:
+            topics = sqlitebag.topics_table(connection, file)
+            found_here = sqlitebag.survey(connection, file, topics)
         for topic_id, (name, type_name, form) in topics.items():
-            count = survey.get(topic_id, _Survey(0, 0, 0, 0)).count
+            count = found_here.get(topic_id, sqlitebag.Survey(0, 0, 0, 0)).count
             if name in found:
                 _same_type(found[name].type_name, type_name, name, file)
                 count += found[name].count
@@ -419,7 +285,7 @@ def _as_listed(found: dict[str, BagTopic], listed: dict, where: str) -> None:
             )
     unknown = [name for name in listed if name not in found]
     if unknown:
-        raise InputFileError(f"{where}: lists topics the files lack: {_few(unknown)}")
+        raise InputFileError(f"{where}: lists topics the files lack: {few(unknown)}")
 
 
 def bag_messages(
@@ -430,8 +296,9 @@ def bag_messages(
     file; ``log_times_ns`` are the receive times as ``int64`` nanoseconds, ``datas`` the
     serialized messages (CDR), ready for :func:`a2b.io.ros2.decode_poses`.
 
-    ``max_bytes`` bounds the topic's data plus :data:`MESSAGE_OVERHEAD` bytes a message; a
-    topic that holds more is refused before any of it is read.
+    ``max_bytes`` bounds the topic's data plus
+    :data:`~a2b.io.sqlitebag.MESSAGE_OVERHEAD` bytes a message; a topic that holds more is
+    refused before any of it is read (in an MCAP file: as soon as the bound is passed).
 
     Raises
     ------
@@ -445,24 +312,24 @@ def bag_messages(
         return _mcap_messages(files, topic, listed, max_bytes)
     parts, type_name, budget = [], None, max_bytes
     for file in files:
-        with _database(file) as connection:
-            topics = _db_topics(connection, file)
-            survey = _db_survey(connection, file, topics)
+        with sqlitebag.database(file) as connection:
+            topics = sqlitebag.topics_table(connection, file)
+            found_here = sqlitebag.survey(connection, file, topics)
             ids = [key for key, entry in topics.items() if entry[0] == topic]
             for key in ids:
                 type_name = type_name or topics[key][1]
                 _same_type(type_name, topics[key][1], topic, file)
                 _check_form(topics[key][2], topic, file)
-            mine = [survey[key] for key in ids if key in survey]
+            mine = [found_here[key] for key in ids if key in found_here]
             count = sum(s.count for s in mine)
-            _check_survey(connection, file, topic, ids, mine, budget, max_bytes)
-            budget -= sum(s.data_bytes for s in mine) + MESSAGE_OVERHEAD * count
+            sqlitebag.check_survey(connection, file, topic, ids, mine, budget, max_bytes)
+            budget -= sum(s.data_bytes for s in mine) + sqlitebag.MESSAGE_OVERHEAD * count
             if count:
-                parts.append(_fetched(connection, ids, count, file))
+                parts.append(sqlitebag.fetched(connection, ids, count, file))
     if type_name is None:
         everything = [t.name for t in bag_topics(path)]
         raise InputFileError(
-            f"{os.fspath(path)}: no topic {printable(topic)}; the bag has {_few(everything)}"
+            f"{os.fspath(path)}: no topic {printable(topic)}; the bag has {few(everything)}"
         )
     times = np.concatenate([p[0] for p in parts]) if parts else np.empty(0, np.int64)
     if listed is not None and topic in listed:
@@ -480,44 +347,6 @@ def _check_form(form: str, topic: str, where: str) -> None:
         )
 
 
-def _check_survey(connection, file, topic, ids, mine, budget, max_bytes) -> None:
-    """Refuse data that is no blob, a timestamp that is no integer, or more than ``budget``."""
-    for column, bad in (("data", "not_blob"), ("timestamp", "not_integer")):
-        if any(getattr(s, bad) for s in mine):
-            marks = ",".join("?" * len(ids))
-            kind = "blob" if column == "data" else "integer"
-            row_id, found = connection.execute(
-                f"SELECT id, typeof({column}) FROM messages WHERE topic_id IN ({marks}) AND "
-                f"typeof({column}) != '{kind}' ORDER BY id LIMIT 1",
-                ids,
-            ).fetchone()
-            raise InputFileError(
-                f"{file}: message id {row_id} of {printable(topic)}: its {column} is {found}, "
-                f"not {'a blob' if kind == 'blob' else 'an integer'}"
-            )
-    need = sum(s.data_bytes + MESSAGE_OVERHEAD * s.count for s in mine)
-    if need > budget:
-        count = sum(s.count for s in mine)
-        raise InputFileError(
-            f"{file}: the topic {printable(topic)} holds {need / 2**20:.1f} MiB in {count} "
-            f"messages here, more than the {max_bytes / 2**20:.1f} MiB allowed (max_bytes)"
-        )
-
-
-def _fetched(connection, ids: list, count: int, where: str) -> tuple[np.ndarray, list[bytes]]:
-    """The ``count`` receive times and data of the messages of topic ids ``ids``."""
-    times = np.empty(count, np.int64)
-    datas: list[bytes] = []
-    for k, (stamp, data) in enumerate(_db_rows(connection, ids)):
-        if k == count:  # an immutable file answers the same twice; this one did not
-            break
-        times[k] = stamp
-        datas.append(data)
-    if len(datas) != count:
-        raise InputFileError(f"{where}: the messages changed while they were read")
-    return times, datas
-
-
 def _mcap_messages(files: list[str], topic: str, listed: dict, max_bytes: int):
     """:func:`bag_messages` for MCAP storage, file by file with the ``mcap`` package's reader
     (record by record, its order within a file)."""
@@ -532,7 +361,7 @@ def _mcap_messages(files: list[str], topic: str, listed: dict, max_bytes: int):
                     type_name = type_name or name
                     _same_type(type_name, name, topic, file)
                     _check_form(channel.message_encoding, topic, file)
-                    budget -= len(message.data) + MESSAGE_OVERHEAD
+                    budget -= len(message.data) + sqlitebag.MESSAGE_OVERHEAD
                     if budget < 0:
                         raise InputFileError(
                             f"{file}: the topic {printable(topic)} holds more than the "
@@ -551,7 +380,7 @@ def _mcap_messages(files: list[str], topic: str, listed: dict, max_bytes: int):
         if topic not in listed:
             raise InputFileError(
                 f"{os.path.dirname(files[0])}: no topic {printable(topic)}; the bag has "
-                f"{_few(list(listed))}"
+                f"{few(list(listed))}"
             )
         type_name = listed[topic][0]
     return type_name, np.array(times, np.int64), datas
@@ -559,21 +388,6 @@ def _mcap_messages(files: list[str], topic: str, listed: dict, max_bytes: int):
 
 # -- writing -------------------------------------------------------------------------------------
 
-_SCHEMA = """
-CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);
-CREATE TABLE metadata(id INTEGER PRIMARY KEY, metadata_version INTEGER NOT NULL,
-                      metadata TEXT NOT NULL);
-CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL,
-                    serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL,
-                    type_description_hash TEXT NOT NULL);
-CREATE TABLE message_definitions(id INTEGER PRIMARY KEY, topic_type TEXT NOT NULL,
-                                 encoding TEXT NOT NULL, encoded_message_definition TEXT NOT NULL,
-                                 type_description_hash TEXT NOT NULL);
-CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL,
-                      timestamp INTEGER NOT NULL, data BLOB NOT NULL);
-"""
-#: The ``ros_distro`` written into the schema table and metadata.yaml.
-DISTRO = "a2b"
 _TYPE_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*/msg/[A-Za-z][A-Za-z0-9_]*", re.ASCII)
 
 
@@ -595,7 +409,7 @@ def write_sqlite_bag(
         and offered QoS profiles as rosbag2 stores them (:func:`a2b.io.ros2.qos_profiles`).
     messages : iterable of (topic_index, timestamp_ns, data)
         The messages in the order to store them: the index of the topic in ``topics``, the
-        receive time in integer nanoseconds, the CDR bytes. Read :data:`BLOCK` at a time.
+        receive time in integer nanoseconds, the CDR bytes. Read in blocks.
 
     Returns
     -------
@@ -622,11 +436,11 @@ def write_sqlite_bag(
     names = [topic[0] for topic in topics]
     if len(set(names)) != len(names):
         twice = sorted({name for name in names if names.count(name) > 1})
-        raise ParameterError(f"a bag holds each topic once; given twice: {_few(twice)}")
+        raise ParameterError(f"a bag holds each topic once; given twice: {few(twice)}")
     with _bag_folder(folder) as (tmp, name):
         with closing(sqlite3.connect(os.path.join(tmp, f"{name}_0.db3"))) as connection:
-            _create(connection, topics)
-            counts, first, last = _insert(connection, len(topics), messages)
+            sqlitebag.create(connection, topics)
+            counts, first, last = sqlitebag.insert(connection, len(topics), messages)
             info = _information(f"{name}_0.db3", topics, counts, first, last)
             connection.execute(
                 "INSERT INTO metadata(metadata_version, metadata) VALUES(?, ?)",
@@ -637,52 +451,6 @@ def write_sqlite_bag(
         with open(os.path.join(tmp, METADATA), "w", encoding="utf-8") as f:
             f.write(_yaml({"rosbag2_bagfile_information": info}))
     return sum(counts)
-
-
-def _create(connection: sqlite3.Connection, topics) -> None:
-    """The tables, the schema row, the topics and the definitions of their types."""
-    from .ros2 import DEFINITIONS, schema_text
-
-    connection.execute("PRAGMA journal_mode = OFF")  # a failure discards the whole folder
-    connection.execute("PRAGMA synchronous = OFF")
-    connection.executescript(_SCHEMA)
-    connection.execute("INSERT INTO schema VALUES(?, ?)", (SCHEMA_VERSION, DISTRO))
-    connection.executemany(
-        "INSERT INTO topics VALUES(?, ?, ?, 'cdr', ?, ?)",
-        [(k + 1, name, kind, qos, TYPE_HASHES.get(kind, "")) for k, (name, kind, qos) in
-         enumerate(topics)],
-    )  # fmt: skip
-    for kind in dict.fromkeys(kind for _name, kind, _qos in topics):
-        short = kind.replace("/msg/", "/")
-        if short in DEFINITIONS:  # rosbag2 leaves out the definitions it cannot find
-            connection.execute(
-                "INSERT INTO message_definitions(topic_type, encoding, "
-                "encoded_message_definition, type_description_hash) VALUES(?, 'ros2msg', ?, ?)",
-                (kind, schema_text(short).decode(), TYPE_HASHES.get(kind, "")),
-            )
-
-
-def _insert(connection: sqlite3.Connection, topic_count: int, messages) -> tuple:
-    """Insert ``messages`` :data:`BLOCK` at a time; their counts per topic, first and last
-    time."""
-    counts, first, last = [0] * topic_count, None, None
-    items = iter(messages)
-    while block := list(islice(items, BLOCK)):
-        rows = []
-        for index, stamp, data in block:
-            if type(index) not in (int, np.int64) or not 0 <= index < topic_count:
-                raise ParameterError(f"a message names topic {index!r}; there are {topic_count}")
-            if not 0 <= stamp < 2**63:
-                raise ParameterError(f"a message's time {stamp!r} ns is outside [0, 2**63)")
-            counts[index] += 1
-            rows.append((int(index) + 1, int(stamp), data))
-        stamps = [row[1] for row in rows]
-        first = min(stamps) if first is None else min(first, *stamps)
-        last = max(stamps) if last is None else max(last, *stamps)
-        connection.executemany(
-            "INSERT INTO messages(topic_id, timestamp, data) VALUES(?, ?, ?)", rows
-        )
-    return counts, first, last
 
 
 def _information(file: str, topics, counts, first, last) -> dict:
@@ -706,7 +474,7 @@ def _information(file: str, topics, counts, first, last) -> dict:
                     "type": kind,
                     "serialization_format": "cdr",
                     "offered_qos_profiles": qos,
-                    "type_description_hash": TYPE_HASHES.get(kind, ""),
+                    "type_description_hash": sqlitebag.TYPE_HASHES.get(kind, ""),
                 },
                 "message_count": count,
             }
@@ -717,7 +485,7 @@ def _information(file: str, topics, counts, first, last) -> dict:
         "relative_file_paths": [file],
         "files": [{"path": file, **span}],
         "custom_data": {},
-        "ros_distro": DISTRO,
+        "ros_distro": sqlitebag.DISTRO,
     }
 
 
@@ -766,7 +534,7 @@ def _replaceable(target: str, shown) -> None:
     if foreign or (entries and METADATA not in entries):
         raise OutputFileError(
             f"cannot write the bag {shown}: the folder exists and is no rosbag2 bag (it holds "
-            f"{_few(foreign or entries)}); give a new folder"
+            f"{few(foreign or entries)}); give a new folder"
         )
 
 
