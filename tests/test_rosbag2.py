@@ -580,3 +580,85 @@ def test_a_big_bag_is_written_and_refused_in_bounded_memory(tmp_path):
     assert float(written) - float(before) < 25, done.stdout  # MiB, for 68 MB written
     assert float(refused_peak) - float(before) < 25, done.stdout
     assert "more than the 1.0 MiB allowed" in message
+
+
+# -- older bags, other damage -------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "statements",
+    [
+        [  # schema 3, ROS 2 Humble: no type hashes, no message definitions
+            "ALTER TABLE topics DROP COLUMN type_description_hash",
+            "DROP TABLE message_definitions",
+            "UPDATE schema SET schema_version = 3",
+        ],
+        [  # schema 1, before QoS profiles and the schema table
+            "ALTER TABLE topics DROP COLUMN type_description_hash",
+            "ALTER TABLE topics DROP COLUMN offered_qos_profiles",
+            "DROP TABLE message_definitions",
+            "DROP TABLE schema",
+            "DROP TABLE metadata",
+        ],
+    ],
+)
+def test_older_sqlite_schemas_read(tmp_path, rng, statements):
+    ns, poses, datas = _a2b_bag(tmp_path / "bag", rng, n=6)
+    _damage(tmp_path / "bag", *statements)
+    type_name, log_times, got = bag_messages(tmp_path / "bag", "/tf")
+    assert type_name == "tf2_msgs/msg/TFMessage" and got == datas["/tf"]
+    assert (log_times == ns).all()
+
+
+def test_metadata_before_version_4_names_files_with_the_folder(bag):
+    _edit_metadata(bag, version=3, relative_file_paths=["bag/bag_0.db3"])
+    assert bag_files(bag) == ("sqlite3", [str(bag / "bag_0.db3")])
+    _edit_metadata(bag, version=3, relative_file_paths=["other/bag_0.db3"])
+    with pytest.raises(InputFileError, match="'other/bag_0.db3' is not a name inside"):
+        bag_files(bag)
+
+
+@pytest.mark.parametrize(
+    "text, match",
+    [
+        ("rosbag2_bagfile_information: [1, 2", "not readable YAML"),
+        ("- a list", "no mapping rosbag2_bagfile_information"),
+        ("rosbag2_bagfile_information: {version: '8'}", "version '8'; a2b reads rosbag2"),
+        ("\ufeff\x00", "not readable YAML"),
+    ],
+)
+def test_metadata_that_is_no_bag_metadata_is_refused(bag, text, match):
+    (bag / "metadata.yaml").write_text(text)
+    with pytest.raises(InputFileError, match=match) as excinfo:
+        bag_topics(bag)
+    assert _one_line(excinfo).startswith(str(bag / "metadata.yaml"))
+
+
+def test_a_huge_metadata_file_is_refused_unread(bag):
+    with open(bag / "metadata.yaml", "ab") as f:
+        f.truncate(17 << 20)
+    with pytest.raises(InputFileError, match="metadata.yaml: larger than 16 MiB"):
+        bag_topics(bag)
+
+
+def test_a_damaged_mcap_file_in_a_folder_is_one_error(tmp_path, rng):
+    bag = tmp_path / "recording"
+    _rosbags_bag(bag, rng, StoragePlugin.MCAP, n=3)
+    data = (bag / "recording.mcap").read_bytes()
+    (bag / "recording.mcap").write_bytes(data[: len(data) // 2] + b"\xff" * 64)
+    with pytest.raises(InputFileError, match=r"recording.mcap: not a readable MCAP file") as e:
+        bag_messages(bag, "/pose")
+    _one_line(e)
+    _rosbags_bag(tmp_path / "again", rng, StoragePlugin.MCAP, n=3)
+    with pytest.raises(InputFileError, match=r"again: no topic /nothing; the bag has /pose, /odom"):
+        bag_messages(tmp_path / "again", "/nothing")
+
+
+def test_a_message_that_is_no_bytes_is_refused(tmp_path):
+    with pytest.raises(ParameterError, match="a message's data is str, not bytes"):
+        write_sqlite_bag(tmp_path / "bag", _topics(), [(0, 5, "text")])
+    with pytest.raises(ParameterError, match=r"a message is \(0, 1.5, b''\), not \(topic index"):
+        write_sqlite_bag(tmp_path / "bag", _topics(), [(0, 1.5, b"")])
+    with pytest.raises(OutputFileError, match="cannot write .*: No such file or directory"):
+        write_sqlite_bag(tmp_path / "missing" / "bag", _topics(), [])
+    assert os.listdir(tmp_path) == []

@@ -521,6 +521,8 @@ def _bag_folder(folder) -> Iterator[tuple[str, str]]:
                 _publish(tmp, target)
             except OSError as e:
                 raise OutputFileError(f"cannot write {folder}: {e.strerror or e}") from e
+            except sqlite3.Error as e:  # a full disk, a message over SQLite's 1 GB limit
+                raise OutputFileError(f"cannot write {folder}: {printable(str(e))}") from e
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
 
