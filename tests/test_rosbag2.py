@@ -662,3 +662,23 @@ def test_a_message_that_is_no_bytes_is_refused(tmp_path):
     with pytest.raises(OutputFileError, match="cannot write .*: No such file or directory"):
         write_sqlite_bag(tmp_path / "missing" / "bag", _topics(), [])
     assert os.listdir(tmp_path) == []
+
+
+def test_a_topic_recorded_with_two_qos_settings_is_one_topic(tmp_path, rng):
+    ns, _poses_, datas = _a2b_bag(tmp_path / "bag", rng, n=6)
+    _damage(
+        tmp_path / "bag",
+        "INSERT INTO topics VALUES(3, '/tf', 'tf2_msgs/msg/TFMessage', 'cdr', '', '')",
+        "UPDATE messages SET topic_id = 3 WHERE topic_id = 2 AND id % 4 = 0",
+    )
+    type_name, log_times, got = bag_messages(tmp_path / "bag" / "bag_0.db3", "/tf")
+    assert got == datas["/tf"] and (log_times == ns).all()
+    assert [(t.name, t.count) for t in bag_topics(tmp_path / "bag")] == [("/a2b/pose", 6),
+                                                                         ("/tf", 6)]  # fmt: skip
+
+
+def test_names_with_uri_characters_are_read_and_written(tmp_path, rng):
+    folder = tmp_path / "a?b#c%20d e"
+    ns, _poses_, datas = _a2b_bag(folder, rng, n=3)
+    assert sorted(os.listdir(folder)) == ["a?b#c%20d e_0.db3", "metadata.yaml"]
+    assert bag_messages(folder, "/a2b/pose")[2] == datas["/a2b/pose"]

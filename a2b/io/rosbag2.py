@@ -138,7 +138,7 @@ def _metadata(folder: str) -> dict:
         with open(where, "rb") as f:
             document = yaml.load(f.read(MAX_METADATA_BYTES), getattr(yaml, "CSafeLoader", None)
                                  or yaml.SafeLoader)  # fmt: skip
-    except (OSError, yaml.YAMLError, UnicodeDecodeError) as e:
+    except (OSError, yaml.YAMLError, UnicodeDecodeError, RecursionError) as e:
         problem = printable(" ".join(str(e).split()))[:200]
         raise InputFileError(f"{where}: not readable YAML ({problem})") from None
     info = document.get("rosbag2_bagfile_information") if isinstance(document, dict) else None
