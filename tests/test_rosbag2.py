@@ -410,6 +410,9 @@ def _one_line(excinfo):
         ({"relative_file_paths": ["/etc/passwd"]}, "'/etc/passwd' is not a name inside"),
         ({"relative_file_paths": ["bag_0.db3", "bag_0.db3"]}, "lists bag_0.db3 twice"),
         ({"relative_file_paths": "bag_0.db3"}, "relative_file_paths is not a list"),
+        ({"relative_file_paths": ["bag_0.db3\x1b[2J"]}, r"'bag_0.db3\\x1b\[2J' is not a name"),
+        ({"relative_file_paths": ["."]}, "'.' is not a name inside"),
+        ({"storage_identifier": "x" * 10**6}, "storage_identifier 'x{79}…; a2b reads sqlite3"),
         ({"version": 10}, "version 10; a2b reads rosbag2 metadata versions 1 to 9"),
         ({"storage_identifier": "rosbag_v2"}, "storage_identifier 'rosbag_v2'"),
         ({"compression_mode": "FILE"}, "the bag is compressed"),
@@ -613,9 +616,12 @@ def test_older_sqlite_schemas_read(tmp_path, rng, statements):
 def test_metadata_before_version_4_names_files_with_the_folder(bag):
     _edit_metadata(bag, version=3, relative_file_paths=["bag/bag_0.db3"])
     assert bag_files(bag) == ("sqlite3", [str(bag / "bag_0.db3")])
-    _edit_metadata(bag, version=3, relative_file_paths=["other/bag_0.db3"])
-    with pytest.raises(InputFileError, match="'other/bag_0.db3' is not a name inside"):
-        bag_files(bag)
+    _edit_metadata(bag, version=3, relative_file_paths=["renamed/bag_0.db3"])
+    assert bag_files(bag) == ("sqlite3", [str(bag / "bag_0.db3")])
+    for version, name in ((3, "a/b/bag_0.db3"), (3, "../bag_0.db3"), (4, "bag/bag_0.db3")):
+        _edit_metadata(bag, version=version, relative_file_paths=[name])
+        with pytest.raises(InputFileError, match=f"'{name}' is not a name inside"):
+            bag_files(bag)
 
 
 @pytest.mark.parametrize(

@@ -33,10 +33,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import InputFileError, ParameterError, printable
+from ..errors import InputFileError, ParameterError
 from . import sqlitebag
 from .atomic import OutputFileError, _terminate_as_exit
-from .sqlitebag import few
+from .sqlitebag import few, shown
 
 __all__ = [
     "MAX_TOPIC_BYTES",
@@ -111,12 +111,12 @@ def _bag(path) -> tuple[str, list[str], dict | None]:
     storage = info.get("storage_identifier")
     if storage not in ("sqlite3", "mcap"):
         raise InputFileError(
-            f"{where}: storage_identifier {printable(repr(storage))}; a2b reads sqlite3 and mcap"
+            f"{where}: storage_identifier {shown(repr(storage))}; a2b reads sqlite3 and mcap"
         )
     compression = info.get("compression_mode") or ""
     if str(compression).lower() not in ("", "none"):
         raise InputFileError(
-            f"{where}: the bag is compressed (compression_mode {printable(repr(compression))}); "
+            f"{where}: the bag is compressed (compression_mode {shown(repr(compression))}); "
             "a2b reads uncompressed bags: `ros2 bag convert` writes one"
         )
     files = _files(path, info, where)
@@ -139,7 +139,7 @@ def _metadata(folder: str) -> dict:
             document = yaml.load(f.read(MAX_METADATA_BYTES), getattr(yaml, "CSafeLoader", None)
                                  or yaml.SafeLoader)  # fmt: skip
     except (OSError, yaml.YAMLError, UnicodeDecodeError, RecursionError) as e:
-        problem = printable(" ".join(str(e).split()))[:200]
+        problem = shown(" ".join(str(e).split()), 200)
         raise InputFileError(f"{where}: not readable YAML ({problem})") from None
     info = document.get("rosbag2_bagfile_information") if isinstance(document, dict) else None
     if not isinstance(info, dict):
@@ -147,7 +147,7 @@ def _metadata(folder: str) -> dict:
     version = info.get("version")
     if type(version) is not int or not 1 <= version <= LATEST_VERSION:
         raise InputFileError(
-            f"{where}: version {printable(repr(version))[:40]}; a2b reads rosbag2 metadata "
+            f"{where}: version {shown(repr(version), 40)}; a2b reads rosbag2 metadata "
             f"versions 1 to {LATEST_VERSION}"
         )
     return info
@@ -163,11 +163,16 @@ def _files(folder: str, info: dict, where: str) -> list[str]:
     files, seen, missing = [], set(), []
     for name in names:
         parts = name.replace("\\", "/").split("/")
-        if info["version"] < 4 and len(parts) == 2 and parts[0] == os.path.basename(home):
+        if info["version"] < 4 and len(parts) == 2 and parts[0] not in ("", ".", ".."):
             parts = parts[1:]  # before version 4 the paths started with the folder's name
-        if os.path.isabs(name) or ".." in parts or not parts[-1] or len(parts) != 1:
+        if (
+            os.path.isabs(name)
+            or len(parts) != 1
+            or parts[0] in ("", ".", "..")
+            or not name.isprintable()
+        ):
             raise InputFileError(
-                f"{where}: the file {printable(repr(name))[:200]} is not a name inside the "
+                f"{where}: the file {shown(repr(name), 200)} is not a name inside the "
                 "bag folder; a2b reads only the folder's own files"
             )
         file = os.path.join(folder, parts[0])
@@ -177,7 +182,7 @@ def _files(folder: str, info: dict, where: str) -> list[str]:
         if os.path.dirname(os.path.realpath(file)) != home:
             raise InputFileError(f"{file}: a link to a file outside the bag folder")
         if file in seen:
-            raise InputFileError(f"{where}: relative_file_paths lists {printable(name)} twice")
+            raise InputFileError(f"{where}: relative_file_paths lists {shown(name)} twice")
         seen.add(file)
         files.append(file)
     if missing:
@@ -220,8 +225,8 @@ def _metadata_topics(info: dict, where: str) -> dict:
         form = str(meta.get("serialization_format", "cdr"))
         if name in topics and topics[name][0] != type_name:
             raise InputFileError(
-                f"{where}: the topic {printable(name)} has two types, "
-                f"{printable(topics[name][0])} and {printable(type_name)}"
+                f"{where}: the topic {shown(name)} has two types, "
+                f"{shown(topics[name][0])} and {shown(type_name)}"
             )
         before = topics.get(name, (type_name, form, 0))[2]
         topics[name] = (type_name, form, before + count)
@@ -268,8 +273,7 @@ def bag_topics(path: str | os.PathLike) -> list[BagTopic]:
 def _same_type(first: str, second: str, name: str, where: str) -> None:
     if first != second:
         raise InputFileError(
-            f"{where}: the topic {printable(name)} has two types, {printable(first)} and "
-            f"{printable(second)}"
+            f"{where}: the topic {shown(name)} has two types, {shown(first)} and {shown(second)}"
         )
 
 
@@ -280,7 +284,7 @@ def _as_listed(found: dict[str, BagTopic], listed: dict, where: str) -> None:
         _same_type(type_name, topic.type_name, name, where)
         if count != topic.count:
             raise InputFileError(
-                f"{where}: says {printable(name)} has {count} messages, the files hold "
+                f"{where}: says {shown(name)} has {count} messages, the files hold "
                 f"{topic.count} (`ros2 bag reindex` rewrites metadata.yaml from the files)"
             )
     unknown = [name for name in listed if name not in found]
@@ -329,7 +333,7 @@ def bag_messages(
     if type_name is None:
         everything = [t.name for t in bag_topics(path)]
         raise InputFileError(
-            f"{os.fspath(path)}: no topic {printable(topic)}; the bag has {few(everything)}"
+            f"{os.fspath(path)}: no topic {shown(topic)}; the bag has {few(everything)}"
         )
     times = np.concatenate([p[0] for p in parts]) if parts else np.empty(0, np.int64)
     if listed is not None and topic in listed:
@@ -342,8 +346,7 @@ def bag_messages(
 def _check_form(form: str, topic: str, where: str) -> None:
     if form != "cdr":
         raise InputFileError(
-            f"{where}: the topic {printable(topic)} is serialized as {printable(form)}; a2b "
-            "reads cdr"
+            f"{where}: the topic {shown(topic)} is serialized as {shown(form)}; a2b reads cdr"
         )
 
 
@@ -364,7 +367,7 @@ def _mcap_messages(files: list[str], topic: str, listed: dict, max_bytes: int):
                     budget -= len(message.data) + sqlitebag.MESSAGE_OVERHEAD
                     if budget < 0:
                         raise InputFileError(
-                            f"{file}: the topic {printable(topic)} holds more than the "
+                            f"{file}: the topic {shown(topic)} holds more than the "
                             f"{max_bytes / 2**20:.1f} MiB allowed (max_bytes)"
                         )
                     times.append(message.log_time)
@@ -372,14 +375,14 @@ def _mcap_messages(files: list[str], topic: str, listed: dict, max_bytes: int):
         except InputFileError:
             raise
         except Exception as e:  # noqa: BLE001 - a damaged file, in the words of the mcap package
-            problem = printable(str(e))[:200]
+            problem = shown(e, 200)
             raise InputFileError(
                 f"{file}: not a readable MCAP file ({type(e).__name__}: {problem})"
             ) from None
     if type_name is None:
         if topic not in listed:
             raise InputFileError(
-                f"{os.path.dirname(files[0])}: no topic {printable(topic)}; the bag has "
+                f"{os.path.dirname(files[0])}: no topic {shown(topic)}; the bag has "
                 f"{few(list(listed))}"
             )
         type_name = listed[topic][0]
@@ -430,7 +433,7 @@ def write_sqlite_bag(
         check_topic(name)
         if not _TYPE_NAME.fullmatch(type_name) or not isinstance(qos, str):
             raise ParameterError(
-                f"topic {printable(name)}: the type {printable(repr(type_name))} is not "
+                f"topic {shown(name)}: the type {shown(repr(type_name))} is not "
                 "package/msg/Name, or its QoS profiles are not text"
             )
     names = [topic[0] for topic in topics]
@@ -522,7 +525,7 @@ def _bag_folder(folder) -> Iterator[tuple[str, str]]:
             except OSError as e:
                 raise OutputFileError(f"cannot write {folder}: {e.strerror or e}") from e
             except sqlite3.Error as e:  # a full disk, a message over SQLite's 1 GB limit
-                raise OutputFileError(f"cannot write {folder}: {printable(str(e))}") from e
+                raise OutputFileError(f"cannot write {folder}: {shown(e, 200)}") from e
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
 

@@ -43,6 +43,7 @@ __all__ = [
     "database",
     "fetched",
     "few",
+    "shown",
     "insert",
     "survey",
     "topics_table",
@@ -73,10 +74,17 @@ TYPE_HASHES = {
 }
 
 
-def few(items: Sequence, shown: int = 4) -> str:
+def shown(text, limit: int = 80) -> str:
+    """``text`` for a one-line message: escaped (:func:`a2b.errors.printable`) and cut to
+    ``limit`` characters, the cut marked with ``…``."""
+    text = printable(str(text)[: limit + 1])
+    return text if len(text) <= limit else text[:limit] + "…"
+
+
+def few(items: Sequence, count: int = 4) -> str:
     """``a, b, c, d and 5 more``: a bounded list of user text for a one-line message."""
-    names = [printable(str(item)) for item in items[:shown]]
-    more = f" and {len(items) - shown} more" if len(items) > shown else ""
+    names = [shown(item) for item in items[:count]]
+    more = f" and {len(items) - count} more" if len(items) > count else ""
     return (", ".join(names) or "none") + more
 
 
@@ -104,7 +112,7 @@ def database(path: str) -> Iterator[sqlite3.Connection]:
             _check_tables(connection, path)
             yield connection
     except sqlite3.Error as e:
-        problem = printable(str(e))[:200]
+        problem = shown(e, 200)
         raise InputFileError(f"{path}: not a readable rosbag2 SQLite file ({problem})") from None
 
 
@@ -189,14 +197,14 @@ def check_survey(connection, file, topic, ids, mine, budget, max_bytes) -> None:
                 ids,
             ).fetchone()
             raise InputFileError(
-                f"{file}: message id {row_id} of {printable(topic)}: its {column} is {found}, "
+                f"{file}: message id {row_id} of {shown(topic)}: its {column} is {found}, "
                 f"not {'a blob' if kind == 'blob' else 'an integer'}"
             )
     need = sum(s.data_bytes + MESSAGE_OVERHEAD * s.count for s in mine)
     if need > budget:
         count = sum(s.count for s in mine)
         raise InputFileError(
-            f"{file}: the topic {printable(topic)} holds {need / 2**20:.1f} MiB in {count} "
+            f"{file}: the topic {shown(topic)} holds {need / 2**20:.1f} MiB in {count} "
             f"messages here, more than the {max_bytes / 2**20:.1f} MiB allowed (max_bytes)"
         )
 
@@ -264,7 +272,7 @@ def _checked(item, topic_count: int) -> tuple[int, int, bytes]:
         index, stamp = operator.index(index), operator.index(stamp)
     except (TypeError, ValueError):
         raise ParameterError(
-            f"a message is {printable(repr(item))[:80]}, not (topic index, time in ns, bytes)"
+            f"a message is {shown(repr(item))}, not (topic index, time in ns, bytes)"
         ) from None
     if not 0 <= index < topic_count:
         raise ParameterError(f"a message names topic {index}; there are {topic_count}")
