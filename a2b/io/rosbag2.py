@@ -337,9 +337,8 @@ def bag_messages(
         )
     times = np.concatenate([p[0] for p in parts]) if parts else np.empty(0, np.int64)
     if listed is not None and topic in listed:
-        where = os.path.join(os.fspath(path), METADATA)
-        _as_listed({topic: BagTopic(topic, type_name, "cdr", len(times))}, {topic: listed[topic]},
-                   where)  # fmt: skip
+        mine = BagTopic(topic, type_name, "cdr", len(times))
+        _as_listed({topic: mine}, {topic: listed[topic]}, os.path.join(os.fspath(path), METADATA))
     return type_name, times, [data for part in parts for data in part[1]]
 
 

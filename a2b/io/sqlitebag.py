@@ -160,17 +160,17 @@ def survey(connection: sqlite3.Connection, path: str, topics: dict) -> dict[int,
         "SELECT topic_id, count(*), total(length(data)), sum(typeof(data) != 'blob'), "
         "sum(typeof(timestamp) != 'integer') FROM messages GROUP BY topic_id"
     )
-    survey = {
+    found = {
         row[0]: Survey(row[1], int(row[2]), row[3], row[4]) for row in connection.execute(query)
     }
-    orphans = [topic_id for topic_id in survey if topic_id not in topics]
+    orphans = [topic_id for topic_id in found if topic_id not in topics]
     if orphans:
-        count = sum(survey[topic_id].count for topic_id in orphans)
+        count = sum(found[topic_id].count for topic_id in orphans)
         raise InputFileError(
             f"{path}: {count} message{'s' * (count != 1)} name topic ids that the topics table "
             f"lacks: {few(sorted(map(repr, orphans)))}"
         )
-    return survey
+    return found
 
 
 def _rows(connection: sqlite3.Connection, ids: list) -> Iterator[tuple]:
@@ -186,7 +186,9 @@ def _rows(connection: sqlite3.Connection, ids: list) -> Iterator[tuple]:
 
 
 def check_survey(connection, file, topic, ids, mine, budget, max_bytes) -> None:
-    """Refuse data that is no blob, a timestamp that is no integer, or more than ``budget``."""
+    """Refuse the messages of ``topic`` (its ids ``ids`` in ``file``, their surveys ``mine``)
+    when a data is no blob or a timestamp no integer, or when they need more than the
+    ``budget`` bytes left of ``max_bytes``."""
     for column, bad in (("data", "not_blob"), ("timestamp", "not_integer")):
         if any(getattr(s, bad) for s in mine):
             marks = ",".join("?" * len(ids))
