@@ -694,3 +694,21 @@ def test_names_with_uri_characters_are_read_and_written(tmp_path, rng):
     ns, _poses_, datas = _a2b_bag(folder, rng, n=3)
     assert sorted(os.listdir(folder)) == ["a?b#c%20d e_0.db3", "metadata.yaml"]
     assert bag_messages(folder, "/a2b/pose")[2] == datas["/a2b/pose"]
+
+
+@pytest.mark.parametrize(
+    "statements, match",
+    [
+        (["ALTER TABLE messages RENAME TO stored",
+          "CREATE VIEW messages AS WITH RECURSIVE c(x) AS (SELECT 1 UNION ALL SELECT x + 1 "
+          "FROM c) SELECT x AS id, 2 AS topic_id, x AS timestamp, zeroblob(1000000) AS data "
+          "FROM c"], "messages is a view of SQL, not a plain table"),
+        (["ALTER TABLE messages ADD COLUMN more BLOB GENERATED ALWAYS AS (zeroblob(1000000))"],
+         "messages has computed columns: more"),
+    ],
+)  # fmt: skip
+def test_views_and_computed_columns_are_refused_unread(bag, statements, match):
+    """An endless view or a computed blob would hang or allocate without bytes in the file."""
+    _damage(bag, *statements)
+    with pytest.raises(InputFileError, match=match):
+        bag_messages(bag / "bag_0.db3", "/tf")

@@ -124,12 +124,23 @@ _COLUMNS = {
 
 
 def _check_tables(connection: sqlite3.Connection, path: str) -> None:
+    """Check that ``topics`` and ``messages`` are plain tables with the columns a2b reads. A
+    view, a virtual table or a computed column could yield rows without end or blobs that the
+    file does not hold."""
     for table, needed in _COLUMNS.items():
-        have = {row[1] for row in connection.execute(f"PRAGMA table_info({table})")}
-        lacking = [column for column in needed if column not in have]
-        if lacking:
-            what = f"no table {table}" if not have else f"the table {table} lacks {few(lacking)}"
+        kind = connection.execute(
+            "SELECT type, sql FROM sqlite_master WHERE name = ? COLLATE NOCASE", (table,)
+        ).fetchone()
+        columns = {row[1]: row[6] for row in connection.execute(f"PRAGMA table_xinfo({table})")}
+        lacking = [column for column in needed if column not in columns]
+        if kind is None or lacking:
+            what = f"the table {table} lacks {few(lacking)}" if kind else f"no table {table}"
             raise InputFileError(f"{path}: a SQLite file but not a rosbag2 bag: {what}")
+        computed = [name for name, hidden in columns.items() if hidden]
+        if kind[0] != "table" or " ".join(str(kind[1]).split()[:2]).upper() != "CREATE TABLE":
+            raise InputFileError(f"{path}: {table} is a {kind[0]} of SQL, not a plain table")
+        if computed:
+            raise InputFileError(f"{path}: {table} has computed columns: {few(computed)}")
 
 
 def topics_table(connection: sqlite3.Connection, path: str) -> dict[int, tuple[str, str, str]]:
