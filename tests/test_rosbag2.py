@@ -412,7 +412,7 @@ def _one_line(excinfo):
         ({"relative_file_paths": "bag_0.db3"}, "relative_file_paths is not a list"),
         ({"relative_file_paths": ["bag_0.db3\x1b[2J"]}, r"'bag_0.db3\\x1b\[2J' is not a name"),
         ({"relative_file_paths": ["."]}, "'.' is not a name inside"),
-        ({"storage_identifier": "x" * 10**6}, "storage_identifier 'x{79}…; a2b reads sqlite3"),
+        ({"storage_identifier": "x" * 10**4}, "storage_identifier 'x{79}…; a2b reads sqlite3"),
         ({"version": 10}, "version 10; a2b reads rosbag2 metadata versions 1 to 9"),
         ({"storage_identifier": "rosbag_v2"}, "storage_identifier 'rosbag_v2'"),
         ({"compression_mode": "FILE"}, "the bag is compressed"),
