@@ -218,7 +218,7 @@ def write_parquet(
     names = batch.schema.names
     flags = {k: k in names for k in ("job", "time", "original")} | {"twist": "vx" in names}
     shape = schema(layout, **flags, motion=motion)
-    pending: list = []
+    pending: list = []  # batches of fewer than row_group_rows rows in all
     held = rows = 0
     with pq.ParquetWriter(stream, shape) as writer:
         while batch is not None:
@@ -226,15 +226,16 @@ def write_parquet(
                 raise ValueError(f"a block with columns {batch.schema.names}, expected {names}")
             pending.append(batch)
             held += batch.num_rows
-            if held >= row_group_rows:
+            if held >= row_group_rows:  # whole row groups out, the rest kept for the next
                 table = pa.Table.from_batches(pending, shape)
-                writer.write_table(table, row_group_size=row_group_rows)
-                rows, pending, held = rows + held, [], 0
+                whole = held - held % row_group_rows
+                writer.write_table(table.slice(0, whole), row_group_size=row_group_rows)
+                pending, held, rows = table.slice(whole).to_batches(), held - whole, rows + whole
             chunk = next(chunks, None)
             batch = None
             if chunk is not None:
                 batch = record_batch(chunk, layout, duration=duration, start_time=start_time)
-        if pending:
+        if held:
             writer.write_table(pa.Table.from_batches(pending, shape), row_group_size=held)
             rows += held
     return rows
