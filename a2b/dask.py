@@ -63,6 +63,9 @@ def samples(
 
     A job without a name is named by its index label, so give the frame a global index (as
     ``dask.dataframe.from_pandas`` keeps it) for names that do not repeat across partitions.
+    Give list columns (``start``, ``m`` …) a pyarrow list dtype,
+    ``pandas.ArrowDtype(pyarrow.list_(pyarrow.float64()))``: Dask turns columns of Python
+    objects into text.
     """
     from . import table
 
@@ -384,7 +387,7 @@ def client(scheduler: str | None = None, workers: int | None = None) -> Iterator
             threads_per_worker=1,
             processes=True,
             host="127.0.0.1",
-            dashboard_address=None,
+            dashboard_address="127.0.0.1:0",
         ) as cluster,
         Client(cluster) as connected,
     ):
