@@ -143,11 +143,11 @@ def test_a_dask_dataframe_of_jobs_equals_the_single_table(client, tmp_path):
 @pytest.mark.parametrize(
     ("bad", "kind"),
     [
-        ({7000: '{"start": {"quaternion_wxyz": [1, 0, 0, 0]}, "end": 5}'}, "file"),
-        ({7001: '{"start": {"quaternion_wxyz": [1, 0, 0, 0]}, "end"'}, "file"),
+        ({2500: '{"start": {"quaternion_wxyz": [1, 0, 0, 0]}, "end": 5}'}, "file"),
+        ({2501: '{"start": {"quaternion_wxyz": [1, 0, 0, 0]}, "end"'}, "file"),
         (
             {
-                6999: json.dumps(
+                2499: json.dumps(
                     {
                         "name": "broken",
                         "start": {"quaternion_wxyz": [1, 0, 0, 0]},
@@ -162,14 +162,14 @@ def test_a_dask_dataframe_of_jobs_equals_the_single_table(client, tmp_path):
     ],
 )
 def test_a_job_error_names_the_job_and_leaves_no_dataset(client, tmp_path, bad, kind):
-    jobs = write_jobs(tmp_path / "jobs.jsonl", 8_000, bad=bad)
+    jobs = write_jobs(tmp_path / "jobs.jsonl", 3_000, bad=bad)
     done = a2b_batch(jobs, "-o", str(tmp_path / "ref.csv"))
     assert done.returncode == 1
     message = done.stderr.decode().strip().removeprefix("Error: ")
     assert ("job broken: " if kind == "mathematics" else f"{jobs}:") in message
     out = tmp_path / "out"
     with pytest.raises(A2bError) as caught:
-        a2b_dask.batch(jobs, out, blocksize=100_000)
+        a2b_dask.batch(jobs, out, blocksize=50_000)
     assert str(caught.value) == message
     assert not out.exists()
     assert leftovers(tmp_path) == []
@@ -202,14 +202,14 @@ def test_byte_ranges_start_at_the_first_line_after_their_offset(tmp_path):
 
 
 def test_killing_a_worker_ends_in_a_complete_dataset_or_a_clear_error(tmp_path):
-    jobs = write_jobs(tmp_path / "jobs.jsonl", 20_000, seed=11)
+    jobs = write_jobs(tmp_path / "jobs.jsonl", 10_000, seed=11)
     out = tmp_path / "out"
     outcome: dict = {}
     with cluster(2) as local, distributed.Client(local) as connected:
 
         def run():
             try:
-                outcome["files"] = a2b_dask.batch(jobs, out, samples=11, blocksize=100_000)
+                outcome["files"] = a2b_dask.batch(jobs, out, samples=11, blocksize=50_000)
             except Exception as e:  # noqa: BLE001 - the outcome is checked below
                 outcome["error"] = e
 
