@@ -119,7 +119,7 @@ def _lines(data: bytes, name: str, first_line: int) -> list[str]:
 def _counted(path: str, start: int, stop: int) -> tuple[int, int]:
     """The lines and the jobs (lines that are not blank) of a range."""
     data = read_range(path, start, stop)
-    text = data.decode("utf-8", errors="replace")
+    text = data.decode("utf-8-sig" if start == 0 else "utf-8", errors="replace")
     lines = text.split("\n")
     if not lines[-1]:
         lines.pop()

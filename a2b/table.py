@@ -292,11 +292,13 @@ def _poses(columns: _Columns, end: str, names: list) -> np.ndarray:
 
 def _floats(columns: _Columns, name: str, names: list) -> np.ndarray:
     numbers = columns.numbers(name)
-    if numbers is None:
-        for i, v in enumerate(columns.values(name)):
-            if v is not None and (isinstance(v, bool | str) or not _is_number(v)):
-                raise A2bError(f"job {names[i]}: {name}: expected a number, got {v!r}")
-    return numbers
+    if numbers is not None:
+        return numbers
+    values = columns.values(name)
+    for i, v in enumerate(values):
+        if v is not None and (isinstance(v, bool | str) or not _is_number(v)):
+            raise A2bError(f"job {names[i]}: {name}: expected a number, got {v!r}")
+    return np.array([np.nan if v is None else float(v) for v in values])
 
 
 def _is_number(value) -> bool:

@@ -224,6 +224,7 @@ def test_killing_a_worker_ends_in_a_complete_dataset_or_a_clear_error(tmp_path):
         os.kill(next(iter(pids.values())), signal.SIGKILL)
         worker.join(300)
     assert not worker.is_alive()
+    print("killed a worker:", repr(outcome.get("error", "the dataset is complete")))
     if "error" in outcome:  # a clear error and no dataset
         assert str(outcome["error"])
         assert not out.exists()
@@ -247,5 +248,6 @@ def test_memory_per_worker_stays_bounded(tmp_path):
         a2b_dask.batch(jobs, tmp_path / "out", samples=501, blocksize=25_000)
         after = next(iter(connected.run(peak).values()))
     frame = pd.read_parquet(tmp_path / "out", columns=["t"])
+    print(f"{len(frame)} rows; worker peak {before >> 20} MB before, {after >> 20} MB after")
     assert len(frame) * 8 * 8 > 250 << 20  # the numbers of the samples
     assert after - before < 100 << 20, f"the worker grew by {(after - before) >> 20} MB"
