@@ -251,3 +251,26 @@ def test_memory_per_worker_stays_bounded(tmp_path):
     print(f"{len(frame)} rows; worker peak {before >> 20} MB before, {after >> 20} MB after")
     assert len(frame) * 8 * 8 > 250 << 20  # the numbers of the samples
     assert after - before < 100 << 20, f"the worker grew by {(after - before) >> 20} MB"
+
+
+def test_client_of_a_scheduler_or_of_local_workers(client, tmp_path):
+    with pytest.raises(A2bError, match="not both or neither"):
+        with a2b_dask.client():
+            pass
+    with pytest.raises(A2bError, match="not both or neither"):
+        with a2b_dask.client("tcp://127.0.0.1:1", 2):
+            pass
+    address = client.scheduler.address
+    with a2b_dask.client(scheduler=address) as connected:
+        assert connected.scheduler.address == address
+        assert len(connected.scheduler_info()["workers"]) == 2
+
+
+def test_import_a2b_imports_none_of_the_heavy_dependencies():
+    code = (
+        "import sys, a2b, a2b.cli\n"
+        "heavy = {'pyarrow', 'pandas', 'dask', 'distributed', 'polars', 'duckdb'}\n"
+        "print(sorted({m.split('.')[0] for m in sys.modules} & heavy))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "[]"
