@@ -300,7 +300,7 @@ def write_dataset(
         work = frame.to_parquet(
             tmp, schema=shape, write_index=False, name_function=name, compute=False
         )
-        _computed(work)
+        _computed(work, path)
     return [os.path.join(path, name(i)) for i in range(frame.npartitions)]
 
 
@@ -310,22 +310,34 @@ def _part_name(width: int, i: int) -> str:
     return f"part.{i:0{max(width, 5)}d}.parquet"
 
 
-def _computed(work) -> None:
+def _computed(work, path) -> None:
     """Compute ``work`` on the current scheduler; on a distributed client, cancel what is left
-    of it when a task fails, so that no task writes on."""
-    try:
-        from distributed import default_client
+    of it when a task fails, so that no task writes on. A write that fails and workers that
+    die beyond Dask's retries are an :class:`~a2b.io.atomic.OutputFileError` naming ``path``;
+    a job's error is raised as it is."""
+    from .io.atomic import OutputFileError
 
+    lost: tuple = ()  # the errors of workers that died
+    try:
+        from distributed import KilledWorker, default_client
+
+        lost = (KilledWorker,)
         current = default_client()
     except (ImportError, ValueError):
-        work.compute()
-        return
-    future = current.compute(work)
+        current = None
     try:
-        future.result()
-    except BaseException:
-        current.cancel(future, force=True)
-        raise
+        if current is None:
+            work.compute()
+            return
+        future = current.compute(work)
+        try:
+            future.result()
+        except BaseException:
+            current.cancel(future, force=True)
+            raise
+    except (OSError, *lost) as e:
+        reason = getattr(e, "strerror", None) or str(e)
+        raise OutputFileError(f"cannot write the dataset {path}: {reason}") from e
 
 
 def batch(

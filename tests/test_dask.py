@@ -201,11 +201,20 @@ def test_byte_ranges_start_at_the_first_line_after_their_offset(tmp_path):
     assert parts == [b"aa\n", b"bbbb\n", b"\n", b"cc\n", b"d"]  # lines start at 0, 3, 8, 9, 12
 
 
-def test_killing_a_worker_ends_in_a_complete_dataset_or_a_clear_error(tmp_path):
+@pytest.mark.parametrize("retries", [3, 0])
+def test_killing_a_worker_ends_in_a_complete_dataset_or_a_clear_error(tmp_path, retries):
+    """Dask reruns the tasks of a lost worker (3 times by default); with no retries, the
+    partition fails, and the error says so in one line."""
+    import dask
+
     jobs = write_jobs(tmp_path / "jobs.jsonl", 10_000, seed=11)
     out = tmp_path / "out"
     outcome: dict = {}
-    with cluster(2) as local, distributed.Client(local) as connected:
+    with (
+        dask.config.set({"distributed.scheduler.allowed-failures": retries}),
+        cluster(2) as local,
+        distributed.Client(local) as connected,
+    ):
 
         def run():
             try:
@@ -226,7 +235,9 @@ def test_killing_a_worker_ends_in_a_complete_dataset_or_a_clear_error(tmp_path):
     assert not worker.is_alive()
     print("killed a worker:", repr(outcome.get("error", "the dataset is complete")))
     if "error" in outcome:  # a clear error and no dataset
-        assert str(outcome["error"])
+        assert isinstance(outcome["error"], A2bError)
+        assert str(outcome["error"]).startswith(f"cannot write the dataset {out}: ")
+        assert "\n" not in str(outcome["error"])
         assert not out.exists()
     else:
         assert_dataset_equals(out, *reference(jobs, 11))
