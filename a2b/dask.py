@@ -191,7 +191,8 @@ def jsonl_samples(
     """The samples of a JSON Lines jobs file as a Dask DataFrame, one partition per
     ``blocksize`` bytes of the file (on a file system every worker sees).
 
-    The first pass (counting the lines of each range) runs at once, on the current
+    The file must be JSON Lines (a ``.json`` or ``.yaml`` name is refused: a list cannot be
+    split by bytes). The first pass (counting the lines of each range) runs at once, on the current
     scheduler; the samples are computed when the frame is. Job errors are those of
     ``a2b batch``: ``FILE:LINE:COLUMN: job N: ...`` for the file, ``job NAME: ...`` for
     the mathematics. ``block_jobs``: jobs built together (default
@@ -199,8 +200,13 @@ def jsonl_samples(
     """
     import dask.dataframe as dd
 
+    from .io.jobscan import kind_from_suffix
     from .table import BLOCK_JOBS
 
+    if kind_from_suffix(os.fspath(path)) in ("json", "yaml"):
+        raise InputFileError(
+            f"{path}: a jobs file read in partitions must be JSON Lines (.jsonl), one job a line"
+        )
     parts = _partitions(os.fspath(path), blocksize)
     return dd.from_map(
         _jsonl_partition,

@@ -185,6 +185,12 @@ def test_an_existing_dataset_is_never_merged(client, tmp_path):
     assert (out / "part.00000.parquet").read_bytes() == b"old"
 
 
+def test_a_list_of_jobs_is_refused(tmp_path):
+    with pytest.raises(A2bError, match=r"jobs.yaml: a jobs file read in partitions must be JSON"):
+        a2b_dask.batch(ROOT / "samples" / "jobs.yaml", tmp_path / "out")
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_a_file_without_jobs_is_an_error(client, tmp_path):
     jobs = tmp_path / "jobs.jsonl"
     jobs.write_text("\n  \n")
