@@ -1,0 +1,274 @@
+"""Parquet output (a2b.io.parquet): the CSV's numbers bit for bit, read back in pandas, polars
+and DuckDB with the declared dtypes, streamed in row groups, atomic."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pa = pytest.importorskip("pyarrow")
+pq = pytest.importorskip("pyarrow.parquet")
+
+from a2b.io.atomic import atomic_output  # noqa: E402
+from a2b.io.parquet import (  # noqa: E402
+    LAYOUTS,
+    TWIST_COLUMNS,
+    file_metadata,
+    read_parquet,
+    write_parquet,
+)
+from a2b.io.readers import read_jobs, read_poses  # noqa: E402
+from a2b.io.writers import Chunk, JobRuns, sample_chunks  # noqa: E402
+from a2b.table import chunks_of_blocks  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+SAMPLES = ROOT / "samples"
+REPRESENTATION = {"csv": "quat_trans", "matrix": "matrices", "study": "study"}
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(29)
+
+
+def a2b_csv(*args: str) -> tuple[list[str], np.ndarray]:
+    """Run ``a2b`` and parse its CSV with Python's float (the shortest round trip)."""
+    done = subprocess.run(
+        [sys.executable, "-m", "a2b", *args], cwd=ROOT, capture_output=True, check=True
+    )
+    rows = list(csv.reader(io.StringIO(done.stdout.decode())))
+    header, rows = rows[0], rows[1:]
+    return header, rows
+
+
+def batch_parquet(tmp_path, jobs: str, layout: str, **options) -> Path:
+    """The jobs file as Parquet, through the library (the table's code path)."""
+    with open(SAMPLES / jobs, "rb") as stream:
+        blocks = read_jobs(stream, str(SAMPLES / jobs)).blocks(1024)
+        chunks = chunks_of_blocks(blocks, layout=layout)
+        target = tmp_path / f"{jobs}.{layout}.parquet"
+        with atomic_output(target) as out:
+            write_parquet(out, chunks, layout, motion={"mode": "darboux"}, **options)
+    return target
+
+
+@pytest.mark.parametrize("layout", ["csv", "matrix", "study"])
+def test_batch_numbers_equal_the_csv_bit_for_bit(tmp_path, layout):
+    header, rows = a2b_csv("batch", "samples/jobs.yaml", "--format", layout)
+    path = batch_parquet(tmp_path, "jobs.yaml", layout)
+    table = pq.read_table(path)
+    assert table.schema.names == header
+    assert table.column("job").to_pylist() == [row[0] for row in rows]
+    expected = np.array([[float(x) for x in row[1:]] for row in rows])
+    got = np.column_stack([table.column(name).to_numpy() for name in header[1:]])
+    assert got.tobytes() == expected.tobytes()
+
+
+def test_interpolate_numbers_equal_the_csv_bit_for_bit(tmp_path):
+    import a2b
+
+    header, rows = a2b_csv("interpolate", "samples/quarter-turn.yaml")
+    with open(SAMPLES / "quarter-turn.yaml", "rb") as stream:
+        job = read_poses(stream)
+    motion = a2b.motion(job.start, job.end)
+    ts = np.linspace(0.0, 1.0, 101)
+    target = tmp_path / "turn.parquet"
+    with atomic_output(target) as out:
+        write_parquet(out, sample_chunks(motion, ts, "quat_trans", size=40), "csv")
+    table = pq.read_table(target)
+    assert table.schema.names == header  # no job column for one motion
+    expected = np.array([[float(x) for x in row] for row in rows])
+    got = np.column_stack([table.column(name).to_numpy() for name in header])
+    assert got.tobytes() == expected.tobytes()
+    assert pq.ParquetFile(target).metadata.num_row_groups == 1  # 3 blocks, one row group
+
+
+def test_pandas_polars_and_duckdb_read_the_same_numbers_and_dtypes(tmp_path):
+    pd = pytest.importorskip("pandas")
+    pl = pytest.importorskip("polars")
+    duckdb = pytest.importorskip("duckdb")
+    path = batch_parquet(tmp_path, "jobs.yaml", "csv", duration=2.0, start_time=10.0)
+    table = pq.read_table(path)
+    names = ["job", "t", "time", *LAYOUTS["csv"]]
+    assert table.schema.names == names
+    assert table.schema.field("job").type == pa.dictionary(pa.int32(), pa.string())
+    expected = {name: table.column(name).to_numpy() for name in names[1:]}
+    np.testing.assert_array_equal(expected["time"], expected["t"] * 2.0 + 10.0)
+
+    frame = pd.read_parquet(path)
+    assert isinstance(frame["job"].dtype, pd.CategoricalDtype)
+    assert all(frame[name].dtype == np.float64 for name in names[1:])
+    polars = pl.read_parquet(path)
+    assert polars.schema["job"] == pl.Categorical
+    assert all(polars.schema[name] == pl.Float64 for name in names[1:])
+    connection = duckdb.connect()
+    described = connection.execute(f"DESCRIBE SELECT * FROM '{path}'").fetchall()
+    types = {row[0]: row[1] for row in described}
+    assert types == {"job": "VARCHAR", **dict.fromkeys(names[1:], "DOUBLE")}
+    duck = connection.execute(f"SELECT * FROM '{path}'").fetchnumpy()
+
+    jobs = table.column("job").to_pylist()
+    assert frame["job"].astype(str).tolist() == jobs
+    assert polars["job"].cast(pl.String).to_list() == jobs
+    assert list(duck["job"]) == jobs
+    for name in names[1:]:
+        for got in (frame[name].to_numpy(), polars[name].to_numpy(), duck[name]):
+            assert np.asarray(got, dtype=float).tobytes() == expected[name].tobytes()
+
+
+def test_metadata_holds_the_layout_units_and_motion(tmp_path):
+    path = batch_parquet(tmp_path, "jobs.yaml", "matrix", duration=2.0)
+    metadata = file_metadata(pq.read_schema(path))
+    assert metadata["layout"] == "matrix"
+    assert metadata["motion"] == {"mode": "darboux"}
+    assert metadata["units"]["time"] == "s"
+    assert metadata["units"]["tx"] == "length"
+    assert metadata["units"]["r11"] == ""
+    assert "job" not in metadata["units"]
+
+
+def chunks_of(rng, n: int, names: list, size: int, layout: str, twist=False, original=False):
+    """Random samples of ``n`` rows named by ``names`` in runs, in blocks of ``size``."""
+    from a2b.poses import matrices_from_quat_trans, study_from_matrices
+
+    quat = rng.normal(size=(n, 4))
+    quat /= np.linalg.norm(quat, axis=1)[:, None]
+    trans = rng.normal(size=(n, 3)) * 10
+    matrices = matrices_from_quat_trans(quat, trans)
+    runs = np.repeat(names, n // len(names)).tolist()
+    out = []
+    for lo in range(0, n, size):
+        part = slice(lo, lo + size)
+        chunk = Chunk(np.linspace(0, 1, n)[part], job=runs[part])
+        if layout == "csv":
+            chunk.quat_wxyz, chunk.trans = quat[part], trans[part]
+        elif layout == "matrix":
+            chunk.matrices = matrices[part]
+        else:
+            chunk.study = study_from_matrices(matrices[part])
+        if twist:
+            chunk.twist = rng.normal(size=(len(chunk.t), 6))
+        if original:
+            chunk.original = rng.random(len(chunk.t)) < 0.5
+        out.append(chunk)
+    return out
+
+
+@pytest.mark.parametrize("layout", ["csv", "matrix", "study"])
+def test_round_trip_through_the_reader(tmp_path, rng, layout):
+    chunks = chunks_of(rng, 600, ["a", "b,c", "ü\n"], 128, layout, twist=True, original=True)
+    path = tmp_path / "x.parquet"
+    with open(path, "wb") as out:
+        rows = write_parquet(out, chunks, layout, row_group_rows=250, motion={"m": np.ones(4)})
+    assert rows == 600
+    samples, time, metadata = read_parquet(path)
+    assert time is None
+    assert metadata["motion"] == {"m": [1.0, 1.0, 1.0, 1.0]}
+    np.testing.assert_array_equal(samples.t, np.concatenate([c.t for c in chunks]))
+    field = {"csv": "quat_wxyz", "matrix": "matrices", "study": "study"}[layout]
+    np.testing.assert_array_equal(
+        getattr(samples, field), np.concatenate([getattr(c, field) for c in chunks])
+    )
+    np.testing.assert_array_equal(samples.twist, np.concatenate([c.twist for c in chunks]))
+    np.testing.assert_array_equal(samples.original, np.concatenate([c.original for c in chunks]))
+    assert samples.job.names == ["a", "b,c", "ü\n"]
+    assert samples.job.counts == [200, 200, 200]
+    names = pq.read_schema(path).names
+    assert names[-7:] == [*TWIST_COLUMNS, "original"]
+    groups = pq.ParquetFile(path).metadata
+    assert [groups.row_group(i).num_rows for i in range(groups.num_row_groups)] == [250, 250, 100]
+
+
+def test_row_groups_keep_memory_bounded(tmp_path):
+    """Two million rows (134 MB of numbers) written by a process that grows by far less."""
+    code = """if True:
+        import resource, sys, numpy as np
+        from a2b.io.parquet import write_parquet
+        from a2b.io.writers import Chunk, JobRuns
+        n = 1 << 16
+        rng = np.random.default_rng(1)
+        block = Chunk(np.linspace(0, 1, n), quat_wxyz=rng.normal(size=(n, 4)),
+                      trans=rng.normal(size=(n, 3)), job=JobRuns(["a", "b"], [n // 2, n // 2]))
+        def peak():
+            return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss << 10
+        with open(sys.argv[1], "wb") as out:  # warm up: the libraries' first allocations
+            write_parquet(out, [block] * 4, "csv")
+        before = peak()
+        with open(sys.argv[1], "wb") as out:
+            rows = write_parquet(out, (block for _ in range(32)), "csv")
+        print(rows, peak() - before)
+    """
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(tmp_path / "big.parquet")],
+        cwd=ROOT, capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    rows, grown = map(int, done.stdout.split())
+    assert rows == 32 << 16
+    assert grown < 48 << 20, f"grew by {grown >> 20} MB"
+    metadata = pq.ParquetFile(tmp_path / "big.parquet").metadata
+    assert metadata.num_row_groups == 16
+
+
+def test_a_failure_leaves_no_file_and_the_old_one_untouched(tmp_path, rng):
+    path = tmp_path / "x.parquet"
+    path.write_bytes(b"old")
+
+    def failing():
+        yield from chunks_of(rng, 256, ["a"], 128, "csv")
+        raise RuntimeError("stop")
+
+    with pytest.raises(RuntimeError, match="stop"), atomic_output(path) as out:
+        write_parquet(out, failing(), "csv")
+    assert path.read_bytes() == b"old"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.parquet"]
+
+
+def test_no_chunks_write_an_empty_file_with_its_columns(tmp_path):
+    path = tmp_path / "empty.parquet"
+    with open(path, "wb") as out:
+        assert write_parquet(out, [], "study", duration=1.0) == 0
+    table = pq.read_table(path)
+    assert table.num_rows == 0
+    assert table.schema.names == ["t", "time", *LAYOUTS["study"]]
+
+
+def test_a_pipe_takes_parquet(tmp_path):
+    code = (
+        "import sys, numpy as np\n"
+        "from a2b.io.parquet import write_parquet\n"
+        "from a2b.io.writers import Chunk\n"
+        "c = Chunk(np.array([0.0, 1.0]), study=np.eye(8)[:2], job=['a', 'b'])\n"
+        "write_parquet(sys.stdout.buffer, [c], 'study')\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], cwd=ROOT, stdout=subprocess.PIPE, check=True
+    )
+    table = pq.read_table(pa.BufferReader(done.stdout))
+    assert table.column("job").to_pylist() == ["a", "b"]
+    assert table.column("p0").to_pylist() == [1.0, 0.0]
+
+
+def test_blocks_must_carry_the_columns_of_the_first(rng):
+    first, second = chunks_of(rng, 256, ["a"], 128, "csv")
+    second.job = None
+    with pytest.raises(ValueError, match="columns"):
+        write_parquet(io.BytesIO(), [first, second], "csv")
+
+
+def test_runs_in_the_job_column_read_back(tmp_path):
+    chunk = Chunk(
+        np.zeros(5), study=np.tile(np.eye(8)[0], (5, 1)), job=JobRuns(["a", "b", "a"], [2, 1, 2])
+    )
+    path = tmp_path / "runs.parquet"
+    with open(path, "wb") as out:
+        write_parquet(out, [chunk], "study")
+    samples, _, _ = read_parquet(path)
+    assert (samples.job.names, samples.job.counts) == (["a", "b", "a"], [2, 1, 2])
+    json.dumps(file_metadata(pq.read_schema(path)))  # plain data
