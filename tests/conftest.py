@@ -98,3 +98,18 @@ def clients() -> Path:
         shutil.rmtree(home, ignore_errors=True)
         pytest.skip(f"{', '.join(CLIENTS)} could not be installed from the package index: {e}")
     return home / "bin"
+
+
+#: The heavy tests, each a pytest marker: README's `pytest` leaves them out (pyproject.toml's
+#: addopts), `.ci/run` runs them as a second step, and `pytest -m ""` runs everything.
+#: A test that uses one of these fixtures carries the marker without saying so.
+HEAVY_FIXTURES = {"clients": "clients", "chromium": "browser"}
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        for fixture, marker in HEAVY_FIXTURES.items():
+            if fixture in getattr(item, "fixturenames", ()):
+                item.add_marker(marker)
+        if item.path.name == "test_fuzz.py":
+            item.add_marker("fuzz")

@@ -1,4 +1,4 @@
-"""The arrows of the package point one way: cli → plot → scene → output → io → jobs → api →
+"""The arrows of the package point one way: cli → plot → scene → datasets → output → io → jobs → api →
 motions → core.
 
 Every import of every module (at the top or inside a function) is read from the source. A
@@ -25,6 +25,7 @@ LAYERS = [
     ("jobs", ["a2b.jobs", "a2b.resample", "a2b.timelaw", "a2b.samples"]),
     ("io", ["a2b.io"]),
     ("output", ["a2b.output"]),
+    ("datasets", ["a2b.table", "a2b.dask"]),
     ("scene", ["a2b.scene"]),
     ("plot", ["a2b.plot", "a2b.view"]),
     ("cli", ["a2b.cli", "a2b.__main__"]),
