@@ -20,7 +20,7 @@ LAYERS = [
               "a2b.poses", "a2b.extended", "a2b.frames", "a2b.fibers", "a2b.kinematics"]),
     ("motions", ["a2b.motions"]),
     ("api", ["a2b.api"]),
-    ("jobs", ["a2b.jobs", "a2b.resample", "a2b.timelaw"]),
+    ("jobs", ["a2b.jobs", "a2b.resample", "a2b.timing"]),
     ("io", ["a2b.io"]),
     ("plot", ["a2b.plot", "a2b.view"]),
     ("cli", ["a2b.cli", "a2b.__main__"]),

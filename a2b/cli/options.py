@@ -314,7 +314,7 @@ TIME_LAW_OPTIONS = (
 
 
 def time_law_options(f=None, *, sampling: bool = True):
-    """A time law (:mod:`a2b.timelaw`): profile, limits, point, constant speed and, with
+    """A time law (:mod:`a2b.timing`): profile, limits, point, constant speed and, with
     ``sampling`` (commands that write samples), the sampling in time and velocity output. Any
     of them times the samples; :func:`pop_time_law` takes them. ``@time_law_options`` or
     ``@time_law_options(sampling=False)``."""
@@ -396,10 +396,10 @@ def law_given(law: dict) -> bool:
 
 
 def time_law(motion, law: dict, duration: float | None, choices: list, always: bool = False):
-    """The :class:`a2b.timelaw.TimedMotion` the options ``law`` ask for, or ``None`` (samples
+    """The :class:`a2b.timing.TimedMotion` the options ``law`` ask for, or ``None`` (samples
     even in t, as before); with ``always`` a law even when no time-law option is given (over
     ``--duration``, else 1 s). ``duration``: ``--duration`` if given."""
-    from ..timelaw import timing
+    from ..timing import timing
 
     limits = {
         k: law[k]
