@@ -317,7 +317,7 @@ def test_duration_slows_the_law_down_and_a_short_one_is_refused(rng):
     slower = timing(motion, max_speed=1.0, max_accel=1.0, duration=fastest.duration * 2)
     assert slower.duration == pytest.approx(fastest.duration * 2, rel=1e-15)
     assert slower.binding == "duration"
-    with pytest.raises(ParameterError, match="the limits need at least"):
+    with pytest.raises(ParameterError, match=r"limit \(max_.*\) needs at least .* s; the duration"):
         timing(motion, max_speed=1.0, max_accel=1.0, duration=fastest.duration / 2)
 
 
@@ -329,7 +329,7 @@ def test_bad_requests_are_clear_errors(rng):
         timing(motion, "trapezoid", max_accel=1, max_jerk=1)
     with pytest.raises(ParameterError, match="unbounded acceleration"):
         timing(motion, "linear", max_accel=1)
-    with pytest.raises(ParameterError, match="positive finite number"):
+    with pytest.raises(ParameterError, match="is -1 length/s; usable values run from 1e-30"):
         timing(motion, max_speed=-1)
     with pytest.raises(ParameterError, match="profile must be one of"):
         timing(motion, "cubic", duration=1)

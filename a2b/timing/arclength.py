@@ -50,7 +50,9 @@ def arc_lengths(motion, point=None) -> tuple[np.ndarray, np.ndarray]:
     own count until two counts agree to :data:`ARC_TOL` relative (at most :data:`MOST_PANELS`),
     so a smooth path costs a few dozen speeds. The cumulative lengths of a batch are padded
     with ``+inf`` past each motion's last panel edge: a motion's panel count is the number of
-    its finite entries less one. Blocks of :data:`ARC_BLOCK` motions bound memory.
+    its finite entries less one. Blocks of :data:`ARC_BLOCK` motions bound memory. A length
+    within the rounding floor (1e-12 of the point's distance from the origin at the ends) is
+    0: the point does not move.
 
     Raises
     ------
@@ -126,6 +128,11 @@ def _arc_lengths(
     cumulative[:, 0] = 0.0
     for width, (which, sums) in rows.items():
         cumulative[which, 1 : width + 1] = sums
+    # a length at the rounding floor is 0 to the accuracy reached: the point does not move
+    # (a pose to itself gives lengths of 1e-16, which would time a law of 1e-16 s)
+    still = total <= floor
+    total[still] = 0.0
+    cumulative[still] = np.where(np.isfinite(cumulative[still]), 0.0, np.inf)
     return total, cumulative
 
 

@@ -11,7 +11,7 @@ from ..kinematics import accelerations as _accelerations
 from ..kinematics import twists as _twists
 from .arclength import arc_lengths, invert_arc_length, lengths_at
 from .grid import TimeGrid
-from .profiles import PROFILES, Profile, _profile_peaks, build, shaped
+from .profiles import PROFILES, QUINTIC_PEAKS, Profile, _profile_peaks, build, shaped
 
 __all__ = ["LIMITS", "TimedMotion", "timing"]
 
@@ -40,6 +40,11 @@ GRID = 65
 PATH_GRID = 257
 STEPS = 40
 CANDIDATES = 6
+#: The usable range of every limit and of a duration, in its units: beyond it a law's powers
+#: of time (up to the fifth) overflow or underflow double precision.
+USABLE = (1e-30, 1e30)
+#: The largest rotation per unit σ (rad) that is rounding: a rotation that does not move.
+STILL_TURN = 1e-12
 #: Motions evaluated together (bounds memory: a block of derivative stacks is ~70 MB).
 BLOCK = 1024
 
@@ -66,20 +71,26 @@ def _limit_values(limits: dict, shape: tuple) -> dict:
     for name, given in limits.items():
         if name not in LIMITS:
             raise ParameterError(f"unknown limit {name!r}; expected one of {', '.join(LIMITS)}")
-        if given is None:
-            continue
-        arr = np.broadcast_to(np.asarray(given, dtype=float), shape)
-        refuse(
-            ParameterError,
-            ~(arr > 0) | ~np.isfinite(arr),
-            lambda i, n=name, a=arr: (
-                f"the {n.replace('_', ' ')} limit must be a positive "
-                f"finite number, got {value(a, i):g}"
-            ),
-            shape,
-        )
-        out[name] = arr
+        if given is not None:
+            out[name] = _in_range(given, _limit_words(name), UNITS[name], shape)
     return out
+
+
+def _in_range(given, words: str, unit: str, shape: tuple) -> np.ndarray:
+    """``given`` broadcast to ``shape``, refused unless every element lies in
+    :data:`USABLE` (beyond it the laws overflow or underflow double precision)."""
+    arr = np.broadcast_to(np.asarray(given, dtype=float), shape)
+    low, high = USABLE
+    refuse(
+        ParameterError,
+        ~((arr >= low) & (arr <= high)),
+        lambda i: (
+            f"the {words} is {value(arr, i):.6g} {unit}; usable values run from {low:g} to "
+            f"{high:g} {unit}"
+        ),
+        shape,
+    )
+    return arr
 
 
 class TimedMotion:
@@ -223,8 +234,24 @@ class TimedMotion:
         return _accelerations(self._stack(self._check_times(times), 2)[1], frame, point)
 
     def rates(self, times) -> dict:
-        """The limited rates at ``times``, ``S + (N,)`` each (:func:`a2b.kinematics.path_rates`)."""
-        return path_rates(self._stack(self._check_times(times), 3)[1], self.point)
+        """The limited rates at ``times``, ``S + (N,)`` each (:func:`a2b.kinematics.path_rates`).
+
+        At rest (``τ = 0`` and ``τ = T``) the point's velocity is zero and gives ``s̈`` and
+        ``s⃛`` no sign; there they are the law's: ``s̈ = g σ̈`` and ``s⃛ = g σ⃛``, with ``g`` the
+        point's speed per unit ``σ`` (``σ̇ = 0``, so the terms in ``σ̇`` vanish)."""
+        arr = self._check_times(times)
+        law = self.profile.values(arr)
+        t, stack = self._stack_at(law, 3)
+        out = path_rates(stack, self.point)
+        rest = (arr <= 0) | (arr >= np.asarray(self.profile.duration)[..., None])
+        if rest.any():
+            if self.constant_speed:
+                gain = np.broadcast_to(np.asarray(self._lengths[0])[..., None], t.shape)
+            else:
+                gain = self.motion.point_speeds(t, self.point)
+            out["accel"] = np.where(rest, gain * law[..., 2], out["accel"])
+            out["jerk"] = np.where(rest, gain * law[..., 3], out["jerk"])
+        return out
 
     # -- peaks --------------------------------------------------------------------------------
     def _rates_in_phase(self, phase: np.ndarray, dt: np.ndarray) -> dict:
@@ -374,39 +401,83 @@ def timing(
     constant_speed: bool = False,
 ) -> TimedMotion:
     """Time ``motion`` (a :class:`~a2b.motions.base.Motion` of any shape, or a Bézier motion or
-    spline) by a law ``profile`` under limits and/or a ``duration``: see the module.
+    spline) by a law ``profile`` under limits and/or a ``duration``: see :mod:`a2b.timing`.
 
     ``profile``: ``linear``, ``trapezoid``, ``jerk-limited`` or ``quintic``; by default
     ``jerk-limited`` with ``max_jerk``, else ``trapezoid`` with an acceleration limit, else
-    ``linear``. Limits are positive numbers (broadcast against the motions); ``point`` is the
-    body point ``(x, y, z)`` in the moving frame whose speed is limited (the origin by
-    default). Returns a :class:`TimedMotion`.
+    ``quintic`` with a speed limit (every default with a limit is at rest at both ends), and
+    ``linear`` with a duration alone (evenly in t, as without a law). Limits are positive
+    numbers from 1e-30 to 1e30 (broadcast against the motions); ``point`` is the body point
+    ``(x, y, z)`` in the moving frame whose speed is limited (the origin by default). With a
+    ``duration``, a profile that the limits do not determine (a trapezoid with only a speed
+    limit) takes its fixed shape over that duration, and the limits are checks. Returns a
+    :class:`TimedMotion`.
 
     Raises
     ------
     ParameterError
         If no duration or limit is given, the profile cannot meet a limit given (``linear`` has
-        no acceleration bound, ``trapezoid`` no jerk bound), a limit is not a positive number,
-        or ``duration`` is shorter than the limits allow.
+        no acceleration bound, ``trapezoid`` no jerk bound), a limit or the duration is not a
+        number from 1e-30 to 1e30, ``duration`` is shorter than the limits allow, the limits
+        do not bound a motion and no duration is given, or ``constant_speed`` is asked of a
+        point that does not move.
     """
     shape = motion.shape if hasattr(motion, "table") else ()
     point = check_point(point)
-    limits = _limit_values(
-        {
-            "speed": max_speed,
-            "accel": max_accel,
-            "jerk": max_jerk,
-            "angular_speed": max_angular_speed,
-            "angular_accel": max_angular_accel,
-        },
-        shape,
-    )
+    given = {
+        "speed": max_speed,
+        "accel": max_accel,
+        "jerk": max_jerk,
+        "angular_speed": max_angular_speed,
+        "angular_accel": max_angular_accel,
+    }
+    limits = _limit_values(given, shape)
+    profile = _profile_for(profile, limits)
+    if duration is not None:
+        duration = _in_range(duration, "duration (--duration)", "s", shape)
+    if not limits and duration is None:
+        raise ParameterError("a time law needs a duration or at least one limit")
+    lengths = None
+    if constant_speed or (limits.keys() & set(LINEAR)):
+        lengths = arc_lengths(motion, point)
+        if constant_speed:
+            refuse(
+                ParameterError,
+                ~(lengths[0] > 0),
+                lambda i: (
+                    "the point does not move (its path length is 0 to rounding): it has no "
+                    "constant speed to keep; choose another --point"
+                ),
+                shape,
+            )
+    timed = TimedMotion(motion, None, point, constant_speed, limits, lengths)
+    if not limits:
+        timed.profile = shaped(profile, duration)
+        return timed
+    exact = constant_speed and not ({"angular_speed", "angular_accel"} & set(limits))
+    bounds = _sigma_limits(motion, timed, exact, shape)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        timed.profile = build(profile, *_fill(profile, bounds, duration))
+    factor, binding = _slowest(timed, exact, shape)
+    if not exact:
+        timed.profile = timed.profile.scaled(factor)
+    if duration is not None:
+        binding = _stretch(timed, duration, binding, shape)
+    _check_finite_law(timed, shape)
+    timed.binding = binding if shape else str(binding)
+    return timed
+
+
+def _profile_for(profile: str | None, limits: dict) -> str:
+    """The profile asked for, or the default for ``limits`` (see :func:`timing`)."""
     if profile is None:
         profile = (
             "jerk-limited"
             if "jerk" in limits
             else "trapezoid"
             if {"accel", "angular_accel"} & set(limits)
+            else "quintic"
+            if limits
             else "linear"
         )
     if profile not in PROFILES:
@@ -421,39 +492,21 @@ def timing(
             "the trapezoid changes its acceleration at once (unbounded jerk); with --max-jerk "
             "use the jerk-limited or quintic profile"
         )
-    if duration is not None:
-        duration = np.broadcast_to(np.asarray(duration, dtype=float), shape)
-        refuse(
-            ParameterError,
-            ~(duration > 0) | ~np.isfinite(duration),
-            lambda i: f"the duration must be a positive number, got {value(duration, i):g}",
-            shape,
-        )
-    if not limits and duration is None:
-        raise ParameterError("a time law needs a duration or at least one limit")
-    linear_only = not ({"angular_speed", "angular_accel"} & set(limits))
-    lengths = None
-    if constant_speed or (limits.keys() & set(LINEAR)):
-        lengths = arc_lengths(motion, point)
-        if constant_speed:
-            refuse(
-                ParameterError,
-                ~(lengths[0] > 0),
-                lambda i: (
-                    "the point does not move: it has no constant speed to keep; choose "
-                    "another --point"
-                ),
-                shape,
-            )
-    timed = TimedMotion(motion, None, point, constant_speed, limits, lengths)
-    if not limits:
-        timed.profile = shaped(profile, duration)
-        return timed
-    exact = constant_speed and linear_only
+    return profile
+
+
+def _sigma_limits(motion, timed: TimedMotion, exact: bool, shape: tuple) -> tuple:
+    """The limits turned into limits on ``σ̇, σ̈, σ⃛`` through the largest rates of the path per
+    unit ``σ`` (``inf`` where none applies, or where the limited quantity does not move)."""
+    limits, lengths = timed.limits, timed._lengths
     if exact:  # |dx/dσ| = L; the rotation is not limited
         along, turn = np.asarray(lengths[0]), np.zeros(shape)
     else:
-        along, turn = _gains(motion, point, constant_speed, lengths)
+        along, turn = _gains(motion, timed.point, timed.constant_speed, lengths)
+        # what does not move to rounding does not bound the law (a pose to itself)
+        turn = np.where(turn > STILL_TURN, turn, 0.0)
+        if lengths is not None:
+            along = np.where(np.asarray(lengths[0]) > 0, along, 0.0)
     inf = np.full(shape, np.inf)
     with np.errstate(divide="ignore", invalid="ignore"):
 
@@ -465,53 +518,96 @@ def timing(
                 out = np.minimum(out, np.where(turn > 0, limits[angular] / turn, np.inf))
             return out
 
-        speed, accel, jerk = (
-            bound("speed", "angular_speed"),
-            bound("accel", "angular_accel"),
-            bound("jerk", None),
-        )
-    needs = {"linear": speed, "trapezoid": accel, "jerk-limited": jerk}
-    needs["quintic"] = np.minimum.reduce([speed, accel, jerk])
-    missing = ~np.isfinite(needs[profile])
-    if missing.any():
-        what = {
-            "linear": "a speed limit",
-            "trapezoid": "an acceleration limit",
-            "jerk-limited": "a jerk limit",
-            "quintic": "a limit",
-        }[profile]
+        return bound("speed", "angular_speed"), bound("accel", "angular_accel"), bound("jerk", None)
+
+
+#: What each profile needs of the limits on ``σ̇, σ̈, σ⃛`` to be determined, in words.
+NEEDS = {
+    "linear": "a speed limit",
+    "trapezoid": "an acceleration limit",
+    "jerk-limited": "a jerk limit",
+    "quintic": "a limit",
+}
+
+
+def _fill(profile: str, bounds: tuple, duration) -> tuple:
+    """``σ̇, σ̈, σ⃛`` limits that determine ``profile``: where those given do not (a trapezoid
+    with only a speed limit), the profile's fixed shape over ``duration`` (:func:`shaped`),
+    whose peaks the limits then check; without a duration that is an error."""
+    speed, accel, jerk = bounds
+    need = {"linear": speed, "trapezoid": accel, "jerk-limited": jerk}.get(
+        profile, np.minimum.reduce([speed, accel, jerk])
+    )
+    missing = ~np.isfinite(need)
+    if not missing.any():
+        return bounds
+    if duration is None:
         raise ParameterError(
-            f"the {profile} profile needs {what} or a duration (the limits given do not bound "
-            "this motion: its point or its rotation does not move)"
+            f"the {profile} profile needs {NEEDS[profile]} or a duration (the limits given do "
+            "not bound this motion: its point or its rotation does not move)"
         )
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        timed.profile = build(profile, speed, accel, jerk)
+    d, inf = np.broadcast_to(duration, missing.shape), np.inf
+    fixed = {  # the limits that build shaped(profile, d)
+        "linear": (1.0 / d, inf, inf),
+        "trapezoid": (1.5 / d, 4.5 / d**2, inf),
+        "jerk-limited": (1.5 / d, inf, 54.0 / d**3),
+        "quintic": (QUINTIC_PEAKS[0] / d, inf, inf),
+    }[profile]
+    return tuple(np.where(missing, f, b) for f, b in zip(fixed, bounds))
+
+
+def _slowest(timed: TimedMotion, exact: bool, shape: tuple) -> tuple:
+    """The factor ``c = max (peak / limit)^(1/k)`` by which time must stretch for every limit
+    to hold (the tightest reached), and the name of that limit, per motion."""
+    limits = timed.limits
     if exact:
-        ratios = {}
-        base_peaks = _profile_peaks(timed.profile, np.asarray(lengths[0]))
-        for name in limits:
-            ratios[name] = (base_peaks[name] / limits[name]) ** (1.0 / LIMITS[name])
+        found = _profile_peaks(timed.profile, np.asarray(timed._lengths[0]))
     else:
         found = timed.peaks(list(limits))
-        ratios = {n: (np.asarray(found[n]) / limits[n]) ** (1.0 / LIMITS[n]) for n in limits}
+    ratios = {n: (np.asarray(found[n]) / limits[n]) ** (1.0 / LIMITS[n]) for n in limits}
     names = list(ratios)
     stacked = np.stack([np.broadcast_to(ratios[n], shape) for n in names], axis=-1)
-    factor = stacked.max(axis=-1)
-    binding = np.array(names, dtype=object)[np.argmax(stacked, axis=-1)]
-    if not exact:
-        timed.profile = timed.profile.scaled(factor)
-    if duration is not None:
-        shortest = timed.profile.duration
-        refuse(
-            ParameterError,
-            duration < shortest * (1 - 1e-12),
-            lambda i: (
-                f"the limits need at least {value(shortest, i):.9g} s; the duration "
-                f"{value(duration, i):.9g} s is shorter"
-            ),
-            shape,
-        )
-        timed.profile = timed.profile.scaled(duration / shortest)
-        binding = np.where(duration > shortest * (1 + 1e-12), "duration", binding)
-    timed.binding = binding if shape else str(binding)
-    return timed
+    return stacked.max(axis=-1), np.array(names, dtype=object)[np.argmax(stacked, axis=-1)]
+
+
+def _stretch(timed: TimedMotion, duration, binding, shape: tuple):
+    """Slow the law uniformly to ``duration`` (an error where the limits need longer); the
+    binding becomes ``duration`` where it is longer than the limits need."""
+    shortest = timed.profile.duration
+    name = np.broadcast_to(binding, shape)
+    refuse(
+        ParameterError,
+        duration < shortest * (1 - 1e-12),
+        lambda i: (
+            f"the {_limit_words(name.flat[i])} needs at least "
+            f"{value(shortest, i):.9g} s; the duration {value(duration, i):.9g} s is shorter"
+        ),
+        shape,
+    )
+    timed.profile = timed.profile.scaled(duration / shortest)
+    return np.where(duration > shortest * (1 + 1e-12), "duration", binding)
+
+
+def _limit_words(name: str) -> str:
+    """A limit in words, with its keyword and its option: ``acceleration limit (max_accel,
+    --max-accel)``."""
+    words = name.replace("_", " ").replace("accel", "acceleration")
+    return f"{words} limit (max_{name}, --max-{name.replace('_', '-')})"
+
+
+def _check_finite_law(timed: TimedMotion, shape: tuple) -> None:
+    """Refuse a law that overflowed double precision on the way (extreme limits and paths)."""
+    profile = timed.profile
+    bad = ~np.isfinite(profile.coefficients).all(axis=(-2, -1)) | ~np.isfinite(profile.starts).all(
+        axis=-1
+    )
+    bad |= ~(profile.duration > 0)
+    refuse(
+        ParameterError,
+        bad,
+        lambda i: (
+            f"the time law overflows double precision (its duration is "
+            f"{value(profile.duration, i):.3g} s): the limits are too extreme for this path"
+        ),
+        shape,
+    )
