@@ -333,7 +333,7 @@ def time_law_options(f=None, *, sampling: bool = True):
             type=click.Choice(("linear", "trapezoid", "jerk-limited", "quintic")),
             help="Time the samples by this profile, at rest at both ends except linear  "
             "[default with limits: jerk-limited with --max-jerk, trapezoid with an acceleration "
-            "limit, else linear]",
+            "limit, else quintic; linear with --duration alone]",
         )
     ]
     for name, words in limit.items():
