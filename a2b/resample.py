@@ -354,7 +354,7 @@ class NewTimes:
         if self.grid is None:
             from .timing.grid import TimeGrid
 
-            self.start, self.grid = start, TimeGrid.every(1.0 / self.rate, start)
+            self.start, self.grid = start, TimeGrid.at_rate(self.rate, start)
         end = self.grid.upto(limit, self.start)
         _check_resolution(self.rate, self.grid.step, self.start, limit)
         for lo in range(self.taken, end, BLOCK):

@@ -54,10 +54,12 @@ class TimeGrid:
     last exactly ``end`` (seconds after the origin) when given.
 
     Build it with :meth:`covering` (from 0 to a duration, as a time law is sampled) or
-    :meth:`every` (an open-ended grid, as ``a2b resample --rate`` samples a trajectory).
+    :meth:`at_rate` (an open-ended grid, as ``a2b resample --rate`` samples a trajectory).
     """
 
-    def __init__(self, origin_ns: int, step: float, count: int, end: float | None = None):
+    def __init__(
+        self, origin_ns: int, step: float, count: int, end: float | None = None, rate=None
+    ):
         if not (np.isfinite(step) and step > 0):
             raise ParameterError(f"the time step must be a positive number, got {step:g} s")
         if not 1 <= count <= MOST_TIMES:
@@ -70,6 +72,9 @@ class TimeGrid:
         self.end = None if end is None else float(end)
         #: The step in whole nanoseconds, where it is one (then stamps are exact).
         self.step_ns = _whole_ns(self.step)
+        #: The rate the step came from, if any: offsets are then ``i / rate``, correctly
+        #: rounded (``i · (1 / rate)`` can be an ulp off).
+        self.rate = None if rate is None else float(rate)
 
     @classmethod
     def covering(cls, duration: float, *, rate=None, dt=None, samples=None, origin: float = 0.0):
@@ -89,7 +94,10 @@ class TimeGrid:
             if not 2 <= samples <= MOST_TIMES:
                 raise ParameterError(f"give 2 to 2**53 samples, got {samples}")
             return cls(nanoseconds(origin), duration / (samples - 1), int(samples), duration)
-        step = float(dt) if dt is not None else 1.0 / float(rate)
+        if rate is None and dt is None:
+            raise ParameterError("give a rate, a time step or a number of samples")
+        rate = None if dt is not None else float(rate)
+        step = float(dt) if dt is not None else 1.0 / rate
         if not (np.isfinite(step) and step > 0):
             raise ParameterError(f"the time step must be a positive number, got {step:g} s")
         steps = duration / step
@@ -98,16 +106,16 @@ class TimeGrid:
                 f"sampling {duration:.9g} s every {step:.3g} s takes {steps:.3g} times, more "
                 "than 2**53 (what a double can count); give a lower --rate or a larger --dt"
             )
-        count = int(np.floor(steps * (1 + 1e-12))) + 1  # the end, if a step lands on it
-        if (count - 1) * step < duration * (1 - 1e-12):
-            count += 1
-        return cls(nanoseconds(origin), step, count, duration)
+        # a time within a billionth of a step of the end is the end; else the end is added
+        whole = int(np.floor(steps + 1e-9))
+        count = whole + 1 + (steps - whole > 1e-9)
+        return cls(nanoseconds(origin), step, count, duration, rate)
 
     @classmethod
-    def every(cls, step: float, origin: float) -> TimeGrid:
-        """An open-ended grid every ``step`` s from ``origin`` s: :meth:`upto` says how many of
-        its times lie up to a time."""
-        return cls(nanoseconds(origin), step, MOST_TIMES)
+    def at_rate(cls, rate: float, origin: float) -> TimeGrid:
+        """An open-ended grid every ``1 / rate`` s from ``origin`` s: :meth:`upto` says how
+        many of its times lie up to a time."""
+        return cls(nanoseconds(origin), 1.0 / rate, MOST_TIMES, None, rate)
 
     def offsets(self, lo: int, hi: int) -> np.ndarray:
         """The offsets in seconds of times ``lo`` to ``hi`` (``hi`` excluded), float64."""
@@ -115,6 +123,8 @@ class TimeGrid:
         i = np.arange(lo, hi, dtype=np.int64)
         if self.step_ns is not None and hi * self.step_ns <= MOST_NANOSECONDS:
             out = (i * self.step_ns) / 1e9
+        elif self.rate is not None:
+            out = i / self.rate
         else:
             out = i * self.step
         if self.end is not None and hi == self.count and hi > lo:

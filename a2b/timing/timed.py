@@ -567,7 +567,11 @@ def _slowest(timed: TimedMotion, exact: bool, shape: tuple) -> tuple:
     ratios = {n: (np.asarray(found[n]) / limits[n]) ** (1.0 / LIMITS[n]) for n in limits}
     names = list(ratios)
     stacked = np.stack([np.broadcast_to(ratios[n], shape) for n in names], axis=-1)
-    return stacked.max(axis=-1), np.array(names, dtype=object)[np.argmax(stacked, axis=-1)]
+    factor = stacked.max(axis=-1)
+    binding = np.array(names, dtype=object)[np.argmax(stacked, axis=-1)]
+    # 0 where nothing limited moves: a law of fixed shape over a duration (see _fill) stays
+    moves = factor > 0
+    return np.where(moves, factor, 1.0), np.where(moves, binding, "duration")
 
 
 def _stretch(timed: TimedMotion, duration, binding, shape: tuple):
