@@ -33,12 +33,36 @@ _NODES, _WEIGHTS = _RULES[NODES]
 def _panel_lengths(motion, point, panels: int, nodes: int = NODES) -> np.ndarray:
     """Gauss–Legendre with ``nodes`` nodes on each of ``panels`` equal panels of ``[0, 1]``:
     the path length on each panel, ``S + (panels,)``."""
-    x, weights = _RULES[nodes]
+    ts, half = _panel_nodes(panels, nodes)
+    speeds = motion.point_speeds(ts, point).reshape(getattr(motion, "shape", ()) + (panels, nodes))
+    return speeds @ _RULES[nodes][1] * half
+
+
+def _panel_nodes(panels: int, nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """The Gauss–Legendre nodes ``(panels · nodes,)`` of :func:`_panel_lengths` and the half
+    widths ``(panels,)`` of the panels."""
+    x = _RULES[nodes][0]
     edges = np.linspace(0.0, 1.0, panels + 1)
     half = (edges[1:] - edges[:-1]) / 2
-    ts = ((edges[:-1] + half)[:, None] + half[:, None] * x).reshape(-1)
-    speeds = motion.point_speeds(ts, point).reshape(getattr(motion, "shape", ()) + (panels, nodes))
-    return speeds @ weights * half
+    return ((edges[:-1] + half)[:, None] + half[:, None] * x).reshape(-1), half
+
+
+def _first_lengths(motion, point, panels: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The point at ``t = 0`` and ``1`` (``S + (2, 3)``), and the panel lengths by
+    :data:`FIRST_NODES` and by :data:`NODES` nodes (``S + (panels,)`` each): one evaluation
+    of the path for all three."""
+    shape = getattr(motion, "shape", ())
+    coarse, half = _panel_nodes(panels, FIRST_NODES)
+    fine = _panel_nodes(panels, NODES)[0]
+    ts = np.concatenate([[0.0, 1.0], coarse, fine])
+    path = motion.derivatives(ts, 1, point=check_point(point))
+    speeds = np.linalg.norm(path[..., 1, 2:, :], axis=-1)
+    split = 2 + panels * FIRST_NODES
+    lengths = [
+        speeds[..., lo - 2 : hi - 2].reshape(shape + (panels, n)) @ _RULES[n][1] * half
+        for lo, hi, n in ((2, split, FIRST_NODES), (split, len(ts), NODES))
+    ]
+    return path[..., 0, :2, :], lengths[0], lengths[1]
 
 
 def arc_lengths(motion, point=None) -> tuple[np.ndarray, np.ndarray]:
@@ -88,18 +112,19 @@ def _arc_lengths(
     with no shape): ``(count,)`` and ``(count, P + 1)``, padded with ``+inf``. The block
     starts at flat index ``offset`` of a batch of ``shape`` (to name a motion in an error)."""
     single = not getattr(motion, "shape", ())
-    # the rounding floor: a point that stands still has speeds of rounding size, about ε times
-    # its distance from the origin, and no relative accuracy to reach
-    ends = motion.derivatives(np.array([0.0, 1.0]), 0, point=check_point(point))
-    floor = ARC_TOL * np.linalg.norm(ends, axis=-1).sum(axis=(-2, -1)).reshape(count)
     total, rows = np.zeros(count), {}
     # a curve starts with a panel per segment: none straddles a joint, where the speed of a
     # spline is only continuous (its derivative may jump, which Gauss nodes converge on slowly)
     first = len(motion.joints()) + 1 if hasattr(motion, "joints") else 1
     todo, panels, tol = np.arange(count), first, FIRST_TOL
-    coarse = _panel_lengths(motion, point, first, FIRST_NODES).reshape(count, first)
+    ends, coarse, fine = _first_lengths(motion, point, first)
+    # the rounding floor: a point that stands still has speeds of rounding size, about ε times
+    # its distance from the origin, and no relative accuracy to reach
+    floor = ARC_TOL * np.linalg.norm(ends, axis=-1).sum(axis=-1).reshape(count)
+    coarse, fine = coarse.reshape(count, first), fine.reshape(count, first)
     while True:
-        fine = _panel_lengths(motion, point, panels).reshape(len(todo), panels)
+        if fine is None:
+            fine = _panel_lengths(motion, point, panels).reshape(len(todo), panels)
         length, gap = fine.sum(axis=-1), np.abs(fine.sum(axis=-1) - coarse.sum(axis=-1))
         done = gap <= tol * length + floor[todo]
         if panels >= MOST_PANELS:
@@ -123,7 +148,7 @@ def _arc_lengths(
         if done.all():
             break
         todo, coarse, panels, tol = todo[~done], fine[~done], 2 * panels, ARC_TOL
-        motion = motion if single else motion[~done]
+        motion, fine = motion if single else motion[~done], None
     cumulative = np.full((count, panels + 1), np.inf)
     cumulative[:, 0] = 0.0
     for width, (which, sums) in rows.items():
