@@ -209,3 +209,15 @@ def test_resample_over_a_span_of_1e30_seconds_is_refused_at_once(tmp_path):
     assert done.returncode == 1, done.stderr
     assert done.stderr.count("\n") == 1 and "more than 2**53" in done.stderr
     assert not (tmp_path / "out.tum").exists()
+
+
+def test_a_timed_motion_keeps_huge_grids_out_of_memory():
+    end = np.eye(4)
+    end[:3, 3] = [0.4, 0.1, 0.0]
+    timed = a2b.timing(a2b.motion(np.eye(4), end, "screw"), max_speed=0.5)
+    grid = timed.grid(rate=1e9)  # 10^9 times a second: lazily
+    assert grid.count == int(np.floor(timed.duration * 1e9 + 1e-9)) + 2
+    assert next(iter(grid.blocks(8)))[1][-1] == 7e-9
+    with pytest.raises(ParameterError, match="more than times\\(\\) holds in memory") as info:
+        timed.times(rate=1e9)
+    assert "\n" not in str(info.value)

@@ -43,6 +43,8 @@ CANDIDATES = 6
 #: The usable range of every limit and of a duration, in its units: beyond it a law's powers
 #: of time (up to the fifth) overflow or underflow double precision.
 USABLE = (1e-30, 1e30)
+#: The most times :meth:`TimedMotion.times` returns in one array (128 MB).
+MOST_IN_MEMORY = 1 << 24
 #: The largest rotation per unit σ (rad) that is rounding: a rotation that does not move.
 STILL_TURN = 1e-12
 #: Motions evaluated together (bounds memory: a block of derivative stacks is ~70 MB).
@@ -140,9 +142,14 @@ class TimedMotion:
         )
 
     def times(self, rate=None, dt=None, samples=None) -> np.ndarray:
-        """The offsets of :meth:`grid` as one array (for plots: a writer takes the grid's
-        blocks, in bounded memory)."""
+        """The offsets of :meth:`grid` as one array, at most :data:`MOST_IN_MEMORY` (for plots:
+        a writer takes the grid's blocks, in bounded memory, for any count)."""
         grid = self.grid(rate, dt, samples)
+        if grid.count > MOST_IN_MEMORY:
+            raise ParameterError(
+                f"{grid.count} times of {self.duration:.9g} s every {grid.step:.3g} s are more "
+                f"than times() holds in memory ({MOST_IN_MEMORY}); take grid() block by block"
+            )
         return grid.offsets(0, grid.count)
 
     def _check_times(self, times) -> np.ndarray:
