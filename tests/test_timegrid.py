@@ -100,6 +100,8 @@ def test_nanoseconds_follow_the_decimal_a_user_wrote():
     assert nanoseconds(1700000000.123) == 1700000000123000000
     assert nanoseconds(0.1) == 100000000
     assert nanoseconds(-2.5) == -2500000000
+    with pytest.raises(ParameterError, match="finite number of seconds"):
+        nanoseconds(float("inf"))
 
 
 def test_a_huge_grid_is_lazy_and_its_last_block_is_exact():

@@ -39,7 +39,10 @@ WHOLE = 4 * np.finfo(float).eps
 def nanoseconds(seconds: float) -> int:
     """``seconds`` in integer nanoseconds, from its shortest decimal form (what the user
     wrote): ``1700000000.123`` is ``1700000000123000000``, not the double's binary value."""
-    return int(Decimal(repr(float(seconds))).scaleb(9).to_integral_value())
+    seconds = float(seconds)
+    if not np.isfinite(seconds):
+        raise ParameterError(f"a time must be a finite number of seconds, got {seconds}")
+    return int(Decimal(repr(seconds)).scaleb(9).to_integral_value())
 
 
 def _whole_ns(step: float) -> int | None:
