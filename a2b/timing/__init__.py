@@ -36,8 +36,18 @@ With ``constant_speed`` and only linear limits the bound is exact and the profil
 time-optimal one for the path length.
 
 With ``duration`` the law lasts exactly that long: the law the limits give is slowed uniformly
-to it (an error if it would have to be faster), or without limits a profile of fixed shape
-(trapezoid and S-curve: a third of the time to accelerate, a third to brake).
+to it (an error naming the limit and the time it needs if it would have to be faster). Without
+limits, and where the limits given do not determine the profile (a trapezoid with only a speed
+limit), the profile has a fixed shape (trapezoid and S-curve: a third of the time to
+accelerate, a third to brake) and the limits are checks.
+
+The default profile is ``jerk-limited`` with a jerk limit, else ``trapezoid`` with an
+acceleration limit, else ``quintic`` with a speed limit (all at rest at both ends), and
+``linear`` with a duration alone. Limits and durations run from 1e-30 to 1e30 in their units.
+
+The package: :mod:`~a2b.timing.profiles` (the laws ``σ(τ)``), :mod:`~a2b.timing.arclength`,
+:mod:`~a2b.timing.timed` (:class:`TimedMotion`, :func:`timing`) and :mod:`~a2b.timing.grid`
+(:class:`TimeGrid`, the times at which a law is sampled, in bounded memory).
 """
 
 from __future__ import annotations
