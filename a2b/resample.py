@@ -315,16 +315,30 @@ class Resampler:
 
 class NewTimes:
     """New times taken in order, up to a limit at a time: every ``1 / rate`` s from the first
-    stamp (up to the last), or the increasing ``times`` given."""
+    stamp (up to the last), or the increasing ``times`` given.
+
+    With ``rate`` the times are a :class:`~a2b.timing.grid.TimeGrid` from the first stamp
+    (:attr:`grid`, made by the first :meth:`upto`): the ``i``-th is the first stamp plus
+    ``i / rate``, computed, never accumulated, and :meth:`stamps_ns` gives their exact integer
+    nanoseconds for writers.
+    """
 
     def __init__(self, rate: float | None = None, times=None, source: str = ""):
         self.rate, self.times, self.source = rate, times, source
         self.start: float | None = None
+        self.grid = None
         self.taken = 0
 
     def upto(self, limit: float | None, start: float | None) -> Iterator[np.ndarray]:
         """The times not taken yet up to ``limit`` (``None``: all that are left), in blocks of
-        :data:`BLOCK`; ``start`` is the trajectory's first stamp so far."""
+        :data:`BLOCK`; ``start`` is the trajectory's first stamp so far.
+
+        Raises
+        ------
+        ParameterError
+            With ``rate``: if the times up to ``limit`` number more than 2**53, or a double
+            near ``limit`` cannot tell times ``1 / rate`` apart (they would repeat).
+        """
         if self.rate is None:
             end = (
                 len(self.times)
@@ -337,22 +351,40 @@ class NewTimes:
             return
         if limit is None:  # the times every 1/rate s end at the last stamp
             return
-        if self.start is None:
-            self.start = start
-        first, rate = self.start, self.rate
-        end = int(np.floor((limit - first) * rate)) + 1
-        while end > self.taken and first + (end - 1) / rate > limit:
-            end -= 1
-        while first + end / rate <= limit:
-            end += 1
+        if self.grid is None:
+            from .timing.grid import TimeGrid
+
+            self.start, self.grid = start, TimeGrid.at_rate(self.rate, start)
+        end = self.grid.upto(limit, self.start)
+        _check_resolution(self.rate, self.grid.step, self.start, limit)
         for lo in range(self.taken, end, BLOCK):
-            yield first + np.arange(lo, min(lo + BLOCK, end)) / rate
+            yield self.start + self.grid.offsets(lo, min(lo + BLOCK, end))
         self.taken = max(self.taken, end)
+
+    def stamps_ns(self, times: np.ndarray) -> np.ndarray:
+        """Times that :meth:`upto` gave, as int64 nanoseconds: with ``rate`` exact (the first
+        stamp's nanoseconds plus ``i`` steps), else the times rounded to nanoseconds."""
+        if self.grid is None:
+            return np.rint(np.asarray(times, dtype=float) * 1e9).astype(np.int64)
+        return self.grid.stamps_ns(self.grid.index(times, self.start))
 
     def described(self) -> str:
         if self.rate is None:
             return f"{self.taken} new times from {self.source}"
         return f"{self.taken} new times from {self.start!r} s every 1/{self.rate:g} s"
+
+
+def _check_resolution(rate: float, step: float, start: float, limit: float) -> None:
+    """Refuse new times ``step`` s apart that the doubles between ``start`` and ``limit`` do not
+    resolve to a quarter step: they would repeat, or their steps vary."""
+    largest = max(abs(start), abs(limit))
+    resolution = float(np.spacing(largest))
+    if not step > 4 * resolution:
+        raise ParameterError(
+            f"new times every 1/{rate:g} s = {step:.3g} s cannot be told apart near "
+            f"{largest:.9g} s, where a double resolves {resolution:.3g} s: they would repeat; "
+            f"give a rate below {1 / (4 * resolution):.3g} Hz"
+        )
 
 
 def windows(pieces: Iterable, repaired: list | None = None) -> Iterator[dict]:

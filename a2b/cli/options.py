@@ -244,7 +244,7 @@ TIME_LAW_OPTIONS = (
 
 
 def time_law_options(f=None, *, sampling: bool = True):
-    """A time law (:mod:`a2b.timelaw`): profile, limits, point, constant speed and, with
+    """A time law (:mod:`a2b.timing`): profile, limits, point, constant speed and, with
     ``sampling`` (commands that write samples), the sampling in time and velocity output. Any
     of them times the samples; :func:`pop_time_law` takes them. ``@time_law_options`` or
     ``@time_law_options(sampling=False)``."""
@@ -263,7 +263,7 @@ def time_law_options(f=None, *, sampling: bool = True):
             type=click.Choice(("linear", "trapezoid", "jerk-limited", "quintic")),
             help="Time the samples by this profile, at rest at both ends except linear  "
             "[default with limits: jerk-limited with --max-jerk, trapezoid with an acceleration "
-            "limit, else linear]",
+            "limit, else quintic; linear with --duration alone]",
         )
     ]
     for name, words in limit.items():
@@ -318,10 +318,10 @@ def law_given(law: dict) -> bool:
 
 
 def time_law(motion, law: dict, duration: float | None, choices: list, always: bool = False):
-    """The :class:`a2b.timelaw.TimedMotion` the options ``law`` ask for, or ``None`` (samples
+    """The :class:`a2b.timing.TimedMotion` the options ``law`` ask for, or ``None`` (samples
     even in t, as before); with ``always`` a law even when no time-law option is given (over
     ``--duration``, else 1 s). ``duration``: ``--duration`` if given."""
-    from ..timelaw import timing
+    from ..timing import timing
 
     limits = {
         k: law[k]
