@@ -39,7 +39,7 @@ def __getattr__(name):  # lazy: keep `import a2b` (and so `a2b --version`) light
 
         return fiber
     if name == "timing":
-        from .timing import timing
+        from .timelaw import timing
 
         return timing
     if name == "write":

@@ -146,7 +146,7 @@ def timed_samples(
     point; the rows at its start and end are A and B (:func:`pinned`).
 
     ``times`` is an array, or an iterable of arrays (blocks of a time grid, such as
-    :meth:`a2b.timing.grid.TimeGrid.blocks` gives): they are taken as they come.
+    :meth:`a2b.timelaw.grid.TimeGrid.blocks` gives): they are taken as they come.
     """
     blocks = (
         (times[lo : lo + CHUNK_SAMPLES] for lo in range(0, len(times), CHUNK_SAMPLES))

@@ -317,7 +317,7 @@ class NewTimes:
     """New times taken in order, up to a limit at a time: every ``1 / rate`` s from the first
     stamp (up to the last), or the increasing ``times`` given.
 
-    With ``rate`` the times are a :class:`~a2b.timing.grid.TimeGrid` from the first stamp
+    With ``rate`` the times are a :class:`~a2b.timelaw.grid.TimeGrid` from the first stamp
     (:attr:`grid`, made by the first :meth:`upto`): the ``i``-th is the first stamp plus
     ``i / rate``, computed, never accumulated, and :meth:`stamps_ns` gives their exact integer
     nanoseconds for writers.
@@ -352,7 +352,7 @@ class NewTimes:
         if limit is None:  # the times every 1/rate s end at the last stamp
             return
         if self.grid is None:
-            from .timing.grid import TimeGrid
+            from .timelaw.grid import TimeGrid
 
             self.start, self.grid = start, TimeGrid.at_rate(self.rate, start)
         end = self.grid.upto(limit, self.start)

@@ -1,4 +1,4 @@
-"""The time grid (a2b.timing.grid) and the new times of `a2b resample --rate` (a2b.resample
+"""The time grid (a2b.timelaw.grid) and the new times of `a2b resample --rate` (a2b.resample
 NewTimes): offsets computed arithmetically, exact ends, integer-nanosecond stamps, huge counts
 lazily, and spans that a double cannot count or resolve refused at once."""
 
@@ -16,7 +16,7 @@ import a2b
 from a2b.cli import cli
 from a2b.errors import ParameterError
 from a2b.resample import NewTimes
-from a2b.timing.grid import MOST_TIMES, TimeGrid, nanoseconds
+from a2b.timelaw.grid import MOST_TIMES, TimeGrid, nanoseconds
 
 ROOT = Path(__file__).resolve().parent.parent
 

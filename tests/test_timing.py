@@ -11,8 +11,8 @@ import pytest
 import a2b
 from a2b.errors import ParameterError
 from a2b.motions.bezier import bezier_motion, spline_motion
-from a2b.timing import LIMITS, timing
-from a2b.timing.profiles import trapezoid
+from a2b.timelaw import LIMITS, timing
+from a2b.timelaw.profiles import trapezoid
 
 from .conftest import random_pose
 
@@ -213,7 +213,7 @@ def test_arc_lengths_match_high_precision_quadrature(rng):
     between motions (the padding is +inf), and an element equals its motion alone."""
     from scipy.integrate import quad
 
-    from a2b.timing import arc_lengths
+    from a2b.timelaw import arc_lengths
 
     starts = np.stack([random_pose(rng) for _ in range(24)])
     ends = np.stack([random_pose(rng) for _ in range(24)])
@@ -258,25 +258,25 @@ def test_arc_lengths_match_high_precision_quadrature(rng):
 
 
 def test_an_arc_length_that_does_not_converge_names_its_motion(rng, monkeypatch):
-    import a2b.timing.arclength
+    import a2b.timelaw.arclength
 
     starts = np.stack([random_pose(rng) for _ in range(4)])
     ends = starts.copy()
     ends[2] = random_pose(rng)  # the others stand still: their lengths are 0 at once
-    monkeypatch.setattr(a2b.timing.arclength, "MOST_PANELS", 1)
+    monkeypatch.setattr(a2b.timelaw.arclength, "MOST_PANELS", 1)
     message = (
         r"motion 2: the path length of the point did not converge: two quadratures differ by "
         r".* relative, tolerance 1e-09"
     )
     with pytest.raises(a2b.A2bError, match=message):
-        a2b.timing.arc_lengths(a2b.motion(starts, ends, "darboux"))
+        a2b.timelaw.arc_lengths(a2b.motion(starts, ends, "darboux"))
 
 
 def test_a_point_that_stands_still_has_no_length_and_a_speed_limit_binds_nothing():
     """A rotation about a body point: its speeds are of rounding size, which no relative
     tolerance can refine (the arc length stops at a floor of 1e-12 of its distance)."""
     from a2b.poses import matrices_from_quat_trans
-    from a2b.timing import arc_lengths
+    from a2b.timelaw import arc_lengths
 
     point = np.array([1.0, 2.0, 3.0])
     axis = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])

@@ -318,10 +318,10 @@ def law_given(law: dict) -> bool:
 
 
 def time_law(motion, law: dict, duration: float | None, choices: list, always: bool = False):
-    """The :class:`a2b.timing.TimedMotion` the options ``law`` ask for, or ``None`` (samples
+    """The :class:`a2b.timelaw.TimedMotion` the options ``law`` ask for, or ``None`` (samples
     even in t, as before); with ``always`` a law even when no time-law option is given (over
     ``--duration``, else 1 s). ``duration``: ``--duration`` if given."""
-    from ..timing import timing
+    from ..timelaw import timing
 
     limits = {
         k: law[k]

@@ -45,15 +45,12 @@ The default profile is ``jerk-limited`` with a jerk limit, else ``trapezoid`` wi
 acceleration limit, else ``quintic`` with a speed limit (all at rest at both ends), and
 ``linear`` with a duration alone. Limits and durations run from 1e-30 to 1e30 in their units.
 
-The package: :mod:`~a2b.timing.profiles` (the laws ``σ(τ)``), :mod:`~a2b.timing.arclength`,
-:mod:`~a2b.timing.timed` (:class:`TimedMotion`, :func:`timing`) and :mod:`~a2b.timing.grid`
+The package: :mod:`~a2b.timelaw.profiles` (the laws ``σ(τ)``), :mod:`~a2b.timelaw.arclength`,
+:mod:`~a2b.timelaw.timed` (:class:`TimedMotion`, :func:`timing`) and :mod:`~a2b.timelaw.grid`
 (:class:`TimeGrid`, the times at which a law is sampled, in bounded memory).
 """
 
 from __future__ import annotations
-
-import sys
-import types
 
 from .arclength import arc_lengths
 from .grid import TimeGrid
@@ -71,14 +68,3 @@ __all__ = [
     "timing",
 ]
 
-
-class _Package(types.ModuleType):
-    """``a2b.timing`` names both this package and the function :func:`timing`: importing the
-    package makes it an attribute of ``a2b`` that hides the function, so the package, called,
-    is the function (``a2b.timing(motion, "trapezoid", max_speed=1.0)``)."""
-
-    def __call__(self, *args, **kwargs):
-        return timing(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _Package

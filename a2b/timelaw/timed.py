@@ -132,7 +132,7 @@ class TimedMotion:
 
     def grid(self, rate=None, dt=None, samples=None, origin: float = 0.0) -> TimeGrid:
         """The times to sample, from 0 to the duration: every ``dt`` (or ``1 / rate``) seconds
-        and the end, or ``samples`` evenly spaced, as a :class:`~a2b.timing.grid.TimeGrid` whose
+        and the end, or ``samples`` evenly spaced, as a :class:`~a2b.timelaw.grid.TimeGrid` whose
         offset 0 is at ``origin`` seconds. A single motion only (a batch has a duration per
         motion)."""
         if self.shape:
