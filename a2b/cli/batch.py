@@ -105,7 +105,7 @@ def command(
     """
     from ..errors import printable
     from ..io.atomic import atomic_directory, atomic_output
-    from ..io.readers import read_jobs
+    from ..io.jobfiles import read_jobs
     from ..io.writers import (
         REPRESENTATION,
         Chunk,
@@ -147,7 +147,7 @@ def command(
             task = progress.add_task("jobs", total=job_list.count) if progress else None
 
             def computed():  # in a process of its own: see a2b.io.parallel.produced_apart
-                from ..io.readers import current_repairs
+                from ..io.poseschema import current_repairs
 
                 repairs = current_repairs() or []
                 before = len(repairs)  # those made here are sent at the end
@@ -170,7 +170,7 @@ def command(
 
             def chunks():
                 from ..io.parallel import produced_apart
-                from ..io.readers import current_repairs
+                from ..io.poseschema import current_repairs
 
                 for item in produced_apart(computed):
                     if isinstance(item, tuple):

@@ -45,7 +45,7 @@ def command(poses, mode, samples, verbose, orthonormalize, **parameters):
     """
     import a2b
 
-    from ..io.readers import read_poses
+    from ..io.poseschema import read_poses
 
     out = options.pop_trajectory(parameters)
     out.update(options.pop_time_law(parameters))
