@@ -15,7 +15,7 @@ __all__ = ["layout", "trajectory"]
 #: The rows hold no times.
 TIMES = False
 
-_LAYOUT = TextLayout(None, 0, 12, tuple(range(12)))
+_LAYOUT = TextLayout(None, 0, 12, tuple(range(12)), fmt="kitti")
 
 
 def layout(data: bytes, name: str, fmt: str) -> TextLayout:

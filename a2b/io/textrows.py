@@ -128,6 +128,8 @@ class TextLayout:
     width: int | None
     columns: tuple[int, ...]
     nanoseconds: bool = False
+    #: The format's name, for messages.
+    fmt: str = ""
 
 
 def read_rows(data: bytes, name: str, layout: TextLayout, offset: int = 0, skip: bool = True):
@@ -266,16 +268,18 @@ def _rows_one_by_one(numbers: list, name: str, layout: TextLayout) -> np.ndarray
     for i, numbered in enumerate(numbers):
         count = _count_fields(numbered[1], layout.sep)
         if count != layout.width and (layout.width is not None or count < need):
-            expected = layout.width or f"at least {need}"
+            expected = f"{layout.width} numbers" if layout.width else f"at least {need} fields"
             raise InputFileError(
-                f"{name}:{numbered[0]}:1: expected {expected} fields per line, got {count}"
+                f"{name}:{numbered[0]}:1: expected {expected} per line ({layout.fmt}), got {count}"
             )
         fields = _fields(numbered[1], layout.sep, need)
         for k, column in enumerate(layout.columns):
             token = fields[column][1]
             if k == 0 and layout.nanoseconds:
                 if not re.fullmatch(r"[-+]?[0-9]+", token):
-                    _raise_at(numbered, layout.sep, column, name, "expected a whole number of ns")
+                    _raise_at(
+                        numbered, layout.sep, column, name, "expected a whole number of nanoseconds"
+                    )
                 seconds, nanoseconds = divmod(int(token), 10**9)
                 rows[i, k] = seconds + nanoseconds * 1e-9
                 continue
@@ -347,9 +351,8 @@ def named_layout(head: str, name: str, fmt: str, needed: tuple, nanoseconds: boo
     time = columns[roles.index(needed[0])]
     ns = "[ns]" in time.replace(" ", "").lower() or (nanoseconds and "[s]" not in time)
     ignored = any(_IGNORED.fullmatch(r) for r in roles)
-    return TextLayout(
-        ",", 1, None if ignored else len(columns), tuple(roles.index(r) for r in needed), ns
-    )
+    at = tuple(roles.index(r) for r in needed)
+    return TextLayout(",", 1, None if ignored else len(columns), at, ns, fmt)
 
 
 # -- a list of times ------------------------------------------------------------------------------
@@ -368,7 +371,7 @@ def read_times(stream: IO, name: str | None = None) -> np.ndarray:
 
     name = stream_name(stream, name)
     data = check_text(read_text_bytes(stream, name), name)
-    layout = TextLayout(None, 0, 1, (0,))
+    layout = TextLayout(None, 0, 1, (0,), fmt="times")
     times, lines = read_rows(data, name, layout)
     times = times[:, 0]
     if not len(times):

@@ -15,7 +15,7 @@ __all__ = ["layout", "trajectory"]
 TIMES = True
 
 #: t, tx, ty, tz, qw, qx, qy, qz: the fields of a line in the order of a2b's quaternions.
-_LAYOUT = TextLayout(None, 0, 8, (0, 1, 2, 3, 7, 4, 5, 6))
+_LAYOUT = TextLayout(None, 0, 8, (0, 1, 2, 3, 7, 4, 5, 6), fmt="tum")
 
 
 def layout(data: bytes, name: str, fmt: str) -> TextLayout:
