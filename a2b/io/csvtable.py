@@ -21,7 +21,7 @@ from typing import IO
 import numpy as np
 
 from ..errors import A2bError, InputFileError, printable
-from .textrows import NUMBER, TextLayout, first_line, named_layout, role
+from .textrows import NUMBER, TextLayout, header_line, named_layout, role
 from .trajectory import Trajectory, from_matrices, from_quaternions
 
 __all__ = [
@@ -60,7 +60,7 @@ def fmt_from_header(head: str) -> str | None:
 
 def layout(data: bytes, name: str, fmt: str) -> TextLayout:
     """The layout the header line names."""
-    head = first_line(data)
+    head = header_line(data, name)
     if not head.strip() or all(NUMBER.fullmatch(f.strip()) for f in head.split(",")):
         got = "an empty file" if not data.strip() else f"'{printable(head[:80])}'"
         raise InputFileError(

@@ -9,7 +9,7 @@ and bias columns are allowed and not read. Stamps are whole nanoseconds, read as
 from __future__ import annotations
 
 from ..errors import InputFileError
-from .textrows import TextLayout, first_line, named_layout
+from .textrows import TextLayout, header_line, named_layout
 from .trajectory import Trajectory, from_quaternions
 
 __all__ = ["POSE_COLUMNS", "layout", "trajectory"]
@@ -23,7 +23,7 @@ POSE_COLUMNS = ("t", "tx", "ty", "tz", "qw", "qx", "qy", "qz")
 
 def layout(data: bytes, name: str, fmt: str) -> TextLayout:
     """The layout the header line names."""
-    head = first_line(data)
+    head = header_line(data, name)
     if not head.startswith("#"):
         raise InputFileError(f"{name}:1:1: expected EuRoC's '#timestamp [ns],…' header line")
     return named_layout(head, name, "euroc", POSE_COLUMNS, nanoseconds=True)

@@ -31,6 +31,7 @@ __all__ = [
     "TextLayout",
     "check_text",
     "first_line",
+    "header_line",
     "named_layout",
     "role",
     "read_rows",
@@ -40,6 +41,8 @@ __all__ = [
 ]
 
 BOM = b"\xef\xbb\xbf"
+#: The longest header line read.
+HEADER_BYTES = 1 << 16
 #: Bytes read at a time by :func:`read_text_bytes`.
 READ_BYTES = 1 << 20
 #: A number as numpy's text reader takes it (``nan`` and ``inf`` are then refused as such).
@@ -82,8 +85,7 @@ def _refuse_nul(part: bytes, name: str, offset: int, before) -> None:
     text = b"".join(before) if isinstance(before, list) else b""
     line = text.count(b"\n") + part.count(b"\n", 0, at) + 1
     raise InputFileError(
-        f"{name}:{line}: a NUL byte at byte {offset + at}; a text trajectory has none "
-        "(a binary file? give --input-format for MCAP)"
+        f"{name}:{line}: a NUL byte at byte {offset + at}, so this is no text file"
     )
 
 
@@ -111,9 +113,18 @@ def check_text(data: bytes, name: str) -> bytes:
 
 
 def first_line(data: bytes) -> str:
-    """The first line of a text (at most 64 KiB of it), without its line end."""
-    end = data.find(b"\n", 0, 65536)
-    return data[: end if end >= 0 else 65536].decode("utf-8", "replace").rstrip("\r")
+    """The first line of a text (at most :data:`HEADER_BYTES` of it), without its line end."""
+    end = data.find(b"\n", 0, HEADER_BYTES)
+    return data[: end if end >= 0 else HEADER_BYTES].decode("utf-8", "replace").rstrip("\r")
+
+
+def header_line(data: bytes, name: str) -> str:
+    """The first line of a text, a header: longer than :data:`HEADER_BYTES` is an error."""
+    if len(data) > HEADER_BYTES and b"\n" not in data[:HEADER_BYTES]:
+        raise InputFileError(
+            f"{name}:1:1: the first line, a header, is longer than {HEADER_BYTES} bytes"
+        )
+    return first_line(data)
 
 
 @dataclass(frozen=True)
