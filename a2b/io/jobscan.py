@@ -103,6 +103,8 @@ _QUATERNION_FORMS = {
     key: _fast_reading(form.numbers) for key, form in POSE_FORMS.items() if form.numbers
 }
 _TRANSLATION = _fast_reading(TRANSLATION)
+#: The length of a translation list in the order the readers take (0: none such).
+_PLAIN_TRANSLATION = _TRANSLATION[0][1] if _TRANSLATION[0] and not _TRANSLATION[0][0] else 0
 #: The one form common enough to be read inline (a list in the order the readers take).
 _INLINE = next(k for k, (as_list, _) in _QUATERNION_FORMS.items() if as_list and not as_list[0])
 _MATRIX = POSE_FORMS["matrix"]
@@ -114,10 +116,14 @@ def _fast_numbers(value, reading: tuple, out: list) -> int:
     as_list, as_mapping = reading
     kind = type(value)
     if kind is list and as_list is not None and len(value) == as_list[1]:
-        out += value if as_list[0] is None else [value[i] for i in as_list[0]]
+        pick = as_list[0]
+        if pick is None:
+            out += value
+        else:
+            out += map(value.__getitem__, pick)
         return 0
     if kind is dict and as_mapping is not None and len(value) == len(as_mapping):
-        out += [value.get(k) for k in as_mapping]  # a missing key: None, refused later
+        out += map(value.get, as_mapping)  # a missing key: None, refused later
         return len(as_mapping)
     return -1
 
@@ -149,6 +155,9 @@ def _fast_pose(v, q: list, m: list) -> int:
         q += _ZERO_TRANSLATION
         return more + 1
     t = v.get("translation")
+    if type(t) is list and len(t) == _PLAIN_TRANSLATION:  # the common case, inline
+        q += t
+        return more + 2
     added = _fast_numbers(t, _TRANSLATION, q) if t is not None else -1
     return -1 if added < 0 else more + added + 2
 
