@@ -217,3 +217,13 @@ def test_a_topic_on_a_tum_file_is_refused_by_the_command():
 def test_kitti_takes_an_input_rate():
     path = read("1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n", "a.kitti", rate=4.0)
     assert path.times.tolist() == [0.0, 0.25]
+
+
+def test_a_file_name_cannot_forge_a_second_line(tmp_path):
+    path = tmp_path / "a\nError: forged.tum"
+    path.write_text("0 0 0 0 0 0 0 1\n0 0 0 0 0 0 0 1\n")
+    with open(path, "rb") as f, pytest.raises(InputFileError) as e:
+        read_trajectory(f)
+    assert "\n" not in str(e.value) and "a\\nError: forged.tum:2:1: the time 0.0 repeats" in str(
+        e.value
+    )

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from json.decoder import scanstring
 from typing import IO, Any
 
-from ..errors import InputFileError
+from ..errors import InputFileError, printable
 
 __all__ = [
     "MAX_DEPTH",
@@ -44,11 +44,11 @@ Path = tuple  # keys (str) and list indexes (int) from the document root
 
 
 def stream_name(stream: IO, name: str | None) -> str:
-    """``name`` if given, else the stream's file name, else ``<stdin>``: the name in messages."""
-    if name:
-        return name
-    n = getattr(stream, "name", None)
-    return n if isinstance(n, str) else "<stdin>"
+    """``name`` if given, else the stream's file name, else ``<stdin>``: the name in messages,
+    with its control characters escaped (:func:`a2b.errors.printable`)."""
+    if not name:
+        name = getattr(stream, "name", None)
+    return printable(name) if isinstance(name, str) and name else "<stdin>"
 
 
 def kind_from_suffix(name: str) -> str | None:

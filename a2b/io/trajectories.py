@@ -39,7 +39,7 @@ from typing import IO
 
 import numpy as np
 
-from ..errors import InputFileError
+from ..errors import InputFileError, printable
 from . import csvtable, euroc, kitti, tum
 from .csvtable import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER, fmt_from_header
 from .documents import stream_name
@@ -149,7 +149,10 @@ def opened(stream: IO, name: str | None = None, fmt: str | None = None) -> tuple
     head = _head(stream)
     fmt = fmt or sniff_format(head, name)
     if fmt not in TRAJECTORY_FORMATS:
-        raise InputFileError(f"{name}: unknown trajectory format {fmt!r}")
+        raise InputFileError(
+            f"{name}: unknown trajectory format '{printable(str(fmt)[:40])}' (expected one of "
+            f"{', '.join(TRAJECTORY_FORMATS)})"
+        )
     if fmt != "mcap":
         return name, read_text_bytes(stream, name, head), fmt
     if not head.startswith(MCAP_MAGIC):
