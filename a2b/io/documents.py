@@ -334,6 +334,80 @@ _YAML_BOOLEANS = {v: True for v in ("true", "True", "TRUE")} | {
 }
 
 
+def _yaml():
+    import yaml
+
+    return yaml
+
+
+class _CoreSchema:
+    """The constructors of :func:`_yaml_loader`'s loader, mixed into PyYAML's safe loader:
+    duplicate keys refused, names as written, YAML 1.2 core-schema numbers and booleans."""
+
+    def construct_mapping(self, node, deep=False):
+        seen = set()
+        for key_node, value_node in node.value:
+            key = self.construct_object(key_node, deep=deep)
+            if key == "name" and isinstance(value_node, _yaml().ScalarNode):
+                value_node.tag = _STR  # a name is the text as written: 007, true, 1e3
+            try:
+                repeated = key in seen
+            except TypeError:  # an unhashable key; the constructor reports it
+                break
+            if repeated:
+                mark = key_node.start_mark
+                raise _Duplicate(str(key), (mark.line + 1, mark.column + 1))
+            seen.add(key)
+        return super().construct_mapping(node, deep=deep)
+
+    def construct_yaml_int(self, node):
+        text = self.construct_scalar(node)
+        digits = text.lstrip("+-")
+        try:
+            if digits.startswith(("0o", "0x")):
+                value = int(digits[2:], 8 if digits[1] == "o" else 16)
+                if value > sys.float_info.max:  # beyond a double (and beyond str())
+                    return NonFinite(text)
+                return -value if text.startswith("-") else value
+            return int(text)
+        except ValueError:
+            if re.fullmatch(r"[-+]?[0-9]+", text):  # more digits than int() converts
+                return NonFinite(text)
+            raise _yaml().constructor.ConstructorError(
+                None, None, f"cannot read {text!r} as an integer", node.start_mark
+            ) from None
+
+    def construct_yaml_bool(self, node):
+        text = self.construct_scalar(node)
+        if text not in _YAML_BOOLEANS:
+            raise _yaml().constructor.ConstructorError(
+                None, None, f"cannot read {text!r} as true or false", node.start_mark
+            )
+        return _YAML_BOOLEANS[text]
+
+    def construct_undefined(self, node):
+        raise _yaml().constructor.ConstructorError(
+            None,
+            None,
+            f"the tag {node.tag.replace('tag:yaml.org,2002:', '!!')} is not read by a2b, "
+            "which reads the YAML 1.2 core schema: strings, numbers, true and false, null, "
+            "lists and mappings",
+            node.start_mark,
+        )
+
+    def construct_yaml_float(self, node):
+        text = self.construct_scalar(node)
+        if text.lstrip("+-").lower() in (".inf", ".nan"):
+            return NonFinite(text)
+        try:
+            value = float(text)
+        except ValueError:
+            raise _yaml().constructor.ConstructorError(
+                None, None, f"cannot read {text!r} as a number", node.start_mark
+            ) from None
+        return value if math.isfinite(value) else NonFinite(text)
+
+
 def _yaml_loader():
     """A safe loader with YAML 1.2 core-schema scalars that rejects duplicate keys.
 
@@ -347,69 +421,8 @@ def _yaml_loader():
 
     base = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
-    class Loader(base):  # type: ignore[misc, valid-type]
-        def construct_mapping(self, node, deep=False):
-            seen = set()
-            for key_node, value_node in node.value:
-                key = self.construct_object(key_node, deep=deep)
-                if key == "name" and isinstance(value_node, yaml.ScalarNode):
-                    value_node.tag = _STR  # a name is the text as written: 007, true, 1e3
-                try:
-                    repeated = key in seen
-                except TypeError:  # an unhashable key; the constructor reports it
-                    break
-                if repeated:
-                    mark = key_node.start_mark
-                    raise _Duplicate(str(key), (mark.line + 1, mark.column + 1))
-                seen.add(key)
-            return super().construct_mapping(node, deep=deep)
-
-        def construct_yaml_int(self, node):
-            text = self.construct_scalar(node)
-            digits = text.lstrip("+-")
-            try:
-                if digits.startswith(("0o", "0x")):
-                    value = int(digits[2:], 8 if digits[1] == "o" else 16)
-                    if value > sys.float_info.max:  # beyond a double (and beyond str())
-                        return NonFinite(text)
-                    return -value if text.startswith("-") else value
-                return int(text)
-            except ValueError:
-                if re.fullmatch(r"[-+]?[0-9]+", text):  # more digits than int() converts
-                    return NonFinite(text)
-                raise yaml.constructor.ConstructorError(
-                    None, None, f"cannot read {text!r} as an integer", node.start_mark
-                ) from None
-
-        def construct_yaml_bool(self, node):
-            text = self.construct_scalar(node)
-            if text not in _YAML_BOOLEANS:
-                raise yaml.constructor.ConstructorError(
-                    None, None, f"cannot read {text!r} as true or false", node.start_mark
-                )
-            return _YAML_BOOLEANS[text]
-
-        def construct_undefined(self, node):
-            raise yaml.constructor.ConstructorError(
-                None,
-                None,
-                f"the tag {node.tag.replace('tag:yaml.org,2002:', '!!')} is not read by a2b, "
-                "which reads the YAML 1.2 core schema: strings, numbers, true and false, null, "
-                "lists and mappings",
-                node.start_mark,
-            )
-
-        def construct_yaml_float(self, node):
-            text = self.construct_scalar(node)
-            if text.lstrip("+-").lower() in (".inf", ".nan"):
-                return NonFinite(text)
-            try:
-                value = float(text)
-            except ValueError:
-                raise yaml.constructor.ConstructorError(
-                    None, None, f"cannot read {text!r} as a number", node.start_mark
-                ) from None
-            return value if math.isfinite(value) else NonFinite(text)
+    class Loader(_CoreSchema, base):  # type: ignore[misc, valid-type]
+        pass
 
     # Only the core schema's implicit types: no YAML 1.1 timestamps (2001-02-30), merge keys
     # (<<) or value keys (=), which are strings here.
