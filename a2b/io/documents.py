@@ -148,8 +148,14 @@ def _format_path(path: Path | None) -> str:
                 if isinstance(el, str) and el.isprintable() and el.strip() == el and el
                 else repr(el)
             )
+            el = shorten_key(el)
         out += f"[{el}]" if isinstance(el, int) else (f".{el}" if out else el)
     return out
+
+
+def shorten_key(text: str) -> str:
+    """A key for a message: a long one as its start and its length."""
+    return text if len(text) <= 60 else f"{text[:50]}… ({len(text)} characters)"
 
 
 @contextmanager

@@ -41,7 +41,7 @@ import numpy as np
 from ..errors import A2bError, InputFileError
 from ..names import FRAMES, MAX_SAMPLES, MIN_SAMPLES, MODES
 from ..parameters import BY_NAME, TABLE, degrees
-from .documents import Document, NonFinite, Path, read_document, shorten
+from .documents import Document, NonFinite, Path, read_document, shorten, shorten_key
 
 __all__ = [
     "JOB_KEYS",
@@ -171,7 +171,8 @@ def _check_keys(doc: Document, path: Path, mapping: dict, allowed: tuple, what: 
             suggestion = f"; did you mean {hint[0]!r}?" if hint else ""
             raise doc.error(
                 path + (key,),
-                f"unknown key {key!r} in {what} (expected {', '.join(allowed)}){suggestion}",
+                f"unknown key {shorten_key(repr(key))} in {what} (expected {', '.join(allowed)})"
+                f"{suggestion}",
             )
 
 
