@@ -13,7 +13,9 @@ from ``/dev/zero``) as soon as it arrives, so memory stays bounded by what a tex
 from __future__ import annotations
 
 import io
+import os
 import re
+import stat
 import warnings
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
@@ -37,6 +39,7 @@ __all__ = [
     "read_rows",
     "read_text_bytes",
     "read_times",
+    "whole_file",
     "written_times",
 ]
 
@@ -62,8 +65,14 @@ def _few(items: list) -> str:
 
 
 def read_text_bytes(stream: IO, name: str, head: bytes = b"") -> bytes:
-    """The rest of a text stream after ``head``, read in pieces; a NUL byte (no text has one:
-    ``/dev/zero``, a binary file) is an error as soon as its piece arrives."""
+    """The text of a stream whose first bytes, ``head``, were read already. A NUL byte (no
+    text has one: ``/dev/zero``, a binary file) is an error: in a regular file, whose bytes
+    are all there, after reading it at once; in any other stream as soon as its piece
+    arrives."""
+    whole = whole_file(stream, head)
+    if whole is not None:
+        _refuse_nul(whole, name, 0, b"")
+        return whole
     parts, size = [head], len(head)
     _refuse_nul(head, name, 0, head)
     while True:
@@ -76,6 +85,21 @@ def read_text_bytes(stream: IO, name: str, head: bytes = b"") -> bytes:
         parts.append(part)
         size += len(part)
     return b"".join(parts)
+
+
+def whole_file(stream: IO, head: bytes) -> bytes | None:
+    """All bytes of a regular file from where ``head`` started, read at once (without a copy
+    of ``head`` joined to the rest), else ``None``."""
+    if isinstance(stream, io.TextIOBase):  # its positions are no byte counts
+        return None
+    try:
+        if not stat.S_ISREG(os.fstat(stream.fileno()).st_mode):
+            return None
+        stream.seek(stream.tell() - len(head))
+    except (AttributeError, OSError, ValueError, io.UnsupportedOperation):
+        return None
+    data = stream.read()
+    return data.encode() if isinstance(data, str) else data
 
 
 def _refuse_nul(part: bytes, name: str, offset: int, before) -> None:

@@ -43,7 +43,15 @@ from ..errors import InputFileError, printable
 from . import csvtable, euroc, kitti, tum
 from .csvtable import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER, fmt_from_header
 from .documents import stream_name
-from .textrows import BOM, check_text, first_line, read_rows, read_text_bytes, written_times
+from .textrows import (
+    BOM,
+    check_text,
+    first_line,
+    read_rows,
+    read_text_bytes,
+    whole_file,
+    written_times,
+)
 from .trajectory import Trajectory, check_times, from_quaternions, joined
 
 __all__ = [
@@ -157,6 +165,9 @@ def opened(stream: IO, name: str | None = None, fmt: str | None = None) -> tuple
         return name, read_text_bytes(stream, name, head), fmt
     if not head.startswith(MCAP_MAGIC):
         raise InputFileError(f"{name}: not an MCAP file (it does not start with MCAP's magic)")
+    whole = whole_file(stream, head)
+    if whole is not None:
+        return name, whole, fmt
     rest = stream.read()
     return name, head + (rest.encode() if isinstance(rest, str) else rest), fmt
 
