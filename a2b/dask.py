@@ -104,7 +104,7 @@ def read_range(path: str, start: int, stop: int) -> bytes:
 
 def _lines(data: bytes, name: str, first_line: int) -> list[str]:
     """The lines of ``data`` as text, each with its ``\\n`` (the last may have none)."""
-    from .io.jobscan import decode
+    from .io.documents import decode
 
     try:
         text = data.decode("utf-8-sig" if first_line == 1 else "utf-8")
@@ -143,10 +143,10 @@ def _partitions(path: str, blocksize: int) -> list[tuple]:
 
 
 def _job_blocks(path: str, part: tuple, size: int) -> Iterator:
-    """The :class:`a2b.io.readers.JobBlock` s of one partition, named and located as the
+    """The :class:`a2b.io.jobfiles.JobBlock` s of one partition, named and located as the
     whole file would name and locate them."""
     from .io.jobscan import scan_blocks
-    from .io.readers import finish_block, json_line_job
+    from .io.jobfiles import finish_block, json_line_job
 
     start, stop, lines_before, jobs_before = part
 
@@ -200,7 +200,7 @@ def jsonl_samples(
     """
     import dask.dataframe as dd
 
-    from .io.jobscan import kind_from_suffix
+    from .io.documents import kind_from_suffix
     from .table import BLOCK_JOBS
 
     if kind_from_suffix(os.fspath(path)) in ("json", "yaml"):

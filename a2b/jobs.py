@@ -43,7 +43,7 @@ def sample(
     blocks : iterable of job blocks
         Each with ``start``, ``end`` (stacked robotics matrices ``(J, 4, 4)``, valid) and the
         lists ``names``, ``modes``, ``samples``, ``parameters`` (``None`` where a job does not
-        give one), as :class:`a2b.io.readers.JobBlock`.
+        give one), as :class:`a2b.io.jobfiles.JobBlock`.
     mode, samples :
         For jobs that give none.
     representation : {"quat_trans", "matrices", "study"}

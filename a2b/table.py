@@ -117,7 +117,7 @@ def chunks(jobs, *, mode: str = "darboux", samples: int = 101, layout: str = "cs
 def chunks_of_blocks(
     blocks: Iterable, *, mode: str = "darboux", samples: int = 101, layout: str = "csv"
 ) -> Iterator:
-    """The samples of :class:`a2b.io.readers.JobBlock` s (from a table or a jobs file) as
+    """The samples of :class:`a2b.io.jobfiles.JobBlock` s (from a table or a jobs file) as
     :class:`a2b.io.writers.Chunk` s in ``layout``, through :func:`a2b.jobs.sample`."""
     from .io.writers import REPRESENTATION, Chunk, JobRuns
     from .jobs import sample
@@ -203,7 +203,7 @@ def _missing(value) -> bool:
 
 
 def job_blocks(jobs, size: int = BLOCK_JOBS) -> Iterator:
-    """The jobs of a table as :class:`a2b.io.readers.JobBlock` s of ``size``, validated.
+    """The jobs of a table as :class:`a2b.io.jobfiles.JobBlock` s of ``size``, validated.
 
     Raises
     ------
@@ -211,7 +211,7 @@ def job_blocks(jobs, size: int = BLOCK_JOBS) -> Iterator:
         At the first problem, naming the job (or the column); the table is checked before the
         first block is given.
     """
-    from .io.readers import JobBlock
+    from .io.jobfiles import JobBlock
 
     columns = _Columns(jobs)
     unknown = sorted(set(columns.names) - _KNOWN)

@@ -1032,7 +1032,7 @@ import json, sys
 import numpy as np
 from mcap.writer import CompressionType, Writer
 import a2b
-from a2b.io.readers import read_poses
+from a2b.io.poseschema import read_poses
 from a2b.io.mcapwriter import _json_schema as _schema
 
 job = read_poses(open(sys.argv[1], "rb"))
@@ -1135,7 +1135,7 @@ ROS2_PEERS = """
 import sys
 import numpy as np
 import a2b
-from a2b.io.readers import read_poses
+from a2b.io.poseschema import read_poses
 from a2b.io.ros2 import schema_text
 
 job = read_poses(open(sys.argv[1], "rb"))

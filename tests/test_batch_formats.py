@@ -13,7 +13,7 @@ from mcap.reader import make_reader
 
 import a2b
 from a2b.cli import cli
-from a2b.io import readers, trajectories
+from a2b.io import documents, poseschema, trajectories
 
 from .conftest import random_pose
 
@@ -43,8 +43,8 @@ def make_jobs(rng, n=7):
 
 def alone(job, representation):
     """The samples of a job's motion built alone, the way a2b reads its poses."""
-    doc = readers._Document("x", None, lambda p: None)
-    start, end = (readers._pose(doc, (), job[k]) for k in ("start", "end"))
+    doc = documents.Document("x", None, lambda p: None)
+    start, end = (poseschema.pose_from_node(doc, (), job[k]) for k in ("start", "end"))
     motion = a2b.motion(start, end, job.get("mode", "darboux"), **job.get("parameters", {}))
     ts = np.linspace(0.0, 1.0, job["samples"])
     return ts, getattr(motion, representation)(ts)

@@ -13,7 +13,7 @@ import a2b
 from a2b.cli import cli
 from a2b.errors import InputFileError, ParameterError, PoseError, SingularMotionError
 from a2b.extended import kernel_basis
-from a2b.io.readers import read_pose_list
+from a2b.io.poseschema import read_pose_list
 from a2b.motions._rational import bern_mul
 from a2b.motions.bezier import (
     SINGULAR_TOL,

@@ -16,7 +16,7 @@ from click.testing import CliRunner
 
 import a2b
 from a2b.cli import COMMANDS, cli
-from a2b.io import readers, trajectories
+from a2b.io import csvtable, documents, poseschema, trajectories
 from a2b.poses import matrices_from_quat_trans, quat_trans_from_matrices
 
 from .conftest import random_pose
@@ -41,7 +41,7 @@ def write_poses(path, start, end, **extra):
     data = {"start": pose_json(start), "end": pose_json(end), **extra}
     path.write_text(json.dumps(data))
     with open(path, "rb") as f:
-        job = readers.read_poses(f)
+        job = poseschema.read_poses(f)
     return job.start, job.end
 
 
@@ -447,7 +447,7 @@ def pose_file(tmp_path, rng):
     pose = random_pose(rng)
     path.write_text(json.dumps({"matrix": pose.tolist()}))
     with open(path, "rb") as f:
-        return path, readers.read_pose(f)
+        return path, poseschema.read_pose(f)
 
 
 def test_fiber_kappa_json(pose_file):
@@ -528,11 +528,12 @@ def _jobs(rng, n):
 
 def _check_batch(jobs, out):
     with open(out, "rb") as f:
-        names, values = readers.read_batch_csv(f)
+        names, values = csvtable.read_batch_csv(f)
     row = 0
     for i, job in enumerate(jobs):
-        start = readers._pose(readers._Document("x", None, lambda p: None), (), job["start"])
-        end = readers._pose(readers._Document("x", None, lambda p: None), (), job["end"])
+        doc = documents.Document("x", None, lambda p: None)
+        start = poseschema.pose_from_node(doc, (), job["start"])
+        end = poseschema.pose_from_node(doc, (), job["end"])
         ts = np.linspace(0, 1, job["samples"])
         quat, trans = a2b.motion(
             start, end, job.get("mode", "darboux"), **job.get("parameters", {})
@@ -565,7 +566,8 @@ def test_batch_more_jobs_than_one_chunk(tmp_path, rng, suffix):
 
 
 def test_batch_streams_in_bounded_chunks(rng):
-    from a2b.io.readers import Job, JobBlock
+    from a2b.io.jobfiles import JobBlock
+    from a2b.io.poseschema import Job
     from a2b.jobs import sample
 
     consumed = []
@@ -784,7 +786,8 @@ def test_streamed_output_equals_one_block(poses, tmp_path, monkeypatch):
 
 
 def test_batch_splits_a_large_job_into_bounded_chunks(rng):
-    from a2b.io.readers import Job, JobBlock
+    from a2b.io.jobfiles import JobBlock
+    from a2b.io.poseschema import Job
     from a2b.jobs import sample
 
     jobs = [Job(random_pose(rng), random_pose(rng), samples=n) for n in (3, 25, 4)]

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import a2b
-from a2b.io import readers, trajectories
+from a2b.io import poseschema, trajectories
 
 ROOT = Path(__file__).resolve().parent.parent
 A2B = [sys.executable, "-c", "from a2b.cli import cli; cli(prog_name='a2b')"]
@@ -58,7 +58,7 @@ def test_mcap_into_a_pipe(tmp_path):
     assert schemas == {"/a2b/pose": "foxglove.PoseInFrame", "/tf": "foxglove.FrameTransform"}
     assert summary.chunk_indexes and not summary.attachment_indexes and not summary.metadata_indexes
     with open(QUARTER, "rb") as f:
-        job = readers.read_poses(f)
+        job = poseschema.read_poses(f)
     ts = np.linspace(0, 1, 50)
     want_quat, want_trans = a2b.motion(job.start, job.end).quat_trans(ts)
     with open(out, "rb") as f:

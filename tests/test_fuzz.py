@@ -37,7 +37,7 @@ from hypothesis import strategies as st
 
 from a2b.cli import cli
 from a2b.errors import A2bError, InputFileError
-from a2b.io import readers
+from a2b.io import jobfiles, poseschema
 
 TOTAL = int(os.environ.get("A2B_FUZZ_EXAMPLES", "10000"))
 SEED = os.environ.get("A2B_FUZZ_SEED")
@@ -154,7 +154,7 @@ LENGTHS = {
     "beta": 6,
 }
 #: Keys each mapping allows, by the key it sits under (None: the top of a file).
-POSE_KEYS = set(readers.POSE_KEYS)
+POSE_KEYS = set(poseschema.POSE_KEYS)
 
 
 def poses_doc(draw, *, job=False):
@@ -278,8 +278,8 @@ def mutated(draw, kind: str):
             path and path[-1] in ("quaternion", "quaternion_wxyz", "translation")
         ):
             allowed = {"start", "end", "mode", "samples", "parameters", "name", "controls", "poses",
-                       "space", *POSE_KEYS, *readers.PARAMETER_KINDS, "weights", "alphas", "basis",
-                       "offsets", "x", "y", "z", "w"}  # fmt: skip
+                       "space", *POSE_KEYS, *poseschema.PARAMETER_KINDS, "weights", "alphas",
+                       "basis", "offsets", "x", "y", "z", "w"}  # fmt: skip
             key = draw(st.text(min_size=1, max_size=10).filter(lambda k: k not in allowed))
             node[key] = 1
             return tree, how
@@ -596,13 +596,13 @@ def written(draw, kind: str):
 def read_fully(kind: str, data: bytes, name: str):
     stream = io.BytesIO(data)
     if kind == "pose":
-        return readers.read_pose(stream, name)
+        return poseschema.read_pose(stream, name)
     if kind == "poses":
-        return readers.read_poses(stream, name)
+        return poseschema.read_poses(stream, name)
     if kind == "jobs":
-        return list(readers.read_jobs(stream, name))
+        return list(jobfiles.read_jobs(stream, name))
     key = b"controls" if b"controls" in data else b"poses"
-    return readers.read_pose_list(stream, key.decode(), name)
+    return poseschema.read_pose_list(stream, key.decode(), name)
 
 
 def expect_reader_error(kind: str, case) -> None:
@@ -846,7 +846,7 @@ def test_homogeneous_inputs_at_every_scale(exponent, kind, quaternion, translati
     import numpy as np
 
     import a2b
-    from a2b.io.readers import read_poses
+    from a2b.io.poseschema import read_poses
     from a2b.motions.bezier import bezier
     from a2b.poses import matrices_from_quat_trans, study_from_matrices
 

@@ -657,7 +657,7 @@ POSES_YAML = "start: {quaternion_wxyz: [1, 0, 0, 0]}\nend: {quaternion_wxyz: [0,
 )
 def test_yaml_is_the_1_2_core_schema(tmp_path, line, message):
     from a2b.errors import InputFileError
-    from a2b.io.readers import read_poses
+    from a2b.io.poseschema import read_poses
 
     path = tmp_path / "p.yaml"
     path.write_text(POSES_YAML + line + "\n")
@@ -671,7 +671,7 @@ def test_yaml_is_the_1_2_core_schema(tmp_path, line, message):
     "written", ["007", "7", "true", "null", "0x1F", "1e3", "2024-01-01", "=", "1_0"]
 )
 def test_a_job_name_is_the_text_as_written(tmp_path, written):
-    from a2b.io.readers import read_jobs
+    from a2b.io.jobfiles import read_jobs
 
     path = tmp_path / "jobs.yaml"
     path.write_text(
@@ -685,7 +685,7 @@ def test_a_job_name_is_the_text_as_written(tmp_path, written):
 def test_explicitly_tagged_core_scalars_are_read():
     import io
 
-    from a2b.io.readers import read_poses
+    from a2b.io.poseschema import read_poses
 
     text = POSES_YAML + "samples: !!int 0x1F\nparameters: {delta: !!float 2}\n"
     job = read_poses(io.BytesIO(text.encode()), "p.yaml")
@@ -699,7 +699,7 @@ def test_explicitly_tagged_core_scalars_are_read():
 def test_quaternions_study_parameters_m_and_weights_of_any_scale(scale):
     """Homogeneous inputs are scaled before use: any finite non-zero multiple is the same."""
     import a2b
-    from a2b.io.readers import read_poses
+    from a2b.io.poseschema import read_poses
     from a2b.motions.bezier import bezier
 
     def pose(**form):

@@ -16,7 +16,7 @@ from click.testing import CliRunner
 
 from a2b.cli import cli
 from a2b.errors import InputFileError
-from a2b.io import readers
+from a2b.io import jobfiles, poseschema
 
 IDENTITY = "{quaternion_wxyz: [1, 0, 0, 0]}"
 QUARTER = (
@@ -180,23 +180,23 @@ def test_every_pose_form_reads_the_same_pose():
     ]
     mats = []
     for form in forms:
-        mats.append(readers.read_pose(io.BytesIO(json.dumps(form).encode()), "p.json"))
+        mats.append(poseschema.read_pose(io.BytesIO(json.dumps(form).encode()), "p.json"))
     from a2b.poses import paper_from_robotics, study_from_matrices
 
     m = mats[0]
     mats.append(
-        readers.read_pose(io.BytesIO(json.dumps({"matrix": m.tolist()}).encode()), "p.json")
+        poseschema.read_pose(io.BytesIO(json.dumps({"matrix": m.tolist()}).encode()), "p.json")
     )
     paper = {"matrix": paper_from_robotics(m).tolist(), "layout": "paper"}
-    mats.append(readers.read_pose(io.BytesIO(json.dumps(paper).encode()), "p.json"))
+    mats.append(poseschema.read_pose(io.BytesIO(json.dumps(paper).encode()), "p.json"))
     h = study_from_matrices(m)
     mats.append(
-        readers.read_pose(io.BytesIO(json.dumps({"study": (3 * h).tolist()}).encode()), "p.json")
+        poseschema.read_pose(io.BytesIO(json.dumps({"study": (3 * h).tolist()}).encode()), "p.json")
     )
     off = h.copy()
     off[4:] += 0.7 * h[:4]  # another point of the κ-fiber: off the Study quadric
     mats.append(
-        readers.read_pose(
+        poseschema.read_pose(
             io.BytesIO(json.dumps({"study": off.tolist(), "kappa": True}).encode()), "p.json"
         )
     )
@@ -206,10 +206,10 @@ def test_every_pose_form_reads_the_same_pose():
 
 def test_yaml_reads_exponents_and_json_reads_tabs():
     text = "quaternion_wxyz: [1e0, 0, 0, 0]\ntranslation: [1e-3, 2E+2, -.5e1]\n"
-    m = readers.read_pose(io.BytesIO(text.encode()), "p.yaml")
+    m = poseschema.read_pose(io.BytesIO(text.encode()), "p.yaml")
     assert m[:3, 3].tolist() == [0.001, 200.0, -5.0]
     text = '{\n\t"quaternion_wxyz": [1, 0, 0, 0],\n\t"translation": [1, 2, 3]\n}'
-    m = readers.read_pose(io.BytesIO(text.encode()), "p.json")
+    m = poseschema.read_pose(io.BytesIO(text.encode()), "p.json")
     assert m[:3, 3].tolist() == [1.0, 2.0, 3.0]
 
 
@@ -217,16 +217,16 @@ def test_content_detection_without_suffix():
     yaml_text = b"quaternion_wxyz: [1, 0, 0, 0]\n"
     json_text = b'{"quaternion_wxyz": [1, 0, 0, 0], "translation": [0, 0, 1]}'
     flow_yaml = b"{quaternion_wxyz: [1, 0, 0, 0], translation: [0, 0, 2]}"
-    assert readers.read_pose(io.BytesIO(yaml_text), "<stdin>")[2, 3] == 0.0
-    assert readers.read_pose(io.BytesIO(json_text), "<stdin>")[2, 3] == 1.0
-    assert readers.read_pose(io.BytesIO(flow_yaml), "<stdin>")[2, 3] == 2.0
+    assert poseschema.read_pose(io.BytesIO(yaml_text), "<stdin>")[2, 3] == 0.0
+    assert poseschema.read_pose(io.BytesIO(json_text), "<stdin>")[2, 3] == 1.0
+    assert poseschema.read_pose(io.BytesIO(flow_yaml), "<stdin>")[2, 3] == 2.0
 
 
 def test_jobs_errors_name_the_job_and_line(tmp_path):
     good = {"start": {"quaternion_wxyz": [1, 0, 0, 0]}, "end": {"quaternion_wxyz": [1, 0, 0, 0]}}
     bad = {"start": {"quaternion_wxyz": [1, 0, 0, 0]}, "end": {"quaternion_wxyz": [1, 0, 0]}}
     text = "\n".join(json.dumps(j) for j in (good, good, bad)) + "\n"
-    jobs = readers.read_jobs(io.BytesIO(text.encode()), "jobs.jsonl")
+    jobs = jobfiles.read_jobs(io.BytesIO(text.encode()), "jobs.jsonl")
     assert jobs.count is None
     it = iter(jobs)
     next(it), next(it)
@@ -238,14 +238,14 @@ def test_jobs_errors_name_the_job_and_line(tmp_path):
         "- start: {quaternion_wxyz: [1, 0, 0, 0]}\n  end: {quaternion_wxyz: [1, 0, 0, 0]}\n- "
         "start: {}\n"
     )
-    jobs = readers.read_jobs(io.BytesIO(yaml_text.encode()), "jobs.yaml")
+    jobs = jobfiles.read_jobs(io.BytesIO(yaml_text.encode()), "jobs.yaml")
     assert jobs.count == 2
     with pytest.raises(InputFileError, match=r"^jobs\.yaml:3:3: job 1: missing 'end'"):
         list(jobs)
     with pytest.raises(
         InputFileError, match=r"^jobs\.json:1:1: expected a list of jobs, got a mapping"
     ):
-        readers.read_jobs(io.BytesIO(b'{"start": 1}'), "jobs.json")
+        jobfiles.read_jobs(io.BytesIO(b'{"start": 1}'), "jobs.json")
 
 
 def test_a_poses_file_where_one_pose_belongs_and_back(tmp_path):
@@ -304,13 +304,13 @@ EXACT_ERRORS = [
 @pytest.mark.parametrize("name, data, message", EXACT_ERRORS, ids=[e[0] for e in EXACT_ERRORS])
 def test_exact_messages_for_what_is_no_number_or_no_text(name, data, message):
     with pytest.raises(InputFileError) as info:
-        readers.read_pose(io.BytesIO(data), name)
+        poseschema.read_pose(io.BytesIO(data), name)
     assert str(info.value) == message
 
 
 def test_yaml_1_2_numbers_are_numbers():
     text = b"quaternion_wxyz: [0x1, 0o0, -0, +0.0]\ntranslation: [1e3, .5, -2.]\n"
-    m = readers.read_pose(io.BytesIO(text), "p.yaml")
+    m = poseschema.read_pose(io.BytesIO(text), "p.yaml")
     assert m[:3, 3].tolist() == [1000.0, 0.5, -2.0]
 
 
@@ -320,27 +320,27 @@ def test_samples_must_be_at_least_two_and_at_most_2_to_the_53(tmp_path):
         InputFileError,
         match=r"p.yaml:3:1: samples: expected at least 2 samples \(t = 0 and t = 1\), got 1",
     ):
-        readers.read_poses(io.BytesIO((base + "samples: 1\n").encode()), "p.yaml")
+        poseschema.read_poses(io.BytesIO((base + "samples: 1\n").encode()), "p.yaml")
     with pytest.raises(
         InputFileError, match=r"samples: expected at most 2\*\*53 = 9007199254740992 samples"
     ):
-        readers.read_poses(io.BytesIO((base + f"samples: {2**53 + 1}\n").encode()), "p.yaml")
+        poseschema.read_poses(io.BytesIO((base + f"samples: {2**53 + 1}\n").encode()), "p.yaml")
     assert (
-        readers.read_poses(io.BytesIO((base + f"samples: {2**53}\n").encode()), "p.yaml").samples
+        poseschema.read_poses(io.BytesIO((base + f"samples: {2**53}\n").encode()), "p.yaml").samples
         == 2**53
     )
 
 
 def test_an_empty_jobs_file_is_an_error():
     with pytest.raises(InputFileError, match=r"^jobs.jsonl: no jobs"):
-        list(readers.read_jobs(io.BytesIO(b"\n\n"), "jobs.jsonl"))
+        list(jobfiles.read_jobs(io.BytesIO(b"\n\n"), "jobs.jsonl"))
     with pytest.raises(
         InputFileError, match=r"^jobs.json:1:1: expected a list of jobs, got an empty list"
     ):
-        readers.read_jobs(io.BytesIO(b"[]"), "jobs.json")
+        jobfiles.read_jobs(io.BytesIO(b"[]"), "jobs.json")
     with pytest.raises(InputFileError, match=r"^jobs.jsonl:2:1: not UTF-8 text \(byte 0xff\)"):
         list(
-            readers.read_jobs(
+            jobfiles.read_jobs(
                 io.BytesIO(
                     b'{"start": {"quaternion_wxyz": [1, 0, 0, 0]}, '
                     b'"end": {"quaternion_wxyz": [1, 0, 0, 0]}}\n\xff\n'
@@ -356,36 +356,36 @@ def test_read_pose_list_and_read_motion_file():
         b"  - {quaternion_wxyz: [0, 0, 0, 1], translation: [1, 0, 0]}\n"
         b"space: study\nparameters: {weights: [1, 2]}\n"
     )
-    curve = readers.read_pose_list(io.BytesIO(text), "controls", "c.yaml")
+    curve = poseschema.read_pose_list(io.BytesIO(text), "controls", "c.yaml")
     assert curve.key == "controls" and curve.poses.shape == (2, 4, 4)
     assert (
         curve.space == "study"
         and curve.samples is None
         and curve.parameters == {"weights": (1.0, 2.0)}
     )
-    assert isinstance(readers.read_motion_file(io.BytesIO(text), "c.yaml"), readers.PoseList)
-    job = readers.read_motion_file(
+    assert isinstance(poseschema.read_motion_file(io.BytesIO(text), "c.yaml"), poseschema.PoseList)
+    job = poseschema.read_motion_file(
         io.BytesIO(f"start: {IDENTITY}\nend: {QUARTER}\n".encode()), "p.yaml"
     )
-    assert isinstance(job, readers.Job)
+    assert isinstance(job, poseschema.Job)
     with pytest.raises(
         InputFileError,
         match=r"^c.yaml:1:1: this is a list of controls \(a2b bezier\), "
         r"but start and end poses are needed",
     ):
-        readers.read_poses(io.BytesIO(text), "c.yaml")
+        poseschema.read_poses(io.BytesIO(text), "c.yaml")
     with pytest.raises(
         InputFileError,
         match=r"^p.yaml:1:1: this is a poses file \(start and end\); "
         r"this command needs a list of poses under 'poses'",
     ):
-        readers.read_pose_list(
+        poseschema.read_pose_list(
             io.BytesIO(f"start: {IDENTITY}\nend: {QUARTER}\n".encode()), "poses", "p.yaml"
         )
     with pytest.raises(
         InputFileError, match=r"^c.yaml:1:1: controls: expected a list of at least two poses, got 1"
     ):
-        readers.read_pose_list(
+        poseschema.read_pose_list(
             io.BytesIO(b"controls:\n  - quaternion_wxyz: [1, 0, 0, 0]\n"), "controls", "c.yaml"
         )
 
@@ -409,7 +409,7 @@ def test_a_job_name_a2b_cannot_write_is_an_input_error(name_json, problem, suffi
     text = f"{good}\n{bad}\n" if suffix == "jsonl" else f"[{good},\n{bad}]\n"
     where = "2:2"  # at the key
     with pytest.raises(InputFileError, match=rf"^jobs\.{suffix}:{where}: job 1: name: {problem}$"):
-        for block in readers.read_jobs(io.BytesIO(text.encode()), f"jobs.{suffix}").blocks(8):
+        for block in jobfiles.read_jobs(io.BytesIO(text.encode()), f"jobs.{suffix}").blocks(8):
             pass
 
 
@@ -423,9 +423,9 @@ def test_invalid_json_lines_are_placed_on_their_own_line():
             InputFileError,
             match=rf"^jobs\.jsonl:2:{len(good)}: invalid JSON: Expecting ',' delimiter$",
         ):
-            list(readers.read_jobs(io.BytesIO(text.encode()), "jobs.jsonl"))
+            list(jobfiles.read_jobs(io.BytesIO(text.encode()), "jobs.jsonl"))
     control = '{"name": "a\tb", ' + good[1:]
     with pytest.raises(
         InputFileError, match=r"^jobs\.jsonl:1:12: invalid JSON: Invalid control character$"
     ):
-        list(readers.read_jobs(io.BytesIO(control.encode()), "jobs.jsonl"))
+        list(jobfiles.read_jobs(io.BytesIO(control.encode()), "jobs.jsonl"))

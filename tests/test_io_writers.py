@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from a2b.errors import ParameterError
-from a2b.io import parallel, readers, trajectories, writers
+from a2b.io import csvtable, parallel, trajectories, writers
 from a2b.io.floatrepr import format_rows, integer_words, number_words, text_words
 from a2b.output import stamped, write
 from a2b.poses import matrices_from_quat_trans, rotations_from_quaternions, study_from_matrices
@@ -192,7 +192,7 @@ def test_batch_csv_quotes_job_names(rng):
     stream = io.BytesIO()
     writers.write_batch_csv(stream, chunks)
     stream.seek(0)
-    names, values = readers.read_batch_csv(stream)
+    names, values = csvtable.read_batch_csv(stream)
     assert names == chunks[0].job
     assert np.array_equal(values[:, 0], t) and np.array_equal(values[:, 4:], quat)
 
@@ -222,7 +222,7 @@ def test_many_blocks_in_order_with_helpers(rng, monkeypatch, workers):
     stream = io.BytesIO()
     writers.write_batch_csv(stream, chunks)
     stream.seek(0)
-    names, values = readers.read_batch_csv(stream)
+    names, values = csvtable.read_batch_csv(stream)
     assert names == [f"job {int(v * 7)}" for v in t]
     assert np.array_equal(values[:, 0], t) and np.array_equal(values[:, 4:], quat)
 
@@ -379,6 +379,6 @@ def test_long_names_go_out_in_bounded_pieces(monkeypatch):
     stream = io.BytesIO()
     writers.write_batch_csv(stream, [chunk])
     stream.seek(0)
-    names, values = readers.read_batch_csv(stream)
+    names, values = csvtable.read_batch_csv(stream)
     assert names == list(runs)
     assert np.array_equal(values[:, 0], t)

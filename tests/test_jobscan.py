@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from a2b.errors import InputFileError
-from a2b.io import jobscan, readers
+from a2b.io import jobfiles, jobscan, poseschema
 
 
 def _jobs_text(n: int, bad_at: int | None = None) -> bytes:
@@ -33,7 +33,7 @@ def _read_blocks(data: bytes, name: str, size: int = 4):
     """The jobs read in blocks of ``size``, and the error's message (or None)."""
     jobs, error = [], None
     try:
-        for block in readers.read_jobs(io.BytesIO(data), name).blocks(size):
+        for block in jobfiles.read_jobs(io.BytesIO(data), name).blocks(size):
             assert 0 < len(block) <= size
             jobs.extend(block.jobs())
     except InputFileError as e:
@@ -44,7 +44,7 @@ def _read_blocks(data: bytes, name: str, size: int = 4):
 def _read_one_by_one(data: bytes, name: str):
     jobs, error = [], None
     try:
-        for job in readers.read_jobs(io.BytesIO(data), name):
+        for job in jobfiles.read_jobs(io.BytesIO(data), name):
             jobs.append(job)
     except InputFileError as e:
         error = str(e)
@@ -87,7 +87,7 @@ def test_errors_of_scanning_arrive_after_the_jobs_before_them():
 
     sizes = []
     with pytest.raises(OSError, match="the disk went away"):
-        for block in readers.read_jobs(Failing(), "j.jsonl").blocks(3):
+        for block in jobfiles.read_jobs(Failing(), "j.jsonl").blocks(3):
             sizes.append(len(block))
     assert sizes == [3, 1]
 
@@ -98,7 +98,7 @@ def test_names_beyond_ascii_stay_on_the_fast_path():
 
     def exact(*args):
         calls.append(args)
-        return readers.json_line_job(*args)
+        return jobfiles.json_line_job(*args)
 
     lines = [
         f'{{"name": "{name}", "start": {{"quaternion_wxyz": [1, 0, 0, 0]}}, '
@@ -119,5 +119,5 @@ def test_names_beyond_ascii_stay_on_the_fast_path():
 def test_parameter_kinds_come_from_the_table():
     from a2b.parameters import TABLE
 
-    assert set(jobscan.PARAMETER_KINDS) == {p.name for p in TABLE}
-    assert jobscan.PARAMETER_KINDS["m"] == 4 and jobscan.PARAMETER_KINDS["delta"] == "number"
+    assert set(poseschema.PARAMETER_KINDS) == {p.name for p in TABLE}
+    assert poseschema.PARAMETER_KINDS["m"] == 4 and poseschema.PARAMETER_KINDS["delta"] == "number"

@@ -44,7 +44,7 @@ def test_write_writes_the_bytes_of_the_command(tmp_path, fmt):
         run("interpolate", path, "--samples", 9, "--format", fmt, "-o", command, *timing).exit_code
         == 0
     )
-    from a2b.io.readers import read_poses
+    from a2b.io.poseschema import read_poses
 
     with open(path, "rb") as f:
         job = read_poses(f)

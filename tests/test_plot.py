@@ -519,7 +519,7 @@ def _figures_a2b_plot_makes():
     --family (both kinds), the given frame (no transmission panel), units, custom points,
     a Bézier motion and a spline with their marked poses, on the samples and generic poses."""
     from a2b.cli.options import curve_motion
-    from a2b.io.readers import read_motion_file
+    from a2b.io.poseschema import read_motion_file
 
     root = Path(__file__).resolve().parent.parent / "samples"
     with open(root / "quarter-turn.yaml", "rb") as f:

@@ -75,7 +75,7 @@ def test_every_output_reads_back_as_a_trajectory_bit_for_bit(tmp_path, fmt):
 
 
 def _poses(sample: str):
-    from a2b.io.readers import read_poses
+    from a2b.io.poseschema import read_poses
 
     with open(SAMPLES / sample, "rb") as f:
         job = read_poses(f)
@@ -394,7 +394,7 @@ def test_evo_associates_every_pose_resampled_with_at(tmp_path, evo_ape):
 
 def test_rpy_and_axis_angle_poses_match_scipy():
     rotation = pytest.importorskip("scipy.spatial.transform").Rotation
-    from a2b.io.readers import read_pose
+    from a2b.io.poseschema import read_pose
 
     rng = np.random.default_rng(21)
     for rpy in rng.uniform(-3, 3, size=(5, 3)):

@@ -16,7 +16,7 @@ from click.testing import CliRunner
 import a2b
 from a2b.cli import cli
 from a2b.errors import A2bError
-from a2b.io.readers import read_poses
+from a2b.io.poseschema import read_poses
 from tests import browser
 
 pytest.importorskip("plotly", reason="a2b view needs plotly (the [view] extra)")

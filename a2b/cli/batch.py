@@ -84,7 +84,7 @@ def command(
     """
     from ..errors import printable
     from ..formats import BY_NAME
-    from ..io.readers import read_jobs
+    from ..io.jobfiles import read_jobs
     from ..jobs import sample
     from ..output import check_plan, stamped, write_samples
 

@@ -159,7 +159,7 @@ def command(poses, mode, space, as_json, orthonormalize, duration, compare, **pa
 
     import a2b
 
-    from ..io.readers import PoseList, read_motion_file
+    from ..io.poseschema import PoseList, read_motion_file
 
     law = options.figure_law(parameters)
     timed = compare or duration is not None or options.law_given(law)

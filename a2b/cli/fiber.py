@@ -91,7 +91,7 @@ def command(pose, kind, offsets, m, alphas, basis, as_json, orthonormalize):
     """
     import json
 
-    from ..io.readers import read_pose
+    from ..io.poseschema import read_pose
 
     if kind == "mu" and m is None:
         raise click.UsageError("--map mu needs --m, e.g. --m 1,0,0,0.5")

@@ -37,7 +37,7 @@ def command(poses, mode, samples, verbose, orthonormalize, **parameters):
     """
     import a2b
 
-    from ..io.readers import read_poses
+    from ..io.poseschema import read_poses
 
     out = writing.pop_trajectory(parameters)
     out.update(options.pop_time_law(parameters))

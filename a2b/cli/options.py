@@ -387,7 +387,7 @@ def merge_parameters(from_file: dict, from_command_line: dict, mode: str | None 
                     merged.pop(key, None)
     for key, value in given.items():
         if key == "through":
-            from ..io.readers import read_pose
+            from ..io.poseschema import read_pose
 
             value = read_pose(value)
         merged[key] = value
@@ -426,7 +426,7 @@ def figure_motions(job, mode, compare, space, parameters: dict, choices: list, *
     """
     from ..api import PARAMETERS
     from ..errors import ParameterError
-    from ..io.readers import PoseList
+    from ..io.poseschema import PoseList
 
     if isinstance(job, PoseList):
         only_for_two_poses(job, mode=mode, compare=compare, **two_poses, **parameters)
@@ -556,11 +556,11 @@ orthonormalize_option = click.option(
 @contextlib.contextmanager
 def repairing(orthonormalize: bool, choices: list):
     """Read pose files within: with ``orthonormalize``, matrix poses are repaired
-    (:func:`a2b.io.readers.orthonormalizing`) and the repairs stated in ``choices``."""
+    (:func:`a2b.io.poseschema.orthonormalizing`) and the repairs stated in ``choices``."""
     if not orthonormalize:
         yield
         return
-    from ..io.readers import orthonormalizing
+    from ..io.poseschema import orthonormalizing
 
     with orthonormalizing() as repairs:
         yield
@@ -584,8 +584,8 @@ def read_pose_list_option(
     import io
 
     from ..errors import InputFileError
-    from ..io.jobscan import stream_name
-    from ..io.readers import PoseList, read_pose_list
+    from ..io.documents import stream_name
+    from ..io.poseschema import PoseList, read_pose_list
     from ..io.trajectories import read_trajectory, sniff_format
 
     name = stream_name(stream, None)

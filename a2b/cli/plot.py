@@ -181,7 +181,7 @@ def command(
     import sys
 
     from ..io.atomic import atomic_output
-    from ..io.readers import read_motion_file
+    from ..io.poseschema import read_motion_file
     from ..plot import figure_format, plot_motions, write_figure
 
     choices: list[str] = []

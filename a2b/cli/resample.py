@@ -208,7 +208,7 @@ def _new_times(rate, reference, times_file, choices):
             raise InputFileError(f"{path.name}: the reference has no poses")
     else:
         times = _read_times(times_file)
-    from ..io.jobscan import stream_name
+    from ..io.documents import stream_name
 
     return NewTimes(times=times, source=stream_name(reference or times_file, None))
 
@@ -218,7 +218,7 @@ def _read_times(stream):
     import numpy as np
 
     from ..errors import InputFileError
-    from ..io.jobscan import stream_name
+    from ..io.documents import stream_name
 
     name = stream_name(stream, None)
     times, lines = [], []

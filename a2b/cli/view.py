@@ -65,8 +65,8 @@ def command(poses, output, open_, mode, space, compare, points, angle_unit, leng
 
     from ..errors import InputFileError
     from ..io.atomic import atomic_output
-    from ..io.jobscan import stream_name
-    from ..io.readers import read_motion_file
+    from ..io.documents import stream_name
+    from ..io.poseschema import read_motion_file
     from ..io.trajectories import read_trajectory, sniff_format
     from ..view import MAX_FRAMES, MAX_LINE_POINTS, animation_steps, require_plotly, view_page
 

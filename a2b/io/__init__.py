@@ -1,9 +1,11 @@
 """Reading pose files and writing trajectory files.
 
-``readers`` turns JSON or YAML into validated robotics-layout matrices and motion parameters,
-with errors that name the file, the key and the line; ``jobscan`` scans JSON Lines jobs files
-line by line, the common forms fast; ``trajectories`` reads the trajectory files users keep
-(TUM, KITTI, EuRoC, a2b's CSV layouts, MCAP), MCAP through its indexes (``mcapreader``).
+``documents`` parses JSON or YAML with line:column positions; ``poseschema`` turns them into
+validated robotics-layout matrices and motion parameters, with errors that name the file, the
+key and the line; ``jobfiles`` reads jobs files in blocks, and ``jobscan`` scans JSON Lines
+line by line, the common forms fast, from the same schema; ``trajectories`` reads the
+trajectory files users keep, one module per format (``tum``, ``kitti``, ``euroc``,
+``csvtable`` on ``textrows`` and ``trajectory``; MCAP through its indexes, ``mcapreader``).
 ``writers`` turns samples (:class:`a2b.samples.Samples`) into CSV layouts, TUM, KITTI and
 MCAP, with numbers formatted by ``floatrepr`` and built into MCAP by ``mcapwriter``, on a second
 thread (``parallel``); which writer serves which format is the table :mod:`a2b.formats`, and

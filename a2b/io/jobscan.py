@@ -3,7 +3,7 @@
 Each line of a JSON Lines jobs file is parsed by the C scanner of :mod:`json` and checked for
 the common forms of a job (:meth:`Scanned.add_fast`); a line of any unusual form is read the
 exact way by the caller's reader, which also words its error. The numbers of each block are
-checked in bulk afterwards (:func:`a2b.io.readers.finish_block`): the jobs, the errors and
+checked in bulk afterwards (:func:`a2b.io.jobfiles.finish_block`): the jobs, the errors and
 their order are those of reading the file line by line with the exact reader.
 """
 
@@ -17,61 +17,10 @@ from typing import IO
 
 from ..errors import InputFileError
 from ..names import FRAMES, MAX_SAMPLES, MIN_SAMPLES, MODES
-from ..parameters import TABLE
+from .documents import decode, kind_from_suffix, stream_name
+from .poseschema import JOB_KEYS, MATRIX_LAYOUTS, PARAMETER_KINDS, POSE_FORMS, TRANSLATION, Numbers
 
-__all__ = [
-    "JOB_KEYS",
-    "NUMBER_TYPES",
-    "PARAMETER_KINDS",
-    "POSES_KEYS",
-    "Scanned",
-    "Sniffed",
-    "decode",
-    "kind_from_suffix",
-    "lines",
-    "scan_blocks",
-    "sniff",
-    "stream_name",
-]
-
-POSES_KEYS = ("start", "end", "mode", "samples", "parameters")
-JOB_KEYS = POSES_KEYS + ("name",)
-#: Parameter name -> kind (``number``, ``branch``, ``pose``, ``bool``, ``frame``, or the count
-#: of numbers of a vector), from the table of :mod:`a2b.parameters`.
-PARAMETER_KINDS = {p.name: p.size if p.kind == "vector" else p.kind for p in TABLE}
-
-
-def stream_name(stream: IO, name: str | None) -> str:
-    if name:
-        return name
-    n = getattr(stream, "name", None)
-    return n if isinstance(n, str) else "<stdin>"
-
-
-def kind_from_suffix(name: str) -> str | None:
-    lower = name.lower()
-    for suffixes, kind in (
-        ((".json",), "json"),
-        ((".jsonl", ".ndjson"), "jsonl"),
-        ((".yaml", ".yml"), "yaml"),
-    ):
-        if lower.endswith(suffixes):
-            return kind
-    return None
-
-
-def decode(raw: bytes | str, name: str, first_line: int = 1) -> str:
-    """UTF-8 text (a leading byte-order mark dropped); bytes that are not UTF-8 are an error."""
-    if isinstance(raw, str):
-        return raw
-    try:
-        return raw.decode("utf-8-sig" if first_line == 1 else "utf-8")
-    except UnicodeDecodeError as e:
-        line = raw.count(b"\n", 0, e.start) + first_line
-        column = e.start - (raw.rfind(b"\n", 0, e.start) + 1) + 1
-        raise InputFileError(
-            f"{name}:{line}:{column}: not UTF-8 text (byte 0x{raw[e.start]:02x})"
-        ) from None
+__all__ = ["NUMBER_TYPES", "Scanned", "Sniffed", "lines", "scan_blocks", "sniff"]
 
 
 def is_complete_json(line: str) -> bool:
@@ -140,61 +89,91 @@ NUMBER_TYPES = frozenset({int, float})
 _ZERO_TRANSLATION = (0.0, 0.0, 0.0)
 
 
+def _fast_reading(numbers: Numbers) -> tuple:
+    """``(list order or None, mapping keys or None)``: how the fast path takes a group of
+    numbers written as ``numbers`` says; the list order is ``None`` when it needs no picking."""
+    pick = numbers.pick if numbers.pick != tuple(range(len(numbers.wanted))) else None
+    as_list = (pick, len(numbers.written)) if "list" in numbers.layouts else None
+    as_mapping = tuple(numbers.wanted) if "mapping" in numbers.layouts else None
+    return as_list, as_mapping
+
+
+#: The quaternion forms of :data:`a2b.io.poseschema.POSE_FORMS`, as the fast path reads them.
+_QUATERNION_FORMS = {
+    key: _fast_reading(form.numbers) for key, form in POSE_FORMS.items() if form.numbers
+}
+_TRANSLATION = _fast_reading(TRANSLATION)
+#: The length of a translation list in the order the readers take (0: none such).
+_PLAIN_TRANSLATION = _TRANSLATION[0][1] if _TRANSLATION[0] and not _TRANSLATION[0][0] else 0
+#: The one form common enough to be read inline (a list in the order the readers take).
+_INLINE = next(k for k, (as_list, _) in _QUATERNION_FORMS.items() if as_list and not as_list[0])
+_MATRIX = POSE_FORMS["matrix"]
+
+
+def _fast_numbers(value, reading: tuple, out: list) -> int:
+    """Append the numbers of ``value`` read as ``reading`` says to ``out``; return the count
+    of mapping keys read (0 for a list), or ``-1`` if it is written otherwise."""
+    as_list, as_mapping = reading
+    kind = type(value)
+    if kind is list and as_list is not None and len(value) == as_list[1]:
+        pick = as_list[0]
+        if pick is None:
+            out += value
+        else:
+            out += map(value.__getitem__, pick)
+        return 0
+    if kind is dict and as_mapping is not None and len(value) == len(as_mapping):
+        out += map(value.get, as_mapping)  # a missing key: None, refused later
+        return len(as_mapping)
+    return -1
+
+
 def _fast_pose(v, q: list, m: list) -> int:
     """Append the numbers of a pose in a common form to ``q`` (quaternion forms: ``w, x, y, z,
     tx, ty, tz``) or ``m`` (a robotics matrix: its 16 entries); return the count of mapping
     keys read, or ``-1`` for any other form (the caller then undoes the appends).
 
-    Only the structure is checked here: the numbers are checked by :meth:`Scanned.add_fast`
-    once the whole job is read, and in bulk by :func:`a2b.io.readers.finish_block`.
+    The forms, their keys and orders come from :data:`a2b.io.poseschema.POSE_FORMS`. Only the
+    structure is checked here: the numbers are checked by :meth:`Scanned.add_fast` once the
+    whole job is read, and in bulk by :func:`a2b.io.jobfiles.finish_block`.
     """
     if type(v) is not dict:
         return -1
     size = len(v)
     if size > 2:
         return -1
-    quat = v.get("quaternion_wxyz")
-    if quat is None:
-        quat = v.get("quaternion")
-        if type(quat) is list:  # the bare list is refused by the exact reading
-            return -1
-    if quat is not None:
-        if type(quat) is list and len(quat) == 4:
-            q += quat
-            keys = 1
-        elif type(quat) is dict and len(quat) == 4:
-            q += (quat.get("w"), quat.get("x"), quat.get("y"), quat.get("z"))
-            keys = 5
-        else:
-            return -1
+    for key in v:
+        reading = _QUATERNION_FORMS.get(key)
+        if reading is not None:
+            break
     else:
-        quat = v.get("quaternion_xyzw")
-        if quat is None:
-            rows = v.get("matrix")
-            if type(rows) is not list or len(rows) != 4:
-                return -1
-            if size == 2 and v.get("layout") != "robotics":
-                return -1
-            for row in rows:
-                if type(row) is not list or len(row) != 4:
-                    return -1
-                m += row
-            return size
-        if type(quat) is not list or len(quat) != 4:
-            return -1
-        q += (quat[3], quat[0], quat[1], quat[2])  # ROS order is converted here, as in _pose
-        keys = 1
+        return _fast_matrix(v, m)
+    more = _fast_numbers(v[key], reading, q)
+    if more < 0:
+        return -1
     if size == 1:
         q += _ZERO_TRANSLATION
-        return keys
+        return more + 1
     t = v.get("translation")
-    if type(t) is list and len(t) == 3:
+    if type(t) is list and len(t) == _PLAIN_TRANSLATION:  # the common case, inline
         q += t
-        return keys + 1
-    if type(t) is dict and len(t) == 3:
-        q += (t.get("x"), t.get("y"), t.get("z"))
-        return keys + 4
-    return -1
+        return more + 2
+    added = _fast_numbers(t, _TRANSLATION, q) if t is not None else -1
+    return -1 if added < 0 else more + added + 2
+
+
+def _fast_matrix(v: dict, m: list) -> int:
+    """The robotics matrix form for :func:`_fast_pose`."""
+    rows = v.get(_MATRIX.key)
+    if type(rows) is not list or len(rows) != 4:
+        return -1
+    if len(v) == 2 and v.get(_MATRIX.extras[0]) != MATRIX_LAYOUTS[0]:  # the paper's: exact
+        return -1
+    for row in rows:
+        if type(row) is not list or len(row) != 4:
+            return -1
+        m += row
+    return len(v)
 
 
 def _fast_parameters(params: dict) -> dict | None:
@@ -254,7 +233,7 @@ def _plain_numbers(q: list, nq: int, m: list, nm: int) -> bool:
 
 class Scanned:
     """The jobs of one block as scanned: their numbers in flat lists, made poses and checked
-    in bulk later (:func:`a2b.io.readers.finish_block`), and the jobs read the exact way."""
+    in bulk later (:func:`a2b.io.jobfiles.finish_block`), and the jobs read the exact way."""
 
     def __init__(self):
         self.q: list = []  # 7 numbers per pose in a quaternion form
@@ -292,7 +271,7 @@ class Scanned:
             slots = []
             for pose in (v.get("start"), v.get("end")):
                 if type(pose) is dict and len(pose) == 2:  # the commonest form, inline
-                    quat, t = pose.get("quaternion_wxyz"), pose.get("translation")
+                    quat, t = pose.get(_INLINE), pose.get("translation")
                     if type(quat) is list and len(quat) == 4 and type(t) is list and len(t) == 3:
                         slots.append(len(q) // 7)
                         q += quat
@@ -343,7 +322,7 @@ class Scanned:
         return False
 
     def add_job(self, job, where) -> None:
-        """Add a job read the exact way (a :class:`a2b.io.readers.Job`)."""
+        """Add a job read the exact way (a :class:`a2b.io.poseschema.Job`)."""
         self.exact[len(self.records)] = job
         self.records.append((None, None, job.mode, job.samples, job.parameters, job.name, where))
 
@@ -353,11 +332,11 @@ def scan_blocks(
 ) -> Iterator[Scanned]:
     """The jobs of JSON Lines scanned in blocks of ``size``: each line parsed by the plain C
     scanner and checked by :meth:`Scanned.add_fast`, or, if anything about it is unusual, read
-    the exact way by ``exact(line, name, number, index)`` (the readers'
-    :func:`a2b.io.readers.json_line_job`, which makes every error message). An
+    the exact way by ``exact(line, name, number, index)`` (the
+    :func:`a2b.io.jobfiles.json_line_job`, which makes every error message). An
     error of a line (no UTF-8, or found by the exact reading) or of the stream is raised after
     the block of the jobs before it; what needs numpy to check (a matrix that is no rotation)
-    is checked later, in bulk (:func:`a2b.io.readers.finish_block`).
+    is checked later, in bulk (:func:`a2b.io.jobfiles.finish_block`).
 
     A duplicate key is caught by counting: the keys of the parsed mappings must number the
     colons of the line (a duplicate drops a key; a colon inside a string sends the line to the

@@ -1,0 +1,415 @@
+"""Rows of numbers in text: what the text trajectory formats share.
+
+A text trajectory is lines of numbers, separated by commas or by blanks, with ``#`` comments
+and blank lines. :func:`read_rows` parses some of its lines in bulk (``numpy.loadtxt``) into
+the columns a :class:`TextLayout` names; only when that fails, or a message needs the line of a
+row, are the lines numbered one by one. A header that names its columns is read by the names
+(:func:`named_layout`), never by where a column is expected to be.
+
+Bytes are read with :func:`read_text_bytes`, which refuses what no text has (a NUL byte, as
+from ``/dev/zero``) as soon as it arrives, so memory stays bounded by what a text file holds.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import re
+import stat
+import warnings
+from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+from typing import IO
+
+import numpy as np
+
+from ..errors import InputFileError, printable
+from .documents import stream_name
+
+__all__ = [
+    "BOM",
+    "NUMBER",
+    "Lines",
+    "TextLayout",
+    "check_text",
+    "first_line",
+    "header_line",
+    "named_layout",
+    "role",
+    "read_rows",
+    "read_text_bytes",
+    "read_times",
+    "whole_file",
+    "written_times",
+]
+
+BOM = b"\xef\xbb\xbf"
+#: The longest header line read.
+HEADER_BYTES = 1 << 16
+#: Bytes read at a time by :func:`read_text_bytes`.
+READ_BYTES = 1 << 20
+#: A number as numpy's text reader takes it (``nan`` and ``inf`` are then refused as such).
+NUMBER = re.compile(
+    r"[-+]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?|nan|inf(?:inity)?)", re.I
+)
+#: A line whose first field is more than an optional sign and digits (nanosecond stamps).
+_NOT_AN_INTEGER_STAMP = re.compile(rb"(?m)^(?![ \t]*#)[ \t]*[+-]?[0-9]*[^0-9,\r\n]")
+_SHOWN = 5  # items a message names before it says how many more
+
+
+def _few(items: list) -> str:
+    """The first few items, quoted and escaped, and how many more."""
+    shown = ", ".join(f"'{printable(str(item)[:40])}'" for item in items[:_SHOWN])
+    more = len(items) - _SHOWN
+    return shown + (f" and {more} more" if more > 0 else "")
+
+
+def read_text_bytes(stream: IO, name: str, head: bytes = b"") -> bytes:
+    """The text of a stream whose first bytes, ``head``, were read already. A NUL byte (no
+    text has one: ``/dev/zero``, a binary file) is an error: in a regular file, whose bytes
+    are all there, after reading it at once; in any other stream as soon as its piece
+    arrives."""
+    whole = whole_file(stream, head)
+    if whole is not None:
+        _refuse_nul(whole, name, 0, b"")
+        return whole
+    parts, size = [head], len(head)
+    _refuse_nul(head, name, 0, head)
+    while True:
+        part = stream.read(READ_BYTES)
+        if not part:
+            break
+        if isinstance(part, str):
+            part = part.encode()
+        _refuse_nul(part, name, size, parts)
+        parts.append(part)
+        size += len(part)
+    return b"".join(parts)
+
+
+def whole_file(stream: IO, head: bytes) -> bytes | None:
+    """All bytes of a regular file from where ``head`` started, read at once (without a copy
+    of ``head`` joined to the rest), else ``None``."""
+    if isinstance(stream, io.TextIOBase):  # its positions are no byte counts
+        return None
+    try:
+        if not stat.S_ISREG(os.fstat(stream.fileno()).st_mode):
+            return None
+        stream.seek(stream.tell() - len(head))
+    except (AttributeError, OSError, ValueError, io.UnsupportedOperation):
+        return None
+    data = stream.read()
+    return data.encode() if isinstance(data, str) else data
+
+
+def _refuse_nul(part: bytes, name: str, offset: int, before) -> None:
+    at = part.find(b"\0")
+    if at < 0:
+        return
+    text = b"".join(before) if isinstance(before, list) else b""
+    line = text.count(b"\n") + part.count(b"\n", 0, at) + 1
+    raise InputFileError(
+        f"{name}:{line}: a NUL byte at byte {offset + at}, so this is no text file"
+    )
+
+
+def check_text(data: bytes, name: str) -> bytes:
+    """The text of a trajectory file without its byte-order mark; bytes that are not UTF-8,
+    and a carriage return that ends no line feed (old Mac line ends), are errors at their
+    line."""
+    if data.startswith(BOM):
+        data = data[len(BOM) :]
+    if not data.isascii():  # the common case needs no decoded copy
+        try:
+            data.decode("utf-8")
+        except UnicodeDecodeError as e:
+            line = data.count(b"\n", 0, e.start) + 1
+            raise InputFileError(f"{name}:{line}: the file is not UTF-8 text") from None
+    lone = re.search(rb"\r(?!\n)", data)
+    if lone:
+        line = data.count(b"\n", 0, lone.start()) + 1
+        column = lone.start() - (data.rfind(b"\n", 0, lone.start()) + 1) + 1
+        raise InputFileError(
+            f"{name}:{line}:{column}: a carriage return ends no line feed (old Mac line ends?); "
+            "a2b reads lines that end in LF or CR LF"
+        )
+    return data
+
+
+def first_line(data: bytes) -> str:
+    """The first line of a text (at most :data:`HEADER_BYTES` of it), without its line end."""
+    end = data.find(b"\n", 0, HEADER_BYTES)
+    return data[: end if end >= 0 else HEADER_BYTES].decode("utf-8", "replace").rstrip("\r")
+
+
+def header_line(data: bytes, name: str) -> str:
+    """The first line of a text, a header: longer than :data:`HEADER_BYTES` is an error."""
+    if len(data) > HEADER_BYTES and b"\n" not in data[:HEADER_BYTES]:
+        raise InputFileError(
+            f"{name}:1:1: the first line, a header, is longer than {HEADER_BYTES} bytes"
+        )
+    return first_line(data)
+
+
+@dataclass(frozen=True)
+class TextLayout:
+    """How to read the rows of a text trajectory: the separator (``None``: blanks), the lines
+    to skip at the top (a header), the fields per row (``width``; ``None``: at least those of
+    ``columns``), and ``columns``: which fields, in the order the format's reader takes them.
+    ``nanoseconds``: the first of ``columns`` is a whole number of nanoseconds."""
+
+    sep: str | None
+    skip: int
+    width: int | None
+    columns: tuple[int, ...]
+    nanoseconds: bool = False
+    #: The format's name, for messages.
+    fmt: str = ""
+
+
+def read_rows(data: bytes, name: str, layout: TextLayout, offset: int = 0, skip: bool = True):
+    """The numbers of some lines of a text trajectory ``(N, len(columns))``, and their
+    :class:`Lines`; ``offset`` lines of the file come before ``data``, whose first
+    ``layout.skip`` lines are skipped if ``skip``."""
+    first = layout.skip if skip else 0
+    lines = Lines(data, first, offset)
+    body = io.BytesIO(data)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)  # "input contained no data"
+            if layout.width is None:  # only the named columns, of rows that may have more
+                rows = _loadtxt(body, layout, first, usecols=layout.columns)
+            else:
+                rows = _loadtxt(body, layout, first)
+                if rows.size == 0:
+                    rows = np.empty((0, layout.width))
+                if rows.shape[1] != layout.width:
+                    raise ValueError
+                if layout.columns != tuple(range(layout.width)):
+                    rows = rows[:, layout.columns]
+            if layout.nanoseconds and len(rows):
+                rows[:, 0] = _seconds(data, body, layout, first)
+    except ValueError:
+        rows = _rows_one_by_one(lines.numbered(), name, layout)
+    bad = ~np.isfinite(rows).all(axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        column = layout.columns[int(np.argmax(~np.isfinite(rows[i])))]
+        _raise_at(lines.numbered()[i], layout.sep, column, name, "expected a finite number")
+    return rows, lines
+
+
+def _loadtxt(body, layout: TextLayout, first: int, usecols=None) -> np.ndarray:
+    body.seek(0)
+    return np.loadtxt(
+        body, delimiter=layout.sep, comments="#", ndmin=2, skiprows=first, usecols=usecols
+    )
+
+
+def _seconds(data: bytes, body, layout: TextLayout, first: int) -> np.ndarray:
+    """The nanosecond stamps of the first column as seconds, read as integers (they exceed
+    2**53)."""
+    if _NOT_AN_INTEGER_STAMP.search(data):
+        raise ValueError  # older numpy would truncate 1.5 to 1
+    body.seek(0)
+    stamps = np.loadtxt(
+        body, delimiter=layout.sep, comments="#", usecols=layout.columns[0], dtype=np.int64,
+        ndmin=1, skiprows=first,
+    )  # fmt: skip
+    seconds, nanoseconds = np.divmod(stamps, 10**9)
+    return seconds + nanoseconds * 1e-9
+
+
+class Lines:
+    """The line number of each data row of a text, counted only when a message asks."""
+
+    def __init__(self, data: bytes, first: int, offset: int = 0):
+        self.data, self.first, self.offset = data, first, offset
+        self._numbered: list | None = None
+
+    def numbered(self) -> list[tuple[int, str]]:
+        """``(line number, line)`` of every row: not blank, not a ``#`` comment."""
+        if self._numbered is None:
+            self._numbered = [
+                (self.offset + i + 1, line)
+                for i, line in enumerate(self.data.decode("utf-8").split("\n"))
+                if i >= self.first and line.strip() and not line.lstrip().startswith("#")
+            ]
+        return self._numbered
+
+    def __getitem__(self, row: int) -> int:
+        return self.numbered()[row][0]
+
+
+def written_times(lines: Lines, layout: TextLayout):
+    """``time(i)``: the time of row ``i`` as the file writes it, in seconds (for
+    :func:`a2b.io.trajectory.check_times`)."""
+
+    def time(i: int) -> str | None:
+        if i < 0:
+            return None
+        field = _field(lines.numbered()[i][1], layout.sep, layout.columns[0])
+        if not layout.nanoseconds:
+            return field
+        try:
+            return str(Decimal(field).scaleb(-9))
+        except InvalidOperation:
+            return field
+
+    return time
+
+
+def _field(line: str, sep: str | None, column: int) -> str:
+    parts = line.split(sep, column + 1)
+    return parts[column].strip() if column < len(parts) else ""
+
+
+def _fields(line: str, sep: str | None, limit: int) -> list[tuple[int, str]]:
+    """The first ``limit`` fields of a line, each with the 1-based column where it starts."""
+    out = []
+    if sep is None:
+        for m in re.finditer(r"\S+", line):
+            if len(out) == limit:
+                break
+            out.append((m.start() + 1, m.group()))
+        return out
+    pos = 0
+    for part in line.split(sep, limit)[:limit]:
+        out.append((pos + len(part) - len(part.lstrip()) + 1, part.strip()))
+        pos += len(part) + len(sep)
+    return out
+
+
+def _count_fields(line: str, sep: str | None) -> int:
+    """The count of fields of a line, without a list of them (a line may hold millions)."""
+    if sep is not None:
+        return line.count(sep) + 1
+    return sum(1 for _ in re.finditer(r"\S+", line))
+
+
+def _raise_at(numbered: tuple[int, str], sep, column: int, name: str, message: str) -> None:
+    number, line = numbered
+    fields = _fields(line, sep, column + 1)
+    col, token = fields[column] if column < len(fields) else (len(line) + 1, "")
+    shown = token if len(token) <= 40 else token[:37] + "..."
+    raise InputFileError(f"{name}:{number}:{col}: {message}, got {printable(shown)!r}")
+
+
+def _rows_one_by_one(numbers: list, name: str, layout: TextLayout) -> np.ndarray:
+    """The rows line by line, to locate what the bulk reading refused: the first line whose
+    count of fields is wrong or whose field is no number is an error."""
+    need = max(layout.columns) + 1
+    rows = np.empty((len(numbers), len(layout.columns)))
+    for i, numbered in enumerate(numbers):
+        count = _count_fields(numbered[1], layout.sep)
+        if count != layout.width and (layout.width is not None or count < need):
+            expected = f"{layout.width} numbers" if layout.width else f"at least {need} fields"
+            raise InputFileError(
+                f"{name}:{numbered[0]}:1: expected {expected} per line ({layout.fmt}), got {count}"
+            )
+        fields = _fields(numbered[1], layout.sep, need)
+        for k, column in enumerate(layout.columns):
+            token = fields[column][1]
+            if k == 0 and layout.nanoseconds:
+                if not re.fullmatch(r"[-+]?[0-9]+", token):
+                    _raise_at(
+                        numbered, layout.sep, column, name, "expected a whole number of nanoseconds"
+                    )
+                seconds, nanoseconds = divmod(int(token), 10**9)
+                rows[i, k] = seconds + nanoseconds * 1e-9
+                continue
+            if not NUMBER.fullmatch(token):
+                _raise_at(numbered, layout.sep, column, name, "expected a number")
+            rows[i, k] = float(token)
+    return rows
+
+
+# -- headers that name their columns ------------------------------------------------------------
+
+#: What a column's name says, after its unit (``[m]``), a leading ``#`` and the case are
+#: dropped: spellings of the time, the position and the orientation quaternion in the CSV
+#: files of a2b, EuRoC and common exports.
+_ROLES = {
+    **{k: "t" for k in ("t", "time", "timestamp", "stamp")},
+    **{
+        f"{prefix}{axis}": f"t{axis}"
+        for axis in "xyz"
+        for prefix in ("t", "", "p", "p_", "p_rs_r_", "pos_", "position_", "position.", "t_")
+    },
+    **{
+        f"{prefix}{axis}": f"q{axis}"
+        for axis in "wxyz"
+        for prefix in ("q", "q_", "q_rs_", "quat_", "orientation_", "orientation.", "rot_")
+    },
+}
+#: Columns a2b writes after a pose: velocities (``--velocities``) and ``original`` (``--mark``).
+EXTRA_COLUMNS = ("vx", "vy", "vz", "wx", "wy", "wz", "original")
+#: Columns of EuRoC's ground truth besides the pose: velocities and biases, not read.
+_IGNORED = re.compile(r"(?:v_rs_r_|b_w_rs_s_|b_a_rs_s_)[xyz]")
+
+
+def role(column: str) -> str:
+    """What a column's name says: ``tx`` for ``p_RS_R_x [m]``; a name it does not know."""
+    text = re.sub(r"\[[^\]]*\]", "", column).strip().lstrip("#").strip().lower()
+    return _ROLES.get(text, text)
+
+
+def named_layout(head: str, name: str, fmt: str, needed: tuple, nanoseconds: bool) -> TextLayout:
+    """The layout of a comma-separated text whose first line names its columns: the columns of
+    ``needed`` (roles, e.g. ``t, tx, …``) found by their names, in that order.
+
+    Names a2b writes after a pose (:data:`EXTRA_COLUMNS`) and EuRoC's velocity and bias
+    columns are allowed and not read; any other name, and a missing one, is an error naming
+    them. The time is in nanoseconds if its name says ``[ns]``, else if ``nanoseconds``.
+    """
+    columns = [c.strip() for c in head.split(",")]
+    roles = [role(c) for c in columns]
+    unknown = [
+        c for c, r in zip(columns, roles) if r not in needed and r not in EXTRA_COLUMNS
+        and not _IGNORED.fullmatch(r)
+    ]  # fmt: skip
+    missing = [r for r in needed if r not in roles]
+    repeated = sorted({r for r in roles if r in needed and roles.count(r) > 1})
+    problems = []
+    if unknown:
+        problems.append(f"unknown column{'s' * (len(unknown) > 1)} {_few(unknown)}")
+    if missing:
+        problems.append(f"no column for {_few(missing)}")
+    if repeated:
+        problems.append(f"more than one column for {_few(repeated)}")
+    if problems:
+        raise InputFileError(
+            f"{name}:1:1: the header of this {fmt} file names its columns, and a2b reads them "
+            f"by name: {'; '.join(problems)} (expected {', '.join(needed)}, optionally "
+            f"{', '.join(EXTRA_COLUMNS)})"
+        )
+    time = columns[roles.index(needed[0])]
+    ns = "[ns]" in time.replace(" ", "").lower() or (nanoseconds and "[s]" not in time)
+    ignored = any(_IGNORED.fullmatch(r) for r in roles)
+    at = tuple(roles.index(r) for r in needed)
+    return TextLayout(",", 1, None if ignored else len(columns), at, ns, fmt)
+
+
+# -- a list of times ------------------------------------------------------------------------------
+
+
+def read_times(stream: IO, name: str | None = None) -> np.ndarray:
+    """Read a list of times: one number of seconds per line, increasing; ``#`` starts a
+    comment. Memory stays bounded by the bytes of the file (``/dev/zero`` is refused at
+    once); an error names the line.
+
+    Raises
+    ------
+    InputFileError
+    """
+    from .trajectory import check_times
+
+    name = stream_name(stream, name)
+    data = check_text(read_text_bytes(stream, name), name)
+    layout = TextLayout(None, 0, 1, (0,), fmt="times")
+    times, lines = read_rows(data, name, layout)
+    times = times[:, 0]
+    if not len(times):
+        raise InputFileError(f"{name}: no times")
+    check_times(times, name, lines, written=written_times(lines, layout))
+    return times
