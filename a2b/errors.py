@@ -44,6 +44,16 @@ class MissingDependencyError(A2bError, ImportError):
     :class:`ImportError` (for library callers who test for it)."""
 
 
+class DuplicateKey(Exception):
+    """A key seen twice in one JSON or YAML mapping: raised while parsing and turned into an
+    :class:`InputFileError` that names the key and its line (:mod:`a2b.io.documents`)."""
+
+    def __init__(self, key: str, mark: tuple[int, int] | None = None):
+        super().__init__(key)
+        self.key = key
+        self.mark = mark
+
+
 class A2bWarning(UserWarning):
     """A result that a2b computes but that is sensitive to rounding of the input (near a
     singularity)."""

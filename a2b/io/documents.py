@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from json.decoder import scanstring
 from typing import IO, Any
 
-from ..errors import InputFileError, printable
+from ..errors import DuplicateKey, InputFileError, printable
 
 __all__ = [
     "MAX_DEPTH",
@@ -112,13 +112,6 @@ def shorten(token: str) -> str:
 MAX_DEPTH = 100
 
 
-class _Duplicate(Exception):
-    def __init__(self, key: str, mark: tuple[int, int] | None = None):
-        super().__init__(key)
-        self.key = key
-        self.mark = mark
-
-
 @dataclass
 class Document:
     name: str
@@ -187,7 +180,7 @@ def _json_pairs(pairs: list) -> dict:
     out = {}
     for key, value in pairs:
         if key in out:
-            raise _Duplicate(key)
+            raise DuplicateKey(key)
         out[key] = value
     return out
 
@@ -296,7 +289,7 @@ def parse_json(text: str, name: str, first_line: int = 1) -> Document:
     try:
         with gc_paused():
             data = _JSON.decode(text)
-    except _Duplicate as e:
+    except DuplicateKey as e:
         try:
             dup, _ = _json_find_duplicate(text, 0)
         except RecursionError:
@@ -362,7 +355,7 @@ class _CoreSchema:
                 break
             if repeated:
                 mark = key_node.start_mark
-                raise _Duplicate(str(key), (mark.line + 1, mark.column + 1))
+                raise DuplicateKey(str(key), (mark.line + 1, mark.column + 1))
             seen.add(key)
         return super().construct_mapping(node, deep=deep)
 
@@ -539,7 +532,7 @@ def _parse_yaml(text: str, name: str) -> Document:
         with gc_paused():
             node = loader.get_single_node()
             data = loader.construct_document(node) if node is not None else None
-    except _Duplicate as e:
+    except DuplicateKey as e:
         line, col = e.mark
         raise InputFileError(f"{name}:{line}:{col}: duplicate key {e.key!r}") from None
     except yaml.MarkedYAMLError as e:
