@@ -283,8 +283,8 @@ def write(
     if hasattr(source, "profile") and hasattr(source, "sample"):  # a timed motion
         if duration is not None:
             raise OptionError("--duration: a timed motion has its own duration")
-        times = _times(source, samples, rate, dt)
-        return write_timed(source, times, target, fmt, velocities, start, **frames)
+        grid = _grid(source, samples, rate, dt)
+        return write_timed(source, grid, target, fmt, velocities, start, **frames)
     if rate is not None or dt is not None or velocities:
         raise OptionError("rate, dt and velocities are for a timed motion (a2b.timing)")
     if hasattr(source, "quat_trans"):  # a motion
@@ -296,12 +296,12 @@ def write(
     write_samples(iter(source), target, fmt, **frames)
 
 
-def _times(timed, samples, rate, dt):
+def _grid(timed, samples, rate, dt):
     if sum(x is not None for x in (samples, rate, dt)) > 1:
         raise OptionError("give one of samples, rate and dt")
     if rate is None and dt is None:
-        return timed.times(samples=101 if samples is None else samples)
-    return timed.times(rate=rate, dt=dt)
+        return timed.grid(samples=101 if samples is None else samples)
+    return timed.grid(rate=rate, dt=dt)
 
 
 def write_motion(motion, count: int, target, fmt: Format, duration: float = 1.0,
@@ -313,17 +313,19 @@ def write_motion(motion, count: int, target, fmt: Format, duration: float = 1.0,
     write_samples(chunks, target, fmt, count=count, **frames)
 
 
-def write_timed(timed, times, target, fmt: Format, velocities: bool = False,
+def write_timed(timed, grid, target, fmt: Format, velocities: bool = False,
                 start_time: float = 0.0, **frames) -> None:  # fmt: skip
-    """The timed motion at ``times`` (seconds from its start) into ``target`` (:func:`write`);
-    the time column and stamps are ``start_time + time``."""
+    """The timed motion at the times of ``grid`` (a :class:`a2b.timelaw.TimeGrid` of seconds
+    from its start, taken block by block, so any count streams in bounded memory) into
+    ``target`` (:func:`write`); the time column and stamps are ``start_time + time``."""
     if velocities and "velocities" not in fmt.holds:
         takes = ", ".join(row.name for row in BY_NAME.values() if "velocities" in row.holds)
         raise OptionError(f"--velocities: {fmt.name} has no velocity field; use {takes}")
-    span = float(times[-1] - times[0]) or 1.0
-    check_plan(fmt, target, len(times), start_time, span)
-    chunks = timed_samples(timed, times, fmt.representation, velocities, start_time)
-    write_samples(chunks, target, fmt, count=len(times), **frames)
+    last = float(grid.offsets(grid.count - 1, grid.count)[0])
+    check_plan(fmt, target, grid.count, start_time, last or 1.0)
+    blocks = (offsets for _, offsets in grid.blocks(CHUNK_SAMPLES))
+    chunks = timed_samples(timed, blocks, fmt.representation, velocities, start_time)
+    write_samples(chunks, target, fmt, count=grid.count, **frames)
 
 
 def _check_count(count: int) -> None:

@@ -87,6 +87,8 @@ class Samples:
     (columns after the pose in the CSV layouts, a ``TwistStamped`` in ros2). ``job`` names
     each row (batch: a list, or :class:`JobRuns`). ``original (n,)``: 1 where the row is a
     pose of a resampled trajectory, 0 where interpolated (a last column ``original``).
+    ``stamps_ns (n,)``: the times as exact int64 nanoseconds, where the caller has them (the
+    stamps of binary formats then come from here, not from the doubles).
     """
 
     t: np.ndarray
@@ -99,6 +101,7 @@ class Samples:
     twist: np.ndarray | None = None
     time: np.ndarray | None = None
     origin_ns: int = 0
+    stamps_ns: np.ndarray | None = None
 
     def seconds(self) -> np.ndarray:
         """The times in seconds (``t`` where no ``time`` is given), ``origin_ns`` added."""
@@ -106,8 +109,12 @@ class Samples:
         return time + self.origin_ns * 1e-9 if self.origin_ns else time
 
     def nanoseconds(self) -> np.ndarray:
-        """The times as integer nanoseconds, ``origin_ns + round(time · 1e9)`` (int64); the
-        limits of the format are checked before (:func:`a2b.output.check_times`)."""
+        """The times as integer nanoseconds: ``stamps_ns`` where the caller knows them exactly
+        (a time grid, :meth:`a2b.resample.NewTimes.stamps_ns`), else ``origin_ns +
+        round(time · 1e9)`` (int64); the limits of the format are checked before
+        (:func:`a2b.output.check_times`)."""
+        if self.stamps_ns is not None:
+            return self.stamps_ns
         time = self.t if self.time is None else self.time
         return np.rint(np.asarray(time, float) * 1e9).astype(np.int64) + self.origin_ns
 

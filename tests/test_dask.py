@@ -29,6 +29,8 @@ import a2b.table as table  # noqa: E402
 from a2b.errors import A2bError  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
+#: Worker processes on localhost: heavy, run by .ci/run's second step (`pytest -m slow`).
+pytestmark = pytest.mark.slow
 
 
 def cluster(workers: int):
@@ -112,8 +114,6 @@ def test_dataset_equals_a2b_batch_row_for_row(client, tmp_path):
     assert leftovers(tmp_path) == []
 
 
-@pytest.mark.slow
-@pytest.mark.skipif(not os.environ.get("A2B_SLOW"), reason="10^5 jobs: set A2B_SLOW=1")
 def test_a_hundred_thousand_jobs_equal_a2b_batch(client, tmp_path):
     jobs = write_jobs(tmp_path / "jobs.jsonl", 100_000, seed=5)
     out = tmp_path / "out"

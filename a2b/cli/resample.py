@@ -161,17 +161,17 @@ class _Run:
                                   **self.parameters)  # fmt: skip
             resampler.warned = counts["warned"]  # the first ten of the whole run are shown
             for block in new_times.upto(float(window["times"][-1]), float(window["times"][0])):
-                yield self._samples(resampler, block, representation)
+                yield self._samples(resampler, block, representation, new_times)
             counts["built"] += resampler.segments_built
             counts["warned"] = resampler.warned
             self.made.update(resampler.choices)
         if counts["poses"] < 2:
             raise InputFileError(f"{self.name}: expected at least 2 poses, got {counts['poses']}")
         for block in new_times.upto(None, None):  # after the end: outside the trajectory
-            yield self._samples(resampler, block, representation)
+            yield self._samples(resampler, block, representation, new_times)
 
-    def _samples(self, resampler, block, representation):
-        """The samples at the new times ``block``."""
+    def _samples(self, resampler, block, representation, new_times):
+        """The samples at the new times ``block``, with their exact nanosecond stamps."""
         from ..samples import FIELDS, Samples
 
         located = resampler.locate(block, self.clip)
@@ -179,7 +179,7 @@ class _Run:
         self.counts["gap"] += located.gap
         self.counts["written"] += len(located.times)
         values = resampler.sample(located, representation)
-        samples = Samples(located.times)
+        samples = Samples(located.times, stamps_ns=new_times.stamps_ns(located.times))
         for key, value in zip(FIELDS[representation], values if isinstance(values, tuple)
                               else (values,)):  # fmt: skip
             setattr(samples, key, value)

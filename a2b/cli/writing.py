@@ -235,8 +235,8 @@ def sample_and_write(motion, samples, from_file, choices: list, verbose: bool, o
         write_motion(motion, samples, target, fmt, out["duration"], out["start_time"], **frames)
         return
     by = {"rate": law["rate"], "dt": law["dt"]}
-    times = timed.times(**by, samples=None if law["rate"] or law["dt"] else samples)
-    write_timed(timed, times, target, fmt, law["velocities"], out["start_time"], **frames)
+    grid = timed.grid(**by, samples=None if law["rate"] or law["dt"] else samples)
+    write_timed(timed, grid, target, fmt, law["velocities"], out["start_time"], **frames)
 
 
 def refuse_defaults(fmt, out: dict) -> dict:
