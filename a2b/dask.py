@@ -145,8 +145,8 @@ def _partitions(path: str, blocksize: int) -> list[tuple]:
 def _job_blocks(path: str, part: tuple, size: int) -> Iterator:
     """The :class:`a2b.io.jobfiles.JobBlock` s of one partition, named and located as the
     whole file would name and locate them."""
-    from .io.jobscan import scan_blocks
     from .io.jobfiles import finish_block, json_line_job
+    from .io.jobscan import scan_blocks
 
     start, stop, lines_before, jobs_before = part
 

@@ -58,9 +58,7 @@ def exception_classes(module: ast.Module, known: set[str]) -> list[str]:
         for base in node.bases:
             name = base.id if isinstance(base, ast.Name) else getattr(base, "attr", None)
             builtin = getattr(builtins, name or "", None)
-            if name in known or (
-                isinstance(builtin, type) and issubclass(builtin, BaseException)
-            ):
+            if name in known or (isinstance(builtin, type) and issubclass(builtin, BaseException)):
                 found.append(node.name)
                 break
     return found
@@ -70,9 +68,7 @@ def test_every_exception_class_is_in_errors_py():
     errors = tree(PACKAGE / "errors.py")
     known = {node.name for node in ast.walk(errors) if isinstance(node, ast.ClassDef)}
     elsewhere = {
-        relative(p): exception_classes(tree(p), known)
-        for p in SOURCES
-        if p.name != "errors.py"
+        relative(p): exception_classes(tree(p), known) for p in SOURCES if p.name != "errors.py"
     }
     assert {path: names for path, names in elsewhere.items() if names} == {}
 

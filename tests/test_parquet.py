@@ -17,6 +17,7 @@ pa = pytest.importorskip("pyarrow")
 pq = pytest.importorskip("pyarrow.parquet")
 
 from a2b.io.atomic import atomic_output  # noqa: E402
+from a2b.io.jobfiles import read_jobs  # noqa: E402
 from a2b.io.parquet import (  # noqa: E402
     LAYOUTS,
     TWIST_COLUMNS,
@@ -24,7 +25,6 @@ from a2b.io.parquet import (  # noqa: E402
     read_parquet,
     write_parquet,
 )
-from a2b.io.jobfiles import read_jobs  # noqa: E402
 from a2b.io.poseschema import read_poses  # noqa: E402
 from a2b.io.writers import Chunk, JobRuns, sample_chunks  # noqa: E402
 from a2b.table import chunks_of_blocks  # noqa: E402
