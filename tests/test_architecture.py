@@ -1,5 +1,5 @@
-"""The arrows of the package point one way: cli → plot → scene → datasets → output → io → jobs → api →
-motions → core.
+"""The arrows of the package point one way: cli → plot → scene → datasets → output → io →
+jobs → api → motions → core.
 
 Every import of every module (at the top or inside a function) is read from the source. A
 module may import its own layer or a lower one, never a higher one, and no two modules import
