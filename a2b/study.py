@@ -27,7 +27,7 @@ STUDY_TOL = 1e-9
 def _components(a: np.ndarray) -> np.ndarray:
     """The components of vectors ``(..., n)`` as ``n`` contiguous arrays (one copy): arithmetic
     on them reads memory in order, several times faster than on strided views."""
-    return np.ascontiguousarray(np.moveaxis(a, -1, 0))
+    return np.ascontiguousarray(a.transpose((a.ndim - 1,) + tuple(range(a.ndim - 1))))
 
 
 def _vectors(*components: np.ndarray) -> np.ndarray:
@@ -37,6 +37,34 @@ def _vectors(*components: np.ndarray) -> np.ndarray:
     for k, component in enumerate(components):
         out[..., k] = component
     return out
+
+
+def structure_matrix(form, n_a: int, n_b: int) -> np.ndarray:
+    """The structure matrix ``(n_out, n_a n_b)`` of a bilinear ``form(a, b)``: column
+    ``i n_b + j`` is ``form(e_i, e_j)`` for the unit vectors ``e_i``, ``e_j``.
+
+    a2b writes each bilinear form once, as a plain function of vectors ``(..., n)``; its
+    structure matrix, made by evaluating that function on basis vectors at import, lets
+    :func:`bilinear` evaluate it over component-major arrays with one outer product and one
+    small matrix product, however many terms the formula has.
+    """
+    a = np.repeat(np.eye(n_a), n_b, axis=0)
+    b = np.tile(np.eye(n_b), (n_a, 1))
+    return np.ascontiguousarray(np.asarray(form(a, b), dtype=float).T)
+
+
+def bilinear(matrix: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """A bilinear form given by its :func:`structure_matrix`, on component-major arrays.
+
+    ``a`` is ``(n_a, ...)`` and ``b`` is ``(n_b, ...)``, components first; their trailing
+    shapes broadcast. Returns ``(n_out, ...)``. The sum over the ``n_a n_b`` products runs in
+    one order whatever the trailing shape (``numpy.einsum`` without BLAS), so that an element
+    of a batch is bit for bit the element computed alone.
+    """
+    outer = a[:, None] * b[None]
+    shape = outer.shape[2:]
+    outer = outer.reshape(matrix.shape[1], -1)
+    return np.einsum("ik,kj->ij", matrix, outer).reshape(matrix.shape[:1] + shape)
 
 
 def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -180,8 +208,8 @@ def study_from_quat_trans(quat_wxyz: np.ndarray, translations: np.ndarray) -> np
     """
     p = np.asarray(quat_wxyz, dtype=float)
     t = np.asarray(translations, dtype=float)
-    t1, t2, t3 = np.moveaxis(t, -1, 0)
-    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
+    t1, t2, t3 = _components(t)
+    p0, p1, p2, p3 = _components(p)
     # q = -1/2 (0, t) p
     q = -0.5 * np.stack(
         [
