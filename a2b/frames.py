@@ -28,7 +28,7 @@ from .poses import (
     rotations_from_quaternions,
     study_from_quat_trans,
 )
-from .study import quat_conj, quat_mul
+from .study import cross, quat_conj, quat_mul
 
 #: ``|sin(φ/2)|`` at or below which the relative rotation of two poses is rounding noise.
 ROTATION_NOISE = 4 * np.finfo(float).eps
@@ -227,8 +227,8 @@ def screw_frame(start: np.ndarray, end: np.ndarray, quaternions=None) -> ScrewFr
 
 def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list]:
     """The fields of the screw frames of ``J`` pairs ``(J, 4, 4)``, and the choices made."""
-    if quaternions is None:
-        quaternions = [quaternions_from_rotations(m[:, :3, :3]) for m in (start, end)]
+    if quaternions is None:  # both poses in one call
+        quaternions = quaternions_from_rotations(np.stack([start[:, :3, :3], end[:, :3, :3]]))
     p_a, p_b = quaternions
     t_a, t_b = start[:, :3, 3].copy(), end[:, :3, 3].copy()
     same = (p_a == p_b).all(axis=-1)  # identical rotations: no rounding residue from p p̄
@@ -255,7 +255,7 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
     c = np.abs(r[:, 0])
     phi = 2.0 * np.arctan2(s, c)
     t_perp = t_disp - d[:, None] * u
-    axis_point = 0.5 * (t_perp + np.cross(u, t_perp) * (c / np.where(rotating, s, 1.0))[:, None])
+    axis_point = 0.5 * (t_perp + cross(u, t_perp) * (c / np.where(rotating, s, 1.0))[:, None])
 
     # no rotation: the axis along the translation, or parallel to z for B = A
     norm_t = safe_norm(t_disp)  # a translation of 1e200 has a length

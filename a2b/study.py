@@ -15,6 +15,8 @@ All functions are vectorised over leading dimensions.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from .elements import unit_scale
@@ -39,32 +41,55 @@ def _vectors(*components: np.ndarray) -> np.ndarray:
     return out
 
 
-def structure_matrix(form, n_a: int, n_b: int) -> np.ndarray:
+class Structure(NamedTuple):
+    """A bilinear form's structure matrix, and its non-zero entries row by row."""
+
+    #: ``(n_out, n_a n_b)``: column ``i n_b + j`` is ``form(e_i, e_j)``.
+    matrix: np.ndarray
+    #: ``(n_out, m)``: the columns of each row's non-zero entries, in order (padded with 0).
+    columns: np.ndarray
+    #: ``(n_out, m, 1)``: those entries (padding: 0).
+    weights: np.ndarray
+
+
+def structure_matrix(form, n_a: int, n_b: int) -> Structure:
     """The structure matrix ``(n_out, n_a n_b)`` of a bilinear ``form(a, b)``: column
     ``i n_b + j`` is ``form(e_i, e_j)`` for the unit vectors ``e_i``, ``e_j``.
 
     a2b writes each bilinear form once, as a plain function of vectors ``(..., n)``; its
     structure matrix, made by evaluating that function on basis vectors at import, lets
     :func:`bilinear` evaluate it over component-major arrays with one outer product and one
-    small matrix product, however many terms the formula has.
+    small (sparse) matrix product, however many terms the formula has.
     """
     a = np.repeat(np.eye(n_a), n_b, axis=0)
     b = np.tile(np.eye(n_b), (n_a, 1))
-    return np.ascontiguousarray(np.asarray(form(a, b), dtype=float).T)
+    matrix = np.ascontiguousarray(np.asarray(form(a, b), dtype=float).T)
+    width = max(1, int((matrix != 0).sum(axis=1).max()))
+    columns = np.zeros((len(matrix), width), dtype=np.intp)
+    weights = np.zeros((len(matrix), width, 1))
+    for row, entries in enumerate(matrix):
+        (found,) = np.nonzero(entries)
+        columns[row, : len(found)] = found
+        weights[row, : len(found), 0] = entries[found]
+    return Structure(matrix, columns, weights)
 
 
-def bilinear(matrix: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """A bilinear form given by its :func:`structure_matrix`, on component-major arrays.
 
     ``a`` is ``(n_a, ...)`` and ``b`` is ``(n_b, ...)``, components first; their trailing
-    shapes broadcast. Returns ``(n_out, ...)``. The sum over the ``n_a n_b`` products runs in
-    one order whatever the trailing shape (``numpy.einsum`` without BLAS), so that an element
-    of a batch is bit for bit the element computed alone.
+    shapes broadcast. Returns ``(n_out, ...)``: the outer product of ``a`` and ``b``, of
+    which each output row sums its few non-zero terms, in the order of the columns. Every
+    step is elementwise or a sum over a short middle axis, so that an element of a batch is
+    bit for bit the element computed alone (a BLAS or ``einsum`` product sums in an order
+    that depends on an element's place in the array).
     """
     outer = a[:, None] * b[None]
     shape = outer.shape[2:]
-    outer = outer.reshape(matrix.shape[1], -1)
-    return np.einsum("ik,kj->ij", matrix, outer).reshape(matrix.shape[:1] + shape)
+    outer = outer.reshape(form.matrix.shape[1], -1)
+    terms = outer.take(form.columns, axis=0)  # (n_out, m, N)
+    terms *= form.weights
+    return np.add.reduce(terms, axis=1).reshape(form.matrix.shape[:1] + shape)
 
 
 def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -79,6 +104,14 @@ def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
         a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0,
     )
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The vector product ``a × b`` of vectors ``(..., 3)`` (:func:`numpy.cross` in fewer
+    operations)."""
+    a1, a2, a3 = _components(np.asarray(a, dtype=float))
+    b1, b2, b3 = _components(np.asarray(b, dtype=float))
+    return _vectors(a2 * b3 - a3 * b2, a3 * b1 - a1 * b3, a1 * b2 - a2 * b1)
 
 
 def quat_conj(p: np.ndarray) -> np.ndarray:

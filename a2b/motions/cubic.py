@@ -34,7 +34,7 @@ from ..errors import ParameterError, SingularMotionError
 from ..extended import check_m, check_not_orthogonal, paper_basis_degenerate, paper_kernel_basis
 from ..frames import ScrewFrame
 from ..names import FRAMES
-from ..study import rotation_numerators
+from ..study import cross, rotation_numerators
 from ._rational import (
     EPS,
     bern_elevate,
@@ -194,11 +194,11 @@ class CubicMotion(Motion):
             )  # (3,) + S + (9,)
             rotated_start = (n_rho.reshape(n_rho.shape[:-1] + (3, 3)) @ t_a[..., None])[..., 0]
             t_perp = frame.t_perp
-            cross = np.cross(r[..., 1:], t_perp)
+            r_cross_t = cross(r[..., 1:], t_perp)
             n_disp = np.stack(
                 [
                     np.zeros(t_perp.shape),
-                    0.5 * w_a * w_b * (c[..., None] * t_perp - cross),
+                    0.5 * w_a * w_b * (c[..., None] * t_perp - r_cross_t),
                     w_b * w_b * t_perp,
                 ]
             )

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..frames import ScrewFrame
 from ..poses import rotations_from_quaternions
-from ..study import quat_mul
+from ..study import cross, quat_mul
 from .base import Motion
 
 #: Largest |tφ/2| for which the screw basis is computed from tan(tφ/2) (see ``_basis``); numpy's
@@ -42,7 +42,7 @@ class ScrewMotion(Motion):
         rot_a = rotations_from_quaternions(frame.p_start)
         t_a = np.asarray(frame.t_start)
         t_perp = frame.t_perp
-        cross = np.cross(u, t_perp)
+        u_cross_t = cross(u, t_perp)
         # the table written in place: rows (1, t, sin, vers) of [R | t] and the denominators 1
         self.table = np.empty(u.shape[:-1] + (4, 14))
         blocks = self.table[..., :12].reshape(u.shape[:-1] + (4, 3, 4))
@@ -60,8 +60,8 @@ class ScrewMotion(Motion):
             half_cot = np.where(
                 turning, 0.5 * np.cos(phi / 2)[..., None] / np.sin(phi / 2)[..., None], 0.0
             )
-        trans[..., 2, :] += np.where(turning, half_cot * t_perp - 0.5 * cross, 0.0)
-        trans[..., 3, :] += np.where(turning, 0.5 * t_perp + half_cot * cross, 0.0)
+        trans[..., 2, :] += np.where(turning, half_cot * t_perp - 0.5 * u_cross_t, 0.0)
+        trans[..., 3, :] += np.where(turning, 0.5 * t_perp + half_cot * u_cross_t, 0.0)
         trans[..., 1, :] += np.where(turning, 0.0, t_perp)
         blocks[..., 3] = trans
         # p(t) = cos(tφ/2) pA + sin(tφ/2) u pA: the "ends" of this path are pA and u pA
