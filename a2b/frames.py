@@ -233,42 +233,48 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
     t_a, t_b = start[:, :3, 3].copy(), end[:, :3, 3].copy()
     same = (p_a == p_b).all(axis=-1)  # identical rotations: no rounding residue from p p̄
     r = quat_mul(p_b, quat_conj(p_a))
-    r[same] = (1.0, 0.0, 0.0, 0.0)
-    s = np.linalg.norm(r[:, 1:], axis=-1)
+    if same.any():
+        r[same] = (1.0, 0.0, 0.0, 0.0)
+    s = np.sqrt(np.add.reduce(r[:, 1:] * r[:, 1:], axis=-1))
     rotating = s > ROTATION_NOISE
+    everywhere = bool(rotating.all())  # the rare cases below run only where they occur
     # A half-turn (pA·pB = 0 within rounding): u and −u are equally short; one is picked and
     # said, rather than let the sign of rounding noise decide.
     half_turn = rotating & (np.abs(r[:, 0]) <= ROTATION_NOISE)
     flip = (r[:, 0] < 0) & ~half_turn
-    p_b = np.where(flip[:, None], -p_b, p_b)
-    r = np.where(flip[:, None], -r, r)
+    sign = np.where(flip, -1.0, 1.0)[:, None]  # × −1 is negation, bit for bit
+    p_b = p_b * sign
+    r *= sign
     t_disp = t_b - (rotations_from_quaternions(r) @ t_a[:, :, None])[:, :, 0]
 
     # a rotation: the axis of r, and the half-turn rule
-    u = r[:, 1:] / np.where(rotating, s, 1.0)[:, None]
-    d = np.sum(u * t_disp, axis=-1)
-    turn = half_turn & ((d < 0) | ((d == 0) & (canonical_sign(u)[:, 0] != u[:, 0])))
-    u = np.where(turn[:, None], -u, u)
-    d = np.where(turn, -d, d)
-    p_b = np.where(turn[:, None], -p_b, p_b)
-    r = np.where(turn[:, None], -r, r)
+    u = r[:, 1:] / (s if everywhere else np.where(rotating, s, 1.0))[:, None]
+    d = np.add.reduce(u * t_disp, axis=-1)
+    if half_turn.any():
+        turn = half_turn & ((d < 0) | ((d == 0) & (canonical_sign(u)[:, 0] != u[:, 0])))
+        u = np.where(turn[:, None], -u, u)
+        d = np.where(turn, -d, d)
+        p_b = np.where(turn[:, None], -p_b, p_b)
+        r = np.where(turn[:, None], -r, r)
     c = np.abs(r[:, 0])
     phi = 2.0 * np.arctan2(s, c)
     t_perp = t_disp - d[:, None] * u
-    axis_point = 0.5 * (t_perp + cross(u, t_perp) * (c / np.where(rotating, s, 1.0))[:, None])
+    ratio = c / (s if everywhere else np.where(rotating, s, 1.0))
+    axis_point = 0.5 * (t_perp + cross(u, t_perp) * ratio[:, None])
 
     # no rotation: the axis along the translation, or parallel to z for B = A
-    norm_t = safe_norm(t_disp)  # a translation of 1e200 has a length
-    moving = norm_t > 0.0
-    u_t = np.where(
-        moving[:, None], t_disp / np.where(moving, norm_t, 1.0)[:, None], [0.0, 0.0, 1.0]
-    )
-    axis_point_t = t_a - np.sum(u_t * t_a, axis=-1)[:, None] * u_t
-
-    u = np.where(rotating[:, None], u, u_t)
-    d = np.where(rotating, d, np.where(moving, norm_t, 0.0))
-    phi = np.where(rotating, phi, 0.0)
-    axis_point = np.where(rotating[:, None], axis_point, axis_point_t)
+    moving = np.zeros(len(s), dtype=bool)
+    if not everywhere:
+        norm_t = safe_norm(t_disp)  # a translation of 1e200 has a length
+        moving = norm_t > 0.0
+        u_t = np.where(
+            moving[:, None], t_disp / np.where(moving, norm_t, 1.0)[:, None], [0.0, 0.0, 1.0]
+        )
+        axis_point_t = t_a - np.sum(u_t * t_a, axis=-1)[:, None] * u_t
+        u = np.where(rotating[:, None], u, u_t)
+        d = np.where(rotating, d, np.where(moving, norm_t, 0.0))
+        phi = np.where(rotating, phi, 0.0)
+        axis_point = np.where(rotating[:, None], axis_point, axis_point_t)
 
     notes: list = [(flip, _FLIP)]
     noise = (s > 0.0) & ~rotating
