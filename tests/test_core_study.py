@@ -8,6 +8,7 @@ import numpy as np
 import a2b
 from a2b.motions.darboux import CHUNK
 from a2b.study import (
+    BILINEAR_CHUNK,
     bilinear,
     quat_mul,
     rotation_numerators,
@@ -103,9 +104,10 @@ def test_a_batch_larger_than_a_chunk_is_its_elements_bit_for_bit(rng):
 
 def test_bilinear_gives_an_element_of_a_batch_bit_for_bit_as_alone(rng):
     form = structure_matrix(rotation_numerators, 4, 4)
-    a, b = rng.normal(size=(4, 1000)), rng.normal(size=(4, 1000))
+    count = BILINEAR_CHUNK + 100  # in two chunks
+    a, b = rng.normal(size=(4, count)), rng.normal(size=(4, count))
     full = bilinear(form, a, b)
-    for j in (0, 1, 7, 998, 999):
+    for j in (0, 1, 7, BILINEAR_CHUNK - 1, BILINEAR_CHUNK, count - 2):
         np.testing.assert_array_equal(full[:, j], bilinear(form, a[:, j], b[:, j]))
         np.testing.assert_array_equal(
             full[:, j : j + 2], bilinear(form, a[:, j : j + 2], b[:, j : j + 2])
