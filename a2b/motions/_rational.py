@@ -268,24 +268,47 @@ def evaluate_table(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
     out = np.empty((jobs, n, 4, 4))
     shared = bool(np.array_equal(tables[:, :, 12], tables[:, :, 13]))
     if shared and _denominator_is_one(columns, tables[:, :, 12]):
-        extended = np.zeros((jobs, k, 16))
-        extended[:, :, :12] = tables[:, :, :12]
-        extended[:, 0, 15] = 1.0
+        extended = _Extended(tables, k, [(slice(0, k), slice(0, 12))], (0, 15))
         _rows(columns, None, extended, out.reshape(jobs, n, 16), False)
         return out.reshape(shape + (n, 4, 4))
     dens = 1 if shared else 2
-    extended = np.zeros((jobs, dens * k + 1, 16))
     if shared:
-        extended[:, :k, :12] = tables[:, :, :12]
+        blocks = [(slice(0, k), slice(0, 12))]
     else:
-        extended[:, :k, ROT_COLS] = tables[:, :, ROT_COLS]
-        extended[:, k : 2 * k, TRANS_COLS] = tables[:, :, TRANS_COLS]
-    extended[:, -1, 15] = 1.0
+        blocks = [(slice(0, k), list(ROT_COLS)), (slice(k, 2 * k), list(TRANS_COLS))]
+    extended = _Extended(tables, dens * k + 1, blocks, (-1, 15))
     if not _rows(columns, tables[:, :, 12 : 12 + dens], extended, out.reshape(jobs, n, 16), True):
         # 0 · ∞ spread NaN into the bottom row of samples with a vanishing denominator
         out[:, :, 3, :3] = 0.0
         out[:, :, 3, 3] = 1.0
     return out.reshape(shape + (n, 4, 4))
+
+
+class _Extended:
+    """The extended tables ``(jobs, rows, 16)`` of :func:`evaluate_table`, made block by block
+    as :func:`_rows` asks for them (``extended(first, last)``), in one reused buffer: for
+    10⁵ motions of one sample each, the whole extended table would be 50 MB to write and
+    read once.
+
+    ``blocks`` are ``(rows, columns)`` that take the table's columns of the same index
+    (rows ``0 … k − 1`` of the table, shifted to the given rows); ``one`` is the entry that
+    is 1 (the bottom-right corner, from a constant basis function).
+    """
+
+    def __init__(self, tables: np.ndarray, rows: int, blocks: list, one: tuple):
+        self.tables, self.rows, self.blocks, self.one = tables, rows, blocks, one
+        self.shape = (len(tables), rows, 16)
+        self.buffer = np.zeros((0, rows, 16))
+
+    def __call__(self, first: int, last: int) -> np.ndarray:
+        size = last - first
+        if len(self.buffer) < size:
+            self.buffer = np.zeros((size, self.rows, 16))
+            self.buffer[:, self.one[0], self.one[1]] = 1.0
+        part = self.buffer[:size]
+        for rows, cols in self.blocks:
+            part[:, rows, cols] = self.tables[first:last, :, cols]
+        return part
 
 
 def evaluate_translations(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
@@ -347,7 +370,9 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
 
     ``columns`` is the basis ``(1 or J, k, N)`` (one row per basis function), ``denominators``
     ``(J, k, m)`` or ``None`` (every denominator 1: the basis itself), ``coefficients``
-    ``(J, m k (+ 1), w)``, with ``constant`` a last basis function 1, and ``out`` ``(J, N, w)``.
+    ``(J, m k (+ 1), w)`` (or a function ``(first, last)`` that gives those of jobs ``first``
+    to ``last − 1``, with their ``shape``), with ``constant`` a last basis function 1, and
+    ``out`` ``(J, N, w)``.
     A block holds the samples of one job or, for short motions, of several, at most
     :data:`SAMPLE_BLOCK` rows: it is divided and multiplied while it is in cache, and each
     BLAS product is small enough to run on one thread. Returns whether every ``1 / d`` was
@@ -374,13 +399,17 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
         last = min(first + group, jobs)
         size = last - first
         block_columns = columns if columns.shape[0] == 1 else columns[first:last]
+        if callable(coefficients):
+            block_coefficients = coefficients(first, last)
+        else:
+            block_coefficients = coefficients[first:last]
         for start in range(0, n, samples):
             stop = min(start + samples, n)
             block = block_columns[:, :, start:stop]
             if den_rows is None and not constant:
                 np.matmul(
                     np.swapaxes(np.broadcast_to(block, (size,) + block.shape[1:]), 1, 2),
-                    coefficients[first:last],
+                    block_coefficients,
                     out=out[first:last, start:stop],
                 )
                 continue
@@ -394,7 +423,5 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
                 total += float(np.add.reduce(inv, axis=None))
                 for j in range(m):
                     np.multiply(block, inv[:, j : j + 1], out=part[:, j * k : (j + 1) * k])
-            np.matmul(
-                np.swapaxes(part, 1, 2), coefficients[first:last], out=out[first:last, start:stop]
-            )
+            np.matmul(np.swapaxes(part, 1, 2), block_coefficients, out=out[first:last, start:stop])
     return bool(np.isfinite(total))
