@@ -276,6 +276,24 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
         phi = np.where(rotating, phi, 0.0)
         axis_point = np.where(rotating[:, None], axis_point, axis_point_t)
 
+    notes = _notes(flip, s, rotating, half_turn, moving, d, c)
+    fields = {
+        "phi": phi,
+        "d": d,
+        "axis_direction": u,
+        "axis_point": axis_point,
+        "r": r,
+        "p_start": p_a,
+        "p_end": p_b,
+        "t_start": t_a,
+        "t_end": t_b,
+        "t_disp": t_disp,
+    }
+    return fields, notes
+
+
+def _notes(flip, s, rotating, half_turn, moving, d, c) -> list:
+    """The choices :func:`_frames` made, as (mask, text) rules for :class:`Notes`."""
     notes: list = [(flip, _FLIP)]
     noise = (s > 0.0) & ~rotating
     if noise.any():
@@ -297,16 +315,4 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
         notes.append((half_turn, texts))
     notes.append((~rotating & moving, _PURE_TRANSLATION))
     notes.append((~rotating & ~moving, _SAME_POSE))
-    fields = {
-        "phi": phi,
-        "d": d,
-        "axis_direction": u,
-        "axis_point": axis_point,
-        "r": r,
-        "p_start": p_a,
-        "p_end": p_b,
-        "t_start": t_a,
-        "t_end": t_b,
-        "t_disp": t_disp,
-    }
-    return fields, notes
+    return notes

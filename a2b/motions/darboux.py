@@ -292,9 +292,26 @@ class DarbouxMotion(Motion):
         )
         phi_e = np.where(turning, self.phi_eff, 0.0)
         solved_from = next(iter(given), "delta")
+        delta_v = self._solve(solved_from, given, branch, phi_e, d)
+        self.delta = np.broadcast_to(np.asarray(delta_v, dtype=float), shape) + 0.0
+        self.solved_from = solved_from
+        self.notes.add("δ has no effect on a pure translation", (phi == 0.0) & (self.delta != 0.0))
+        self.notes.add("long way round: flipped the sign of hB", self.long_way)
+
+        self.fiber_offsets = np.stack([0.0 - self.delta / 2, self.delta / 2], axis=-1)
+        self.quat_ends, self.table = darboux_tables(frame, self.long_way, self.fiber_offsets)
+        self._check_interval(0.0, 1.0)
+        if not shape:
+            self.delta = self.delta[()]
+            self.phi_eff = self.phi_eff[()]
+            self.long_way = bool(self.long_way)
+
+    def _solve(self, solved_from: str, given: dict, branch, phi_e, d) -> np.ndarray:
+        """δ from the one essential parameter given (``docs/math.md``), or 0."""
+        shape, frame = self.shape, self.frame
         if solved_from == "through":
             _require_rotation(phi_e, "a third pose", shape)
-            poses = check_matrices(through)
+            poses = check_matrices(given["through"])
             omega_c, z_c = third_pose_coordinates(frame, np.broadcast_to(poses, shape + (4, 4)))
             delta_v = delta_from_third_pose(omega_c, z_c, phi_e, d, shape)
         elif solved_from in given:
@@ -326,18 +343,7 @@ class DarbouxMotion(Motion):
                 delta_v = item
         else:
             delta_v = np.zeros(shape)
-        self.delta = np.broadcast_to(np.asarray(delta_v, dtype=float), shape) + 0.0
-        self.solved_from = solved_from
-        self.notes.add("δ has no effect on a pure translation", (phi == 0.0) & (self.delta != 0.0))
-        self.notes.add("long way round: flipped the sign of hB", self.long_way)
-
-        self.fiber_offsets = np.stack([0.0 - self.delta / 2, self.delta / 2], axis=-1)
-        self.quat_ends, self.table = darboux_tables(frame, self.long_way, self.fiber_offsets)
-        self._check_interval(0.0, 1.0)
-        if not shape:
-            self.delta = self.delta[()]
-            self.phi_eff = self.phi_eff[()]
-            self.long_way = bool(self.long_way)
+        return delta_v
 
     def _basis(self, ts):
         return bernstein_basis(ts, 2)
