@@ -27,12 +27,17 @@ from ..study import (
     bilinear,
     quat_conj,
     quat_mul,
-    rotation_numerators,
     structure_matrix,
     study_from_quat_trans,
     translation_numerators,
 )
-from ._rational import ROT_COLS, TRANS_COLS, bernstein_basis, bernstein_derivatives
+from ._rational import (
+    ROT_COLS,
+    TRANS_COLS,
+    bernstein_basis,
+    bernstein_derivatives,
+    quadratic_rows,
+)
 from .base import Motion, boolean_parameter, broadcast_parameter
 
 #: Relative tolerance for a third pose to count as a member of the cylinder group of A and B.
@@ -174,14 +179,7 @@ def third_pose_coordinates(frame: ScrewFrame, pose: np.ndarray) -> tuple[np.ndar
 
 
 #: The structure matrices (:func:`a2b.study.structure_matrix`) of the bilinear forms of the
-#: build, from a2b's own formulas: eq. 4 with its denominator ``p·r``, eq. 5, and ``q = −½ t p``.
-_ROTATION = structure_matrix(
-    lambda p, r: np.concatenate(
-        [rotation_numerators(p, r), np.sum(p * r, axis=-1, keepdims=True)], axis=-1
-    ),
-    4,
-    4,
-)
+#: build, from a2b's own formulas: eq. 5, and ``q = −½ t p``.
 _TRANSLATION = structure_matrix(translation_numerators, 4, 4)
 _DUAL = structure_matrix(lambda t, p: study_from_quat_trans(p, t)[..., 4:], 3, 4)
 
@@ -217,7 +215,7 @@ def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np
         p = p_all[..., lo:hi]
         q = bilinear(_DUAL, t_all[..., lo:hi], p)
         q += s_all[:, lo:hi] * p
-        rows = bilinear(_ROTATION, p[:, [0, 0, 1]], p[:, [0, 1, 1]])  # (10, 3, J)
+        rows = quadratic_rows(p)  # (10, 3, J)
         trans = bilinear(_TRANSLATION, p[:, :, None], q[:, None])  # (3, 2, 2, J)
         columns = table[lo:hi].transpose(2, 1, 0)  # (14, 3, J), a view
         columns[list(ROT_COLS)] = rows[:9]
