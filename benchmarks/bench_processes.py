@@ -23,70 +23,141 @@ from bench_common import (
 import a2b
 
 
+def _resample_processes(
+    n: int, repeats: int, work: Path, exe: list[str], trajectory: tuple
+) -> list[Row]:
+    """``a2b resample`` of the trajectory at 10 n times against ``a2b interpolate --samples
+    10 n``, whole processes (issue 26: at most 1.3×)."""
+    from a2b.io.floatrepr import format_rows
+
+    times, quat, trans = trajectory
+    rows: list[Row] = []
+    tum = work / "wander.tum"
+    table = np.column_stack([times, trans, quat[:, [1, 2, 3, 0]]])
+    tum.write_bytes(b"# time tx ty tz qx qy qz qw\n" + format_rows(table, sep=" "))
+    poses = work / "poses.json"
+    poses.write_text(json.dumps(poses_document(*test_poses())))
+    out, ref = work / "resampled.csv", work / "interpolated.csv"
+    samples = 10 * n
+    commands = {
+        "resample": exe + ["resample", str(tum), "--rate", "1000", "-o", str(out)],
+        "interpolate": exe
+        + [
+            "interpolate",
+            str(poses),
+            "--samples",
+            str(samples),
+            "--mode",
+            "screw",
+            "-o",
+            str(ref),
+        ],
+    }
+    log(f"resample: {n} poses to {samples} times, {repeats} interleaved repeats")
+    result = interleaved_processes(
+        commands, repeats, rss=True, outputs={"resample": out, "interpolate": ref}
+    )
+    (seconds, peak), (reference, _) = result["resample"], result["interpolate"]
+    written = sum(1 for _ in open(out, "rb")) - 1
+    rows.append(
+        Row(
+            "resample",
+            f"a2b resample of {n} TUM poses to {written} CSV rows",
+            f"{seconds:.2f} s, {peak / 2**20:.0f} MiB",
+        )
+    )
+    rows.append(
+        Row(
+            "resample",
+            f"a2b interpolate --samples {samples} (screw) to CSV",
+            f"{reference:.2f} s",
+        )
+    )
+    ratio = seconds / reference
+    rows.append(
+        Row(
+            "resample",
+            "resample vs interpolate, whole process",
+            "",
+            f"{ratio:.2f}",
+            "≤ 1.3",
+            ratio <= 1.3,
+        )
+    )
+    return rows
+
+
+def _segment_loops(cases: dict, n: int, times, quat, trans, matrices, middle) -> int:
+    """Add the peers' per-segment ways (one interpolator per segment, in a Python loop) to
+    ``cases``, timed on the first segments; returns how many."""
+    loop = min(n - 1, 2000)
+    if "scipy Slerp + interp" in cases:
+        from scipy.spatial.transform import Rotation, Slerp
+
+        def scipy_loop():
+            for k in range(loop):
+                pair = Rotation.from_quat(quat[k : k + 2, [1, 2, 3, 0]])
+                Slerp(times[k : k + 2], pair)(middle[k]).as_matrix()
+                np.interp(middle[k], times[k : k + 2], trans[k : k + 2, 0])
+
+        cases["scipy Slerp per segment"] = scipy_loop
+    if "pytransform3d batch ScLERP" in cases:
+        from pytransform3d.transformations import (
+            dual_quaternion_from_transform,
+            dual_quaternion_sclerp,
+            transform_from_dual_quaternion,
+        )
+
+        def pt3d_loop():
+            for k in range(loop):
+                a = dual_quaternion_from_transform(matrices[k])
+                b = dual_quaternion_from_transform(matrices[k + 1])
+                u = (middle[k] - times[k]) / (times[k + 1] - times[k])
+                transform_from_dual_quaternion(dual_quaternion_sclerp(a, b, u))
+
+        cases["pytransform3d ScLERP per segment"] = pt3d_loop
+    return loop
+
+
+def _library_resample_rows(medians: dict, n: int, loop: int) -> list[Row]:
+    rows: list[Row] = []
+    rows.append(
+        Row(
+            "resample",
+            f"a2b: {n - 1} segments resampled once each (screw)",
+            rate(n - 1, medians["a2b"]),
+        )
+    )
+    for peer in ("scipy Slerp per segment", "pytransform3d ScLERP per segment"):
+        if peer not in medians:
+            rows.append(Row("resample", peer, "not installed"))
+            continue
+        ratio = medians[peer] / medians["a2b"]
+        rows.append(
+            Row("resample", f"{peer} (loop of {loop}, per segment)", rate(n - 1, medians[peer]))
+        )
+        rows.append(Row("resample", f"a2b vs {peer}", "", f"{ratio:.1f}×", "≥ 5×", ratio >= 5))
+    for peer in ("scipy Slerp + interp", "pytransform3d batch ScLERP"):
+        if peer not in medians:
+            rows.append(Row("resample", peer, "not installed"))
+            continue
+        ratio = medians[peer] / medians["a2b"]
+        rows.append(Row("resample", f"{peer}, same segments", rate(n - 1, medians[peer])))
+        rows.append(Row("resample", f"a2b vs {peer} (vectorised, no target)", "", f"{ratio:.2f}×"))
+    return rows
+
+
 def resample_section(n: int, repeats: int, work: Path, exe: list[str] | None) -> list[Row]:
     """``a2b resample`` as a process against ``a2b interpolate``; and the library against
     scipy's Slerp + interp and pytransform3d's batch ScLERP on the same segments."""
-    from a2b.io.floatrepr import format_rows
     from a2b.poses import matrices_from_quat_trans
     from a2b.resample import Resampler
 
     times, quat, trans = wander(n)
-    rows: list[Row] = []
     if exe is not None:
-        tum = work / "wander.tum"
-        table = np.column_stack([times, trans, quat[:, [1, 2, 3, 0]]])
-        tum.write_bytes(b"# time tx ty tz qx qy qz qw\n" + format_rows(table, sep=" "))
-        poses = work / "poses.json"
-        poses.write_text(json.dumps(poses_document(*test_poses())))
-        out, ref = work / "resampled.csv", work / "interpolated.csv"
-        samples = 10 * n
-        commands = {
-            "resample": exe + ["resample", str(tum), "--rate", "1000", "-o", str(out)],
-            "interpolate": exe
-            + [
-                "interpolate",
-                str(poses),
-                "--samples",
-                str(samples),
-                "--mode",
-                "screw",
-                "-o",
-                str(ref),
-            ],
-        }
-        log(f"resample: {n} poses to {samples} times, {repeats} interleaved repeats")
-        result = interleaved_processes(
-            commands, repeats, rss=True, outputs={"resample": out, "interpolate": ref}
-        )
-        (seconds, peak), (reference, _) = result["resample"], result["interpolate"]
-        written = sum(1 for _ in open(out, "rb")) - 1
-        rows.append(
-            Row(
-                "resample",
-                f"a2b resample of {n} TUM poses to {written} CSV rows",
-                f"{seconds:.2f} s, {peak / 2**20:.0f} MiB",
-            )
-        )
-        rows.append(
-            Row(
-                "resample",
-                f"a2b interpolate --samples {samples} (screw) to CSV",
-                f"{reference:.2f} s",
-            )
-        )
-        ratio = seconds / reference
-        rows.append(
-            Row(
-                "resample",
-                "resample vs interpolate, whole process",
-                "",
-                f"{ratio:.2f}",
-                "≤ 1.3",
-                ratio <= 1.3,
-            )
-        )
+        rows = _resample_processes(n, repeats, work, exe, (times, quat, trans))
     else:
-        rows.append(Row("resample", "the a2b command is not installed", "not measured"))
+        rows = [Row("resample", "the a2b command is not installed", "not measured")]
 
     matrices = matrices_from_quat_trans(quat, trans)
     middle = times[:-1] + 0.005  # one new time in each of the n − 1 segments
@@ -131,63 +202,14 @@ def resample_section(n: int, repeats: int, work: Path, exe: list[str] | None) ->
             return transforms_from_dual_quaternions(dual_quaternions_sclerp(a, b, u))
 
         cases["pytransform3d batch ScLERP"] = pt3d
-    # The peers' per-segment ways (one interpolator per segment, in a Python loop), timed on
-    # the first segments and counted per segment
-    loop = min(n - 1, 2000)
-    if "scipy Slerp + interp" in cases:
-
-        def scipy_loop():
-            for k in range(loop):
-                pair = Rotation.from_quat(quat[k : k + 2, [1, 2, 3, 0]])
-                Slerp(times[k : k + 2], pair)(middle[k]).as_matrix()
-                np.interp(middle[k], times[k : k + 2], trans[k : k + 2, 0])
-
-        cases["scipy Slerp per segment"] = scipy_loop
-    if "pytransform3d batch ScLERP" in cases:
-        from pytransform3d.transformations import (
-            dual_quaternion_from_transform,
-            dual_quaternion_sclerp,
-            transform_from_dual_quaternion,
-        )
-
-        def pt3d_loop():
-            for k in range(loop):
-                a = dual_quaternion_from_transform(matrices[k])
-                b = dual_quaternion_from_transform(matrices[k + 1])
-                u = (middle[k] - times[k]) / (times[k + 1] - times[k])
-                transform_from_dual_quaternion(dual_quaternion_sclerp(a, b, u))
-
-        cases["pytransform3d ScLERP per segment"] = pt3d_loop
+    loop = _segment_loops(cases, n, times, quat, trans, matrices, middle)
     for f in cases.values():
         f()
     medians = interleaved(cases, repeats)
     for peer in ("scipy Slerp per segment", "pytransform3d ScLERP per segment"):
         if peer in medians:
             medians[peer] *= (n - 1) / loop
-    rows.append(
-        Row(
-            "resample",
-            f"a2b: {n - 1} segments resampled once each (screw)",
-            rate(n - 1, medians["a2b"]),
-        )
-    )
-    for peer in ("scipy Slerp per segment", "pytransform3d ScLERP per segment"):
-        if peer not in medians:
-            rows.append(Row("resample", peer, "not installed"))
-            continue
-        ratio = medians[peer] / medians["a2b"]
-        rows.append(
-            Row("resample", f"{peer} (loop of {loop}, per segment)", rate(n - 1, medians[peer]))
-        )
-        rows.append(Row("resample", f"a2b vs {peer}", "", f"{ratio:.1f}×", "≥ 5×", ratio >= 5))
-    for peer in ("scipy Slerp + interp", "pytransform3d batch ScLERP"):
-        if peer not in medians:
-            rows.append(Row("resample", peer, "not installed"))
-            continue
-        ratio = medians[peer] / medians["a2b"]
-        rows.append(Row("resample", f"{peer}, same segments", rate(n - 1, medians[peer])))
-        rows.append(Row("resample", f"a2b vs {peer} (vectorised, no target)", "", f"{ratio:.2f}×"))
-    return rows
+    return rows + _library_resample_rows(medians, n, loop)
 
 
 def csv_columns(start: np.ndarray, end: np.ndarray, n: int) -> np.ndarray:

@@ -245,6 +245,11 @@ def library_section(n: int, repeats: int, rl_samples: int) -> list[Row]:
     else:
         rows.append(Row("library", "rational-linkages, one sample at a time", rl))
 
+    return rows + _library_ratios(medians, list(ours), n, rl_rate)
+
+
+def _library_ratios(medians: dict, ours: list, n: int, rl_rate: float | None) -> list[Row]:
+    rows = []
     bars = [
         ("pytransform3d ScLERP", 25.0),
         ("pytransform3d slerp + lerp", 3.0),
@@ -480,6 +485,11 @@ def motions_section(jobs: int, n: int, repeats: int) -> list[Row]:
     for f in sampling.values():
         f()
     medians.update(interleaved(sampling, repeats))
+    return _motions_rows(medians, jobs, n, loop, sample_jobs)
+
+
+def _motions_rows(medians: dict, jobs: int, n: int, loop: int, sample_jobs: int) -> list[Row]:
+    pt3d = "pytransform3d batch ScLERP" in medians
     rows = []
     for mode in ("darboux", "cubic", "screw"):
         seconds = medians[f"build {mode}"]
@@ -505,7 +515,7 @@ def motions_section(jobs: int, n: int, repeats: int) -> list[Row]:
             f"{per_single * jobs / medians['build darboux']:.0f}×",
         )
     )
-    if pt3d is not None:
+    if pt3d:
         rows.append(
             Row(
                 "motions",
@@ -614,7 +624,7 @@ def timing_section(count: int, repeats: int) -> list[Row]:
     return rows
 
 
-def main(argv: list[str] | None = None) -> int:
+def parse_arguments(argv: list[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument(
         "--samples", type=int, default=1_000_000, help="N for library, csv, mcap (default 10^6)"
@@ -654,10 +664,16 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.quick:
         args.samples, args.repeats, args.process_repeats, args.jobs = 100_000, 3, 2, 1_000
-    sections = [s.strip() for s in args.only.split(",") if s.strip()]
-    unknown = set(sections) - set(SECTIONS)
+    args.sections = [s.strip() for s in args.only.split(",") if s.strip()]
+    unknown = set(args.sections) - set(SECTIONS)
     if unknown:
         parser.error(f"unknown sections {', '.join(sorted(unknown))}")
+    return args
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse_arguments(argv)
+    sections = args.sections
 
     info = machine()
     command = " ".join(["python", "benchmarks/run.py"] + (sys.argv[1:] if argv is None else argv))
