@@ -15,6 +15,7 @@ The choices a2b makes are recorded in :attr:`ScrewFrame.choices` (see :func:`scr
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -83,7 +84,7 @@ class ScrewFrame:
     t_disp: np.ndarray
     notes: Notes
 
-    @property
+    @cached_property
     def shape(self) -> tuple:
         return np.shape(self.phi)
 

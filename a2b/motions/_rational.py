@@ -15,6 +15,7 @@ over blocks only. The last bits of a sample may depend on how many samples are t
 
 from __future__ import annotations
 
+from functools import lru_cache
 from math import comb
 
 import numpy as np
@@ -135,6 +136,7 @@ def bern_mul(a: np.ndarray, b: np.ndarray, form=np.multiply) -> np.ndarray:
     return out
 
 
+@lru_cache(maxsize=256)
 def _product_weights(m: int, n: int) -> np.ndarray:
     """``C(m, i) C(n, j) / C(m + n, i + j)``, shape ``(m + 1, n + 1)``, in (0, 1].
 
@@ -144,21 +146,29 @@ def _product_weights(m: int, n: int) -> np.ndarray:
     """
     i, j = np.arange(m + 1)[:, None], np.arange(n + 1)[None, :]
     if m + n <= 60:
-        return np.array(
-            [[comb(m, a) * comb(n, b) / comb(m + n, a + b) for b in j[0]] for a in i[:, 0]]
+        return _frozen(
+            np.array(
+                [[comb(m, a) * comb(n, b) / comb(m + n, a + b) for b in j[0]] for a in i[:, 0]]
+            )
         )
     if m + n <= 1000:
 
         def binomials(k: int) -> np.ndarray:
             return np.array([float(comb(k, r)) for r in range(k + 1)])
 
-        return binomials(m)[i] * binomials(n)[j] / binomials(m + n)[i + j]
+        return _frozen(binomials(m)[i] * binomials(n)[j] / binomials(m + n)[i + j])
     from math import lgamma
 
     def log_binomials(k: int) -> np.ndarray:
         return np.array([lgamma(k + 1) - lgamma(r + 1) - lgamma(k - r + 1) for r in range(k + 1)])
 
-    return np.exp(log_binomials(m)[i] + log_binomials(n)[j] - log_binomials(m + n)[i + j])
+    return _frozen(np.exp(log_binomials(m)[i] + log_binomials(n)[j] - log_binomials(m + n)[i + j]))
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    """``array`` made read-only: a cached value that callers share."""
+    array.setflags(write=False)
+    return array
 
 
 def bern_elevate(a: np.ndarray, degree: int) -> np.ndarray:
