@@ -129,8 +129,8 @@ def _entries(r: np.ndarray) -> np.ndarray:
     """The entries ``r11, r12, …, r33`` of matrices ``(..., 3, 3)`` as contiguous rows ``(9,
     ...)``: one transposing copy, after which every operation on an entry runs over one
     contiguous array (several times faster than on the strided entries of a stack of 3x3)."""
-    r = np.asarray(r, dtype=float)
-    return np.ascontiguousarray(np.moveaxis(r.reshape(r.shape[:-2] + (9,)), -1, 0))
+    flat = np.asarray(r, dtype=float).reshape(np.shape(r)[:-2] + (9,))
+    return np.ascontiguousarray(flat.transpose((flat.ndim - 1,) + tuple(range(flat.ndim - 1))))
 
 
 def _orthogonality(entries: np.ndarray) -> np.ndarray:
