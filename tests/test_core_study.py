@@ -6,7 +6,7 @@ import mpmath
 import numpy as np
 
 import a2b
-from a2b.motions.darboux import CHUNK
+from a2b.motions._rational import CHUNK
 from a2b.study import (
     BILINEAR_CHUNK,
     bilinear,
@@ -95,11 +95,12 @@ def test_a_batch_larger_than_a_chunk_is_its_elements_bit_for_bit(rng):
     count = CHUNK + 3
     start = np.stack([random_pose(rng) for _ in range(count)])
     end = np.stack([random_pose(rng) for _ in range(count)])
-    batch = a2b.motion(start, end, delta=0.25)
-    for i in (0, CHUNK - 1, CHUNK, count - 1):
-        single = a2b.motion(start[i], end[i], delta=0.25)
-        np.testing.assert_array_equal(batch.table[i], single.table)
-        np.testing.assert_array_equal(batch.quat_ends[i], single.quat_ends)
+    for mode, params in (("darboux", {"delta": 0.25}), ("screw", {}), ("cubic", {})):
+        batch = a2b.motion(start, end, mode, **params)
+        for i in (0, CHUNK - 1, CHUNK, count - 1):
+            single = a2b.motion(start[i], end[i], mode, **params)
+            np.testing.assert_array_equal(batch.table[i], single.table, err_msg=mode)
+            np.testing.assert_array_equal(batch.quat_ends[i], single.quat_ends, err_msg=mode)
 
 
 def test_bilinear_gives_an_element_of_a_batch_bit_for_bit_as_alone(rng):

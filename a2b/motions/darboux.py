@@ -32,6 +32,7 @@ from ..study import (
     translation_numerators,
 )
 from ._rational import (
+    CHUNK,
     ROT_COLS,
     TRANS_COLS,
     bernstein_basis,
@@ -182,11 +183,6 @@ def third_pose_coordinates(frame: ScrewFrame, pose: np.ndarray) -> tuple[np.ndar
 #: build, from a2b's own formulas: eq. 5, and ``q = −½ t p``.
 _TRANSLATION = structure_matrix(translation_numerators, 4, 4)
 _DUAL = structure_matrix(lambda t, p: study_from_quat_trans(p, t)[..., 4:], 3, 4)
-
-
-#: Pairs per chunk of the build's work arrays: the outer products of 4,096 pairs (about
-#: 1.2 MB) stay in cache, where those of 10⁵ pairs at once (40 MB) ran slower.
-CHUNK = 4096
 
 
 def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np.ndarray]:

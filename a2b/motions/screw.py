@@ -18,6 +18,7 @@ import numpy as np
 from ..frames import ScrewFrame
 from ..poses import rotations_from_quaternions
 from ..study import bilinear, cross, quat_mul, structure_matrix
+from ._rational import CHUNK
 from .base import Motion
 
 #: Largest |tφ/2| for which the screw basis is computed from tan(tφ/2) (see ``_basis``); numpy's
@@ -33,37 +34,48 @@ def screw_tables(frame: ScrewFrame) -> np.ndarray:
     """The tables ``S + (4, 14)``: rows ``(1, t, sin tφ, vers tφ)`` of ``[R | t]`` and the
     denominators 1 (see the module's docstring).
 
-    Component-major: the four columns of ``[RA | tA]`` as ``(3, 4, J)``, so that ``K X = u × X``
-    is one :func:`a2b.study.bilinear` and ``K² X = u (u·X) − X`` three elementwise steps over
-    all of them (``|u| = 1``), not 3x3 products per pair.
+    Component-major, in chunks of :data:`CHUNK` pairs: the four columns of ``[RA | tA]`` as
+    ``(3, 4, J)``, so that ``K X = u × X`` is one :func:`a2b.study.bilinear` and
+    ``K² X = u (u·X) − X`` three elementwise steps over all of them (``|u| = 1``), not 3x3
+    products per pair.
     """
-    shape = frame.shape
-    phi, d = np.reshape(frame.phi, -1), np.reshape(frame.d, -1)
-    u = np.reshape(frame.axis_direction, (-1, 3)).T  # (3, J)
-    count = u.shape[1]
-    columns = np.empty((3, 4, count))
-    columns[:, :3] = rotations_from_quaternions(np.reshape(frame.p_start, (-1, 4))).transpose(
-        1, 2, 0
+    rot = rotations_from_quaternions(np.reshape(frame.p_start, (-1, 4)))
+    given = (
+        rot,
+        np.reshape(frame.t_start, (-1, 3)),
+        np.reshape(frame.axis_direction, (-1, 3)),
+        np.reshape(frame.t_perp, (-1, 3)),
+        np.reshape(frame.phi, -1),
+        np.reshape(frame.d, -1),
     )
-    columns[:, 3] = np.reshape(frame.t_start, (-1, 3)).T
+    table = np.zeros((len(rot), 4, 14))
+    table[:, 0, 12:] = 1.0
+    for lo in range(0, len(rot), CHUNK):
+        _screw_chunk(*(item[lo : lo + CHUNK] for item in given), table[lo : lo + CHUNK])
+    return table.reshape(frame.shape + (4, 14))
+
+
+def _screw_chunk(rot, t_a, u, t_perp, phi, d, table) -> None:
+    """:func:`screw_tables` for one chunk of pairs, written into its ``table`` ``(J, 4, 14)``."""
+    count = len(rot)
+    u, t_perp = u.T, t_perp.T  # (3, J)
+    columns = np.empty((3, 4, count))
+    columns[:, :3] = rot.transpose(1, 2, 0)
+    columns[:, 3] = t_a.T
     k_cols = bilinear(_CROSS, u[:, None], columns)  # (3, 4, J)
     k2_cols = u[:, None] * np.add.reduce(u[:, None] * columns, axis=0)
     k2_cols -= columns
-    t_perp = np.reshape(frame.t_perp, (-1, 3)).T
     u_cross_t = bilinear(_CROSS, u, t_perp)
     turning = phi > 0.0
     with np.errstate(divide="ignore", invalid="ignore"):
         half_cot = np.where(turning, 0.5 * np.cos(phi / 2) / np.sin(phi / 2), 0.0)
     k_cols[:, 3] += np.where(turning, half_cot * t_perp - 0.5 * u_cross_t, 0.0)
     k2_cols[:, 3] += np.where(turning, 0.5 * t_perp + half_cot * u_cross_t, 0.0)
-    table = np.zeros((count, 4, 14))
     blocks = table[:, :, :12].reshape(count, 4, 3, 4)
     blocks[:, 0] = columns.transpose(2, 0, 1)
     blocks[:, 1, :, 3] = (d * u + np.where(turning, 0.0, t_perp)).T
     blocks[:, 2] = k_cols.transpose(2, 0, 1)
     blocks[:, 3] = k2_cols.transpose(2, 0, 1)
-    table[:, 0, 12:] = 1.0
-    return table.reshape(shape + (4, 14))
 
 
 class ScrewMotion(Motion):
