@@ -52,7 +52,11 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
         Invalid poses, unknown or conflicting parameters, parameters without a solution, or a
         motion that is singular for some ``t ∈ [0, 1]``.
     """
-    a, b = (check_matrices(pose_matrices(pose)) for pose in (start, end))
+    a, b = pose_matrices(start), pose_matrices(end)
+    if isinstance(a, np.ndarray) and isinstance(b, np.ndarray) and a.shape == b.shape:
+        a, b = check_matrices(np.stack([a, b]))  # both in one pass: the same checks
+    else:
+        a, b = check_matrices(a), check_matrices(b)
     return checked_motion(a, b, mode, **parameters)
 
 

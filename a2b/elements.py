@@ -49,9 +49,9 @@ def label(shape: tuple, flat: int) -> str:
 
 def refuse(error: type[A2bError], bad, message: Callable[[int], str], shape: tuple) -> None:
     """Raise ``error`` for the first element where ``bad`` holds, with ``message(flat)``."""
-    bad = np.broadcast_to(bad, shape)
-    if not bad.any():
+    if not _any(bad):
         return
+    bad = np.broadcast_to(bad, shape)
     flat = int(np.flatnonzero(bad.ravel())[0]) if shape else 0
     reason = message(flat)
     exception = error(label(shape, flat) + reason)
@@ -62,9 +62,9 @@ def refuse(error: type[A2bError], bad, message: Callable[[int], str], shape: tup
 
 def warn(where, message: Callable[[int], str], shape: tuple, notes: Notes) -> None:
     """Issue an :class:`A2bWarning` for every element where ``where`` holds, and note it."""
-    mask = np.broadcast_to(where, shape)
-    if not mask.any():
+    if not _any(where):
         return
+    mask = np.broadcast_to(where, shape)
     texts = np.full(shape, None, dtype=object)
     for flat in np.flatnonzero(mask.ravel()).tolist() if shape else [0]:
         reason = message(flat)
@@ -74,6 +74,11 @@ def warn(where, message: Callable[[int], str], shape: tuple, notes: Notes) -> No
         warning.reason = reason
         warnings.warn(warning, stacklevel=4)
     notes.add(texts, mask)
+
+
+def _any(where) -> bool:
+    """Whether a mask (an array or a bool) holds anywhere: the quick test before the work."""
+    return bool(where.any() if isinstance(where, np.ndarray) else np.any(where))
 
 
 def value(array, flat: int) -> float:
@@ -95,9 +100,9 @@ class Notes:
 
     def add(self, text, where=None) -> None:
         """Note ``text`` (a str, or texts of shape ``S``) for the elements ``where`` holds."""
-        mask = None if where is None else np.broadcast_to(where, self.shape)
-        if mask is not None and not mask.any():
+        if where is not None and not _any(where):
             return
+        mask = None if where is None else np.broadcast_to(where, self.shape)
         self.rules.append((mask, text))
 
     def extend(self, other: Notes) -> None:
@@ -190,6 +195,10 @@ def unit_scale(values: np.ndarray, axis=-1, extreme_only: bool = False) -> np.nd
 def safe_norm(values: np.ndarray, axis=-1) -> np.ndarray:
     """Euclidean norms along ``axis`` that overflow or underflow only when the norm itself does."""
     values = np.asarray(values, dtype=float)
+    with np.errstate(over="ignore", invalid="ignore"):
+        plain = np.sqrt(np.add.reduce(values * values, axis=axis))
+    if plain.size and np.all((plain > 1e-150) & (plain < 1e150)):  # no square under- or overflowed
+        return plain
     with np.errstate(invalid="ignore"):
         largest = np.max(np.abs(values), axis=axis, keepdims=True)
     _, exponent = np.frexp(np.where(np.isfinite(largest), largest, 0.0))

@@ -15,6 +15,7 @@ The choices a2b makes are recorded in :attr:`ScrewFrame.choices` (see :func:`scr
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -28,7 +29,7 @@ from .poses import (
     rotations_from_quaternions,
     study_from_quat_trans,
 )
-from .study import quat_conj, quat_mul
+from .study import cross, quat_conj, quat_mul
 
 #: ``|sin(φ/2)|`` at or below which the relative rotation of two poses is rounding noise.
 ROTATION_NOISE = 4 * np.finfo(float).eps
@@ -83,7 +84,7 @@ class ScrewFrame:
     t_disp: np.ndarray
     notes: Notes
 
-    @property
+    @cached_property
     def shape(self) -> tuple:
         return np.shape(self.phi)
 
@@ -227,49 +228,73 @@ def screw_frame(start: np.ndarray, end: np.ndarray, quaternions=None) -> ScrewFr
 
 def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list]:
     """The fields of the screw frames of ``J`` pairs ``(J, 4, 4)``, and the choices made."""
-    if quaternions is None:
-        quaternions = [quaternions_from_rotations(m[:, :3, :3]) for m in (start, end)]
+    if quaternions is None:  # both poses in one call
+        quaternions = quaternions_from_rotations(np.stack([start[:, :3, :3], end[:, :3, :3]]))
     p_a, p_b = quaternions
     t_a, t_b = start[:, :3, 3].copy(), end[:, :3, 3].copy()
     same = (p_a == p_b).all(axis=-1)  # identical rotations: no rounding residue from p p̄
     r = quat_mul(p_b, quat_conj(p_a))
-    r[same] = (1.0, 0.0, 0.0, 0.0)
-    s = np.linalg.norm(r[:, 1:], axis=-1)
+    if same.any():
+        r[same] = (1.0, 0.0, 0.0, 0.0)
+    s = np.sqrt(np.add.reduce(r[:, 1:] * r[:, 1:], axis=-1))
     rotating = s > ROTATION_NOISE
+    everywhere = bool(rotating.all())  # the rare cases below run only where they occur
     # A half-turn (pA·pB = 0 within rounding): u and −u are equally short; one is picked and
     # said, rather than let the sign of rounding noise decide.
     half_turn = rotating & (np.abs(r[:, 0]) <= ROTATION_NOISE)
     flip = (r[:, 0] < 0) & ~half_turn
-    p_b = np.where(flip[:, None], -p_b, p_b)
-    r = np.where(flip[:, None], -r, r)
+    sign = np.where(flip, -1.0, 1.0)[:, None]  # × −1 is negation, bit for bit
+    p_b = p_b * sign
+    r *= sign
     t_disp = t_b - (rotations_from_quaternions(r) @ t_a[:, :, None])[:, :, 0]
 
     # a rotation: the axis of r, and the half-turn rule
-    u = r[:, 1:] / np.where(rotating, s, 1.0)[:, None]
-    d = np.sum(u * t_disp, axis=-1)
-    turn = half_turn & ((d < 0) | ((d == 0) & (canonical_sign(u)[:, 0] != u[:, 0])))
-    u = np.where(turn[:, None], -u, u)
-    d = np.where(turn, -d, d)
-    p_b = np.where(turn[:, None], -p_b, p_b)
-    r = np.where(turn[:, None], -r, r)
+    u = r[:, 1:] / (s if everywhere else np.where(rotating, s, 1.0))[:, None]
+    d = np.add.reduce(u * t_disp, axis=-1)
+    if half_turn.any():
+        turn = half_turn & ((d < 0) | ((d == 0) & (canonical_sign(u)[:, 0] != u[:, 0])))
+        u = np.where(turn[:, None], -u, u)
+        d = np.where(turn, -d, d)
+        p_b = np.where(turn[:, None], -p_b, p_b)
+        r = np.where(turn[:, None], -r, r)
     c = np.abs(r[:, 0])
     phi = 2.0 * np.arctan2(s, c)
     t_perp = t_disp - d[:, None] * u
-    axis_point = 0.5 * (t_perp + np.cross(u, t_perp) * (c / np.where(rotating, s, 1.0))[:, None])
+    ratio = c / (s if everywhere else np.where(rotating, s, 1.0))
+    axis_point = 0.5 * (t_perp + cross(u, t_perp) * ratio[:, None])
 
     # no rotation: the axis along the translation, or parallel to z for B = A
-    norm_t = safe_norm(t_disp)  # a translation of 1e200 has a length
-    moving = norm_t > 0.0
-    u_t = np.where(
-        moving[:, None], t_disp / np.where(moving, norm_t, 1.0)[:, None], [0.0, 0.0, 1.0]
-    )
-    axis_point_t = t_a - np.sum(u_t * t_a, axis=-1)[:, None] * u_t
+    moving = np.zeros(len(s), dtype=bool)
+    if not everywhere:
+        norm_t = safe_norm(t_disp)  # a translation of 1e200 has a length
+        moving = norm_t > 0.0
+        u_t = np.where(
+            moving[:, None], t_disp / np.where(moving, norm_t, 1.0)[:, None], [0.0, 0.0, 1.0]
+        )
+        axis_point_t = t_a - np.sum(u_t * t_a, axis=-1)[:, None] * u_t
+        u = np.where(rotating[:, None], u, u_t)
+        d = np.where(rotating, d, np.where(moving, norm_t, 0.0))
+        phi = np.where(rotating, phi, 0.0)
+        axis_point = np.where(rotating[:, None], axis_point, axis_point_t)
 
-    u = np.where(rotating[:, None], u, u_t)
-    d = np.where(rotating, d, np.where(moving, norm_t, 0.0))
-    phi = np.where(rotating, phi, 0.0)
-    axis_point = np.where(rotating[:, None], axis_point, axis_point_t)
+    notes = _notes(flip, s, rotating, half_turn, moving, d, c)
+    fields = {
+        "phi": phi,
+        "d": d,
+        "axis_direction": u,
+        "axis_point": axis_point,
+        "r": r,
+        "p_start": p_a,
+        "p_end": p_b,
+        "t_start": t_a,
+        "t_end": t_b,
+        "t_disp": t_disp,
+    }
+    return fields, notes
 
+
+def _notes(flip, s, rotating, half_turn, moving, d, c) -> list:
+    """The choices :func:`_frames` made, as (mask, text) rules for :class:`Notes`."""
     notes: list = [(flip, _FLIP)]
     noise = (s > 0.0) & ~rotating
     if noise.any():
@@ -291,16 +316,4 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
         notes.append((half_turn, texts))
     notes.append((~rotating & moving, _PURE_TRANSLATION))
     notes.append((~rotating & ~moving, _SAME_POSE))
-    fields = {
-        "phi": phi,
-        "d": d,
-        "axis_direction": u,
-        "axis_point": axis_point,
-        "r": r,
-        "p_start": p_a,
-        "p_end": p_b,
-        "t_start": t_a,
-        "t_end": t_b,
-        "t_disp": t_disp,
-    }
-    return fields, notes
+    return notes

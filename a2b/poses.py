@@ -129,8 +129,8 @@ def _entries(r: np.ndarray) -> np.ndarray:
     """The entries ``r11, r12, …, r33`` of matrices ``(..., 3, 3)`` as contiguous rows ``(9,
     ...)``: one transposing copy, after which every operation on an entry runs over one
     contiguous array (several times faster than on the strided entries of a stack of 3x3)."""
-    r = np.asarray(r, dtype=float)
-    return np.ascontiguousarray(np.moveaxis(r.reshape(r.shape[:-2] + (9,)), -1, 0))
+    flat = np.asarray(r, dtype=float).reshape(np.shape(r)[:-2] + (9,))
+    return np.ascontiguousarray(flat.transpose((flat.ndim - 1,) + tuple(range(flat.ndim - 1))))
 
 
 def _orthogonality(entries: np.ndarray) -> np.ndarray:
@@ -312,19 +312,20 @@ def quaternions_from_rotations(rotations: np.ndarray) -> np.ndarray:
     a11, a12, a13, a21, a22, a23, a31, a32, a33 = _entries(rotations)
     w_x, w_y, w_z = a32 - a23, a13 - a31, a21 - a12
     x_y, x_z, y_z = a21 + a12, a31 + a13, a32 + a23
-    rows = (  # the rows of eq. 9; the first whose diagonal term is largest is taken
-        (a11 + a22 + a33, (1 + a11 + a22 + a33, w_x, w_y, w_z)),
-        (a11 - a22 - a33, (w_x, 1 + a11 - a22 - a33, x_y, x_z)),
-        (-a11 + a22 - a33, (w_y, x_y, 1 - a11 + a22 - a33, y_z)),
-        (-a11 - a22 + a33, (w_z, x_z, y_z, 1 - a11 - a22 + a33)),
-    )
-    largest, p = rows[0]
-    for diagonal, row in rows[1:]:
-        larger = diagonal > largest
-        largest = np.where(larger, diagonal, largest)
-        p = [np.where(larger, new, old) for new, old in zip(row, p)]
+    diagonals = np.stack([a11 + a22 + a33, a11 - a22 - a33, -a11 + a22 - a33, -a11 - a22 + a33])
+    rows = np.stack(  # the rows of eq. 9; the first whose diagonal term is largest is taken
+        [
+            [1 + a11 + a22 + a33, w_x, w_y, w_z],
+            [w_x, 1 + a11 - a22 - a33, x_y, x_z],
+            [w_y, x_y, 1 - a11 + a22 - a33, y_z],
+            [w_z, x_z, y_z, 1 - a11 - a22 + a33],
+        ]
+    )  # (4 rows, 4 components, ...)
+    best = np.argmax(diagonals, axis=0)  # the first largest, as a strict > from the first row
+    p = np.take_along_axis(rows, best[None, None], axis=0)[0]
     norm = np.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3])
-    return canonical_sign(np.stack([c / norm for c in p], axis=-1))
+    p /= norm
+    return canonical_sign(np.moveaxis(p, 0, -1))
 
 
 def canonical_sign(p: np.ndarray) -> np.ndarray:

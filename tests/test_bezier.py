@@ -14,13 +14,13 @@ from a2b.cli import cli
 from a2b.errors import InputFileError, ParameterError, PoseError, SingularMotionError
 from a2b.extended import kernel_basis
 from a2b.io.poseschema import read_pose_list
+from a2b.motions._bernstein import first_small_value
 from a2b.motions._rational import bern_mul
 from a2b.motions.bezier import (
     SINGULAR_TOL,
     bezier,
     bezier_motion,
     default_m,
-    first_small_value,
     spline,
     spline_motion,
 )

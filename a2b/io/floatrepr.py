@@ -424,11 +424,13 @@ def format_rows(values, sep: str = ",", prefix=None) -> bytes:
 def without_zero_bytes(cells: np.ndarray) -> bytes:
     """The bytes of ``cells`` with every zero byte removed: the text the cells hold.
 
-    A numpy mask, not :meth:`bytes.translate`: as fast on one thread, and it releases the GIL,
-    so two formatting threads run side by side (1.86× against 1.52× for ``translate``).
+    ``numpy.compress``, not :meth:`bytes.translate`: as fast on one thread (0.31 ms against
+    0.30 ms for a block of 2,048 rows of 8 numbers), and it releases the GIL, so two
+    formatting threads run side by side (1.91× the rate of one). A boolean index
+    (``flat[flat != 0]``) releases it too, but took 0.41 ms.
     """
     flat = np.ascontiguousarray(cells).view(np.uint8).reshape(-1)
-    return flat[flat != 0].tobytes()
+    return flat.compress(flat.astype(bool)).tobytes()
 
 
 def text_words(texts: np.ndarray) -> np.ndarray:

@@ -15,9 +15,12 @@ over blocks only. The last bits of a sample may depend on how many samples are t
 
 from __future__ import annotations
 
+from functools import lru_cache
 from math import comb
 
 import numpy as np
+
+from ..study import bilinear, rotation_numerators, structure_matrix
 
 EPS = float(np.finfo(float).eps)
 #: ``|p(t)|² / max|p|²`` at or below which a motion is refused as passing through ``p = 0``.
@@ -38,6 +41,28 @@ SAMPLE_BLOCK = 8192
 #: At most this many multiply-adds per BLAS product: OpenBLAS runs it on one thread (it starts a
 #: second one from 2¹⁹), and a second thread stalls whenever the other core is busy.
 BLAS_ONE_THREAD = 2**19 - 1
+
+
+#: Pairs per chunk of a build's work arrays: the outer products of 4,096 pairs (about
+#: 1.2 MB) stay in cache, where those of 10⁵ pairs at once (40 MB) ran slower.
+CHUNK = 4096
+
+#: The structure matrix (:func:`a2b.study.structure_matrix`) of eq. 4's rotation numerators
+#: with their denominator ``p·r``, from a2b's own formula.
+_ROTATION = structure_matrix(
+    lambda p, r: np.concatenate(
+        [rotation_numerators(p, r), np.sum(p * r, axis=-1, keepdims=True)], axis=-1
+    ),
+    4,
+    4,
+)
+
+
+def quadratic_rows(p: np.ndarray) -> np.ndarray:
+    """The Bernstein coefficients ``B(pA, pA), B(pA, pB), B(pB, pB)`` of eq. 4's nine rotation
+    numerators and of the denominator ``|p(t)|²`` along ``p(t) = (1−t) pA + t pB``: ``(10, 3,
+    ...)`` for ends ``(4, 2, ...)``, components first (:func:`a2b.study.bilinear`)."""
+    return bilinear(_ROTATION, p[:, [0, 0, 1]], p[:, [0, 1, 1]])
 
 
 def bernstein_basis(ts: np.ndarray, degree: int) -> np.ndarray:
@@ -115,6 +140,7 @@ def bern_mul(a: np.ndarray, b: np.ndarray, form=np.multiply) -> np.ndarray:
     return out
 
 
+@lru_cache(maxsize=256)
 def _product_weights(m: int, n: int) -> np.ndarray:
     """``C(m, i) C(n, j) / C(m + n, i + j)``, shape ``(m + 1, n + 1)``, in (0, 1].
 
@@ -124,21 +150,29 @@ def _product_weights(m: int, n: int) -> np.ndarray:
     """
     i, j = np.arange(m + 1)[:, None], np.arange(n + 1)[None, :]
     if m + n <= 60:
-        return np.array(
-            [[comb(m, a) * comb(n, b) / comb(m + n, a + b) for b in j[0]] for a in i[:, 0]]
+        return _frozen(
+            np.array(
+                [[comb(m, a) * comb(n, b) / comb(m + n, a + b) for b in j[0]] for a in i[:, 0]]
+            )
         )
     if m + n <= 1000:
 
         def binomials(k: int) -> np.ndarray:
             return np.array([float(comb(k, r)) for r in range(k + 1)])
 
-        return binomials(m)[i] * binomials(n)[j] / binomials(m + n)[i + j]
+        return _frozen(binomials(m)[i] * binomials(n)[j] / binomials(m + n)[i + j])
     from math import lgamma
 
     def log_binomials(k: int) -> np.ndarray:
         return np.array([lgamma(k + 1) - lgamma(r + 1) - lgamma(k - r + 1) for r in range(k + 1)])
 
-    return np.exp(log_binomials(m)[i] + log_binomials(n)[j] - log_binomials(m + n)[i + j])
+    return _frozen(np.exp(log_binomials(m)[i] + log_binomials(n)[j] - log_binomials(m + n)[i + j]))
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    """``array`` made read-only: a cached value that callers share."""
+    array.setflags(write=False)
+    return array
 
 
 def bern_elevate(a: np.ndarray, degree: int) -> np.ndarray:
@@ -268,24 +302,47 @@ def evaluate_table(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
     out = np.empty((jobs, n, 4, 4))
     shared = bool(np.array_equal(tables[:, :, 12], tables[:, :, 13]))
     if shared and _denominator_is_one(columns, tables[:, :, 12]):
-        extended = np.zeros((jobs, k, 16))
-        extended[:, :, :12] = tables[:, :, :12]
-        extended[:, 0, 15] = 1.0
+        extended = _Extended(tables, k, [(slice(0, k), slice(0, 12))], (0, 15))
         _rows(columns, None, extended, out.reshape(jobs, n, 16), False)
         return out.reshape(shape + (n, 4, 4))
     dens = 1 if shared else 2
-    extended = np.zeros((jobs, dens * k + 1, 16))
     if shared:
-        extended[:, :k, :12] = tables[:, :, :12]
+        blocks = [(slice(0, k), slice(0, 12))]
     else:
-        extended[:, :k, ROT_COLS] = tables[:, :, ROT_COLS]
-        extended[:, k : 2 * k, TRANS_COLS] = tables[:, :, TRANS_COLS]
-    extended[:, -1, 15] = 1.0
+        blocks = [(slice(0, k), list(ROT_COLS)), (slice(k, 2 * k), list(TRANS_COLS))]
+    extended = _Extended(tables, dens * k + 1, blocks, (-1, 15))
     if not _rows(columns, tables[:, :, 12 : 12 + dens], extended, out.reshape(jobs, n, 16), True):
         # 0 · ∞ spread NaN into the bottom row of samples with a vanishing denominator
         out[:, :, 3, :3] = 0.0
         out[:, :, 3, 3] = 1.0
     return out.reshape(shape + (n, 4, 4))
+
+
+class _Extended:
+    """The extended tables ``(jobs, rows, 16)`` of :func:`evaluate_table`, made block by block
+    as :func:`_rows` asks for them (``extended(first, last)``), in one reused buffer: for
+    10⁵ motions of one sample each, the whole extended table would be 50 MB to write and
+    read once.
+
+    ``blocks`` are ``(rows, columns)`` that take the table's columns of the same index
+    (rows ``0 … k − 1`` of the table, shifted to the given rows); ``one`` is the entry that
+    is 1 (the bottom-right corner, from a constant basis function).
+    """
+
+    def __init__(self, tables: np.ndarray, rows: int, blocks: list, one: tuple):
+        self.tables, self.rows, self.blocks, self.one = tables, rows, blocks, one
+        self.shape = (len(tables), rows, 16)
+        self.buffer = np.zeros((0, rows, 16))
+
+    def __call__(self, first: int, last: int) -> np.ndarray:
+        size = last - first
+        if len(self.buffer) < size:
+            self.buffer = np.zeros((size, self.rows, 16))
+            self.buffer[:, self.one[0], self.one[1]] = 1.0
+        part = self.buffer[:size]
+        for rows, cols in self.blocks:
+            part[:, rows, cols] = self.tables[first:last, :, cols]
+        return part
 
 
 def evaluate_translations(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
@@ -347,7 +404,9 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
 
     ``columns`` is the basis ``(1 or J, k, N)`` (one row per basis function), ``denominators``
     ``(J, k, m)`` or ``None`` (every denominator 1: the basis itself), ``coefficients``
-    ``(J, m k (+ 1), w)``, with ``constant`` a last basis function 1, and ``out`` ``(J, N, w)``.
+    ``(J, m k (+ 1), w)`` (or a function ``(first, last)`` that gives those of jobs ``first``
+    to ``last − 1``, with their ``shape``), with ``constant`` a last basis function 1, and
+    ``out`` ``(J, N, w)``.
     A block holds the samples of one job or, for short motions, of several, at most
     :data:`SAMPLE_BLOCK` rows: it is divided and multiplied while it is in cache, and each
     BLAS product is small enough to run on one thread. Returns whether every ``1 / d`` was
@@ -374,13 +433,17 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
         last = min(first + group, jobs)
         size = last - first
         block_columns = columns if columns.shape[0] == 1 else columns[first:last]
+        if callable(coefficients):
+            block_coefficients = coefficients(first, last)
+        else:
+            block_coefficients = coefficients[first:last]
         for start in range(0, n, samples):
             stop = min(start + samples, n)
             block = block_columns[:, :, start:stop]
             if den_rows is None and not constant:
                 np.matmul(
                     np.swapaxes(np.broadcast_to(block, (size,) + block.shape[1:]), 1, 2),
-                    coefficients[first:last],
+                    block_coefficients,
                     out=out[first:last, start:stop],
                 )
                 continue
@@ -394,7 +457,5 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
                 total += float(np.add.reduce(inv, axis=None))
                 for j in range(m):
                     np.multiply(block, inv[:, j : j + 1], out=part[:, j * k : (j + 1) * k])
-            np.matmul(
-                np.swapaxes(part, 1, 2), coefficients[first:last], out=out[first:last, start:stop]
-            )
+            np.matmul(np.swapaxes(part, 1, 2), block_coefficients, out=out[first:last, start:stop])
     return bool(np.isfinite(total))

@@ -280,6 +280,8 @@ class Motion(Kinematic):
         about ``ε / ratio``, and a2b warns.
         """
         t_min, ratio = path_minimum(self.quat_ends, lo, hi)
+        if lo == 0.0 and hi == 1.0:  # kept for _rotation_is_fragile: sampling in [0, 1]
+            self._unit_ratio = ratio
         self._refuse(
             SingularMotionError,
             ratio <= SINGULAR_TOL,
@@ -318,7 +320,10 @@ class Motion(Kinematic):
 
     def _rotation_is_fragile(self, lo: float, hi: float) -> np.ndarray:
         """Where the table's rotation would lose rigidity (``p(t)`` close to 0 on [lo, hi])."""
-        return path_minimum(self.quat_ends, lo, hi)[1] < FRAGILE_TOL
+        ratio = self.__dict__.get("_unit_ratio") if lo == 0.0 and hi == 1.0 else None
+        if ratio is None:
+            ratio = path_minimum(self.quat_ends, lo, hi)[1]
+        return ratio < FRAGILE_TOL
 
     def singular_t(self) -> list[float]:
         """Real ``t`` (any value) where a single motion is undefined, for ``describe``."""

@@ -36,7 +36,7 @@ from ..errors import ParameterError, SingularMotionError
 from ..extended import check_m, check_not_orthogonal, paper_basis_degenerate, paper_kernel_basis
 from ..frames import ScrewFrame
 from ..names import FRAMES
-from ..study import rotation_numerators
+from ..study import cross
 from ._rational import (
     EPS,
     bern_elevate,
@@ -44,6 +44,7 @@ from ._rational import (
     bernstein_basis,
     bernstein_derivatives,
     make_table,
+    quadratic_rows,
 )
 from .base import Motion, _vec, broadcast_parameter, linear_root
 from .text import number_text
@@ -92,6 +93,13 @@ def _psi(m, coeffs, scalar, name: str, letter: str, shape: tuple) -> np.ndarray:
     )
     coefficients = broadcast_parameter(arr, shape, name, 6)
     return 1.0 + np.sum(coefficients * paper_kernel_basis(m)[..., 0], axis=-1)
+
+
+def _quadratic(ends: np.ndarray, shape: tuple) -> np.ndarray:
+    """:func:`quadratic_rows` of ends ``S + (2, 4)``, coefficients first: ``(3,) + S + (10,)``,
+    as :func:`bern_mul` and :func:`bern_elevate` take them."""
+    rows = quadratic_rows(ends.reshape(-1, 2, 4).transpose(2, 1, 0))  # (10, 3, J)
+    return rows.transpose(1, 2, 0).reshape((3,) + shape + (10,))
 
 
 class CubicMotion(Motion):
@@ -151,57 +159,64 @@ class CubicMotion(Motion):
         self.psi_a = _psi(m_arr, alpha, a, "alpha", "a", shape) + 0.0
         self.psi_b = _psi(m_arr, beta, b, "beta", "b", shape) + 0.0
         r = np.asarray(frame.r)
-        p_a, p_b = np.asarray(frame.p_start), np.asarray(frame.p_end)
         c = r[..., 0]
         s = np.linalg.norm(r[..., 1:], axis=-1)
+        w_a, w_b = self._weights(m_arr, c, s)
+        self.weights = np.stack(np.broadcast_arrays(w_a, w_b), axis=-1)
+        self._check_psi()
+        self.quat_ends, self.table = self._tables(np.asarray(w_a), np.asarray(w_b))
+        self._check_interval(0.0, 1.0)
         if frame_name == "canonical":
-            p_a_can = np.zeros(r.shape)
+            self._check_axis_sensitivity(s)
+        if not shape:
+            self.psi_a, self.psi_b = self.psi_a[()], self.psi_b[()]
+
+    def _weights(self, m_arr, c, s) -> tuple:
+        """``4 (m·pA)`` and ``4 (m·pB)``, in the motion's frame (refused where 0)."""
+        if self.frame_name == "canonical":
+            p_a_can = np.zeros(np.shape(c) + (4,))
             p_a_can[..., 0] = 1.0
-            p_b_can = np.zeros(r.shape)
+            p_b_can = np.zeros(np.shape(c) + (4,))
             p_b_can[..., 0] = c
             p_b_can[..., 3] = s
             w_a = 4.0 * check_not_orthogonal(m_arr, p_a_can, "start pose (canonical coordinates)")
             w_b = 4.0 * check_not_orthogonal(m_arr, p_b_can, "end pose (canonical coordinates)")
         else:
+            p_a, p_b = np.asarray(self.frame.p_start), np.asarray(self.frame.p_end)
             w_a = 4.0 * check_not_orthogonal(m_arr, p_a, "start pose")
             w_b = 4.0 * check_not_orthogonal(m_arr, p_b, "end pose")
-        self.weights = np.stack(np.broadcast_arrays(w_a, w_b), axis=-1)
-        self._check_psi()
-        w_a, w_b = np.asarray(w_a)[..., None], np.asarray(w_b)[..., None]
-        pa_w, pb_w = w_a * p_a, w_b * p_b
-        self.quat_ends = np.stack([pa_w, pb_w], axis=-2)
-        rot = np.stack(
-            [rotation_numerators(pa_w), rotation_numerators(pa_w, pb_w), rotation_numerators(pb_w)]
-        )  # coefficients first, as bern_mul and bern_elevate take them
-        delta = np.stack(
-            [np.sum(pa_w * pa_w, -1), np.sum(pa_w * pb_w, -1), np.sum(pb_w * pb_w, -1)]
-        )
+        return w_a, w_b
+
+    def _tables(self, w_a, w_b) -> tuple[np.ndarray, np.ndarray]:
+        """``p(t)``'s ends ``S + (2, 4)`` and the tables ``S + (4, 14)``: the rotation of
+        ``p(t) = (1−t) wA pA + t wB pB`` (degree 2, raised to 3) and the translation of eq. 12
+        over ``Δ · x0`` (canonical frame) or ``x0`` (given frame)."""
+        frame, shape = self.frame, self.shape
+        w_a, w_b = w_a[..., None], w_b[..., None]
+        ends = np.stack([w_a * frame.p_start, w_b * frame.p_end], axis=-2)
+        rows = _quadratic(ends, shape)  # (3,) + S + (10,)
+        rot, delta = rows[..., :9], rows[..., 9]
         x0 = np.stack([self.psi_a, self.psi_b])
         t_a = np.asarray(frame.t_start)
-        if frame_name == "given":
+        if self.frame_name == "given":
             t_b = np.asarray(frame.t_end)
             trans = bern_elevate(
                 np.stack([self.psi_a[..., None] * t_a, self.psi_b[..., None] * t_b]), 3
             )
             trans_den = bern_elevate(x0, 3)
         else:
-            rho_a = np.zeros(r.shape)
-            rho_a[..., 0] = w_a[..., 0]
-            rho_b = w_b * r
-            n_rho = np.stack(
-                [
-                    rotation_numerators(rho_a),
-                    rotation_numerators(rho_a, rho_b),
-                    rotation_numerators(rho_b),
-                ]
-            )  # (3,) + S + (9,)
+            r = np.asarray(frame.r)
+            rho = np.zeros(shape + (2, 4))
+            rho[..., 0, 0] = w_a[..., 0]
+            rho[..., 1, :] = w_b * r
+            n_rho = _quadratic(rho, shape)[..., :9]  # (3,) + S + (9,)
             rotated_start = (n_rho.reshape(n_rho.shape[:-1] + (3, 3)) @ t_a[..., None])[..., 0]
             t_perp = frame.t_perp
-            cross = np.cross(r[..., 1:], t_perp)
+            r_cross_t = cross(r[..., 1:], t_perp)
             n_disp = np.stack(
                 [
                     np.zeros(t_perp.shape),
-                    0.5 * w_a * w_b * (c[..., None] * t_perp - cross),
+                    0.5 * w_a * w_b * (r[..., :1] * t_perp - r_cross_t),
                     w_b * w_b * t_perp,
                 ]
             )
@@ -214,17 +229,13 @@ class CubicMotion(Motion):
             )  # t d ψB u
             trans = first + bern_mul(z_num, delta[..., None])
             trans_den = bern_mul(delta, x0)
-        self.table = make_table(
+        table = make_table(
             np.moveaxis(bern_elevate(rot, 3), 0, -2),
             np.moveaxis(bern_elevate(delta, 3), 0, -1),
             np.moveaxis(trans, 0, -2),
             np.moveaxis(trans_den, 0, -1),
         )
-        self._check_interval(0.0, 1.0)
-        if frame_name == "canonical":
-            self._check_axis_sensitivity(s)
-        if not shape:
-            self.psi_a, self.psi_b = self.psi_a[()], self.psi_b[()]
+        return ends, table
 
     def _check_axis_sensitivity(self, s) -> None:
         """Warn when a nearly pure translation makes the canonical motion depend on rounding.

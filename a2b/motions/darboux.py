@@ -23,8 +23,22 @@ from ..errors import ParameterError
 from ..frames import ScrewFrame
 from ..parameters import SOLVERS
 from ..poses import check_matrices, quat_trans_from_matrices, rotations_from_quaternions
-from ..study import quat_conj, quat_mul, rotation_numerators, translation_numerators
-from ._rational import bernstein_basis, bernstein_derivatives, make_table
+from ..study import (
+    bilinear,
+    quat_conj,
+    quat_mul,
+    structure_matrix,
+    study_from_quat_trans,
+    translation_numerators,
+)
+from ._rational import (
+    CHUNK,
+    ROT_COLS,
+    TRANS_COLS,
+    bernstein_basis,
+    bernstein_derivatives,
+    quadratic_rows,
+)
 from .base import Motion, boolean_parameter, broadcast_parameter
 from .text import angle_text, number_text
 
@@ -166,6 +180,50 @@ def third_pose_coordinates(frame: ScrewFrame, pose: np.ndarray) -> tuple[np.ndar
     return 2.0 * np.arctan2(along, rel[..., 0]), t_along
 
 
+#: The structure matrices (:func:`a2b.study.structure_matrix`) of the bilinear forms of the
+#: build, from a2b's own formulas: eq. 5, and ``q = −½ t p``.
+_TRANSLATION = structure_matrix(translation_numerators, 4, 4)
+_DUAL = structure_matrix(lambda t, p: study_from_quat_trans(p, t)[..., 4:], 3, 4)
+
+
+def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np.ndarray]:
+    """``p(t)``'s ends ``S + (2, 4)`` and the Bernstein tables ``S + (3, 14)`` of the lines
+    ``h(t) = (1−t)(hA + sA ε pA) + t(±hB + sB ε (±pB))`` (``offsets`` ``S + (2,)`` are
+    ``sA, sB``; ``long_way`` flips hB).
+
+    Component-major work arrays hold both poses of every pair, ``(4, 2, J)``; each bilinear
+    form is one :func:`a2b.study.bilinear` over them: the rotation numerators and
+    denominators ``B(pA, pA), B(pA, pB), B(pB, pB)`` of eq. 4, and the translation numerators
+    ``T(pA, qA), ½(T(pA, qB) + T(pB, qA)), T(pB, qB)`` of eq. 5. Large batches go in chunks
+    of :data:`CHUNK` pairs.
+    """
+    shape = frame.shape
+    sign = np.where(np.reshape(long_way, -1), -1.0, 1.0)
+    ends = np.stack([np.reshape(frame.p_start, (-1, 4)), np.reshape(frame.p_end, (-1, 4))])
+    p_all = ends.transpose(2, 0, 1).copy()  # (4, 2, J)
+    p_all[:, 1] *= sign
+    t = np.stack([np.reshape(frame.t_start, (-1, 3)), np.reshape(frame.t_end, (-1, 3))])
+    t_all = t.transpose(2, 0, 1)
+    s_all = np.reshape(offsets, (-1, 2)).T
+    count = p_all.shape[-1]
+    table = np.empty((count, 3, 14))
+    for lo in range(0, count, CHUNK):
+        hi = min(lo + CHUNK, count)
+        p = p_all[..., lo:hi]
+        q = bilinear(_DUAL, t_all[..., lo:hi], p)
+        q += s_all[:, lo:hi] * p
+        rows = quadratic_rows(p)  # (10, 3, J)
+        trans = bilinear(_TRANSLATION, p[:, :, None], q[:, None])  # (3, 2, 2, J)
+        columns = table[lo:hi].transpose(2, 1, 0)  # (14, 3, J), a view
+        columns[list(ROT_COLS)] = rows[:9]
+        columns[12] = columns[13] = rows[9]
+        columns[list(TRANS_COLS), 0] = trans[:, 0, 0]
+        columns[list(TRANS_COLS), 1] = 0.5 * (trans[:, 0, 1] + trans[:, 1, 0])
+        columns[list(TRANS_COLS), 2] = trans[:, 1, 1]
+    quat_ends = p_all.transpose(2, 1, 0).reshape(shape + (2, 4))
+    return quat_ends, table.reshape(shape + (3, 14))
+
+
 class DarbouxMotion(Motion):
     """Vertical Darboux motions between pairs of poses (Theorem 1).
 
@@ -229,9 +287,26 @@ class DarbouxMotion(Motion):
         )
         phi_e = np.where(turning, self.phi_eff, 0.0)
         solved_from = next(iter(given), "delta")
+        delta_v = self._solve(solved_from, given, branch, phi_e, d)
+        self.delta = np.broadcast_to(np.asarray(delta_v, dtype=float), shape) + 0.0
+        self.solved_from = solved_from
+        self.notes.add("δ has no effect on a pure translation", (phi == 0.0) & (self.delta != 0.0))
+        self.notes.add("long way round: flipped the sign of hB", self.long_way)
+
+        self.fiber_offsets = np.stack([0.0 - self.delta / 2, self.delta / 2], axis=-1)
+        self.quat_ends, self.table = darboux_tables(frame, self.long_way, self.fiber_offsets)
+        self._check_interval(0.0, 1.0)
+        if not shape:
+            self.delta = self.delta[()]
+            self.phi_eff = self.phi_eff[()]
+            self.long_way = bool(self.long_way)
+
+    def _solve(self, solved_from: str, given: dict, branch, phi_e, d) -> np.ndarray:
+        """δ from the one essential parameter given (``docs/math.md``), or 0."""
+        shape, frame = self.shape, self.frame
         if solved_from == "through":
             _require_rotation(phi_e, "a third pose", shape)
-            poses = check_matrices(through)
+            poses = check_matrices(given["through"])
             omega_c, z_c = third_pose_coordinates(frame, np.broadcast_to(poses, shape + (4, 4)))
             delta_v = delta_from_third_pose(omega_c, z_c, phi_e, d, shape)
         elif solved_from in given:
@@ -263,39 +338,7 @@ class DarbouxMotion(Motion):
                 delta_v = item
         else:
             delta_v = np.zeros(shape)
-        self.delta = np.broadcast_to(np.asarray(delta_v, dtype=float), shape) + 0.0
-        self.solved_from = solved_from
-        self.notes.add("δ has no effect on a pure translation", (phi == 0.0) & (self.delta != 0.0))
-        self.notes.add("long way round: flipped the sign of hB", self.long_way)
-
-        h_a = np.asarray(frame.h_start)
-        h_b = np.where(self.long_way[..., None], -np.asarray(frame.h_end), frame.h_end)
-        s_a, s_b = 0.0 - self.delta / 2, self.delta / 2  # 0.0 − x avoids printing −0
-        p_a, q_a = h_a[..., :4], h_a[..., 4:] + s_a[..., None] * h_a[..., :4]
-        p_b, q_b = h_b[..., :4], h_b[..., 4:] + s_b[..., None] * h_b[..., :4]
-        self.fiber_offsets = np.stack([s_a, s_b], axis=-1)
-        self.quat_ends = np.stack([p_a, p_b], axis=-2)
-        rot = np.stack(
-            [rotation_numerators(p_a), rotation_numerators(p_a, p_b), rotation_numerators(p_b)],
-            axis=-2,
-        )
-        den = np.stack(
-            [np.sum(p_a * p_a, -1), np.sum(p_a * p_b, -1), np.sum(p_b * p_b, -1)], axis=-1
-        )
-        trans = np.stack(
-            [
-                translation_numerators(p_a, q_a),
-                0.5 * (translation_numerators(p_a, q_b) + translation_numerators(p_b, q_a)),
-                translation_numerators(p_b, q_b),
-            ],
-            axis=-2,
-        )
-        self.table = make_table(rot, den, trans, den)
-        self._check_interval(0.0, 1.0)
-        if not shape:
-            self.delta = self.delta[()]
-            self.phi_eff = self.phi_eff[()]
-            self.long_way = bool(self.long_way)
+        return delta_v
 
     def _basis(self, ts):
         return bernstein_basis(ts, 2)

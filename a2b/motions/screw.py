@@ -17,13 +17,66 @@ import numpy as np
 
 from ..frames import ScrewFrame
 from ..poses import rotations_from_quaternions
-from ..study import quat_mul
+from ..study import bilinear, cross, quat_mul, structure_matrix
+from ._rational import CHUNK
 from .base import Motion
 from .text import number_text
 
 #: Largest |tφ/2| for which the screw basis is computed from tan(tφ/2) (see ``_basis``); numpy's
 #: vectorised tan reduces larger arguments less accurately, and there np.sin is used.
 HALF_ANGLE_TAN = 1.6
+
+
+#: The vector product's structure matrix (:func:`a2b.study.structure_matrix`).
+_CROSS = structure_matrix(cross, 3, 3)
+
+
+def screw_tables(frame: ScrewFrame) -> np.ndarray:
+    """The tables ``S + (4, 14)``: rows ``(1, t, sin tφ, vers tφ)`` of ``[R | t]`` and the
+    denominators 1 (see the module's docstring).
+
+    Component-major, in chunks of :data:`CHUNK` pairs: the four columns of ``[RA | tA]`` as
+    ``(3, 4, J)``, so that ``K X = u × X`` is one :func:`a2b.study.bilinear` and
+    ``K² X = u (u·X) − X`` three elementwise steps over all of them (``|u| = 1``), not 3x3
+    products per pair.
+    """
+    rot = rotations_from_quaternions(np.reshape(frame.p_start, (-1, 4)))
+    given = (
+        rot,
+        np.reshape(frame.t_start, (-1, 3)),
+        np.reshape(frame.axis_direction, (-1, 3)),
+        np.reshape(frame.t_perp, (-1, 3)),
+        np.reshape(frame.phi, -1),
+        np.reshape(frame.d, -1),
+    )
+    table = np.zeros((len(rot), 4, 14))
+    table[:, 0, 12:] = 1.0
+    for lo in range(0, len(rot), CHUNK):
+        _screw_chunk(*(item[lo : lo + CHUNK] for item in given), table[lo : lo + CHUNK])
+    return table.reshape(frame.shape + (4, 14))
+
+
+def _screw_chunk(rot, t_a, u, t_perp, phi, d, table) -> None:
+    """:func:`screw_tables` for one chunk of pairs, written into its ``table`` ``(J, 4, 14)``."""
+    count = len(rot)
+    u, t_perp = u.T, t_perp.T  # (3, J)
+    columns = np.empty((3, 4, count))
+    columns[:, :3] = rot.transpose(1, 2, 0)
+    columns[:, 3] = t_a.T
+    k_cols = bilinear(_CROSS, u[:, None], columns)  # (3, 4, J)
+    k2_cols = u[:, None] * np.add.reduce(u[:, None] * columns, axis=0)
+    k2_cols -= columns
+    u_cross_t = bilinear(_CROSS, u, t_perp)
+    turning = phi > 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        half_cot = np.where(turning, 0.5 * np.cos(phi / 2) / np.sin(phi / 2), 0.0)
+    k_cols[:, 3] += np.where(turning, half_cot * t_perp - 0.5 * u_cross_t, 0.0)
+    k2_cols[:, 3] += np.where(turning, 0.5 * t_perp + half_cot * u_cross_t, 0.0)
+    blocks = table[:, :, :12].reshape(count, 4, 3, 4)
+    blocks[:, 0] = columns.transpose(2, 0, 1)
+    blocks[:, 1, :, 3] = (d * u + np.where(turning, 0.0, t_perp)).T
+    blocks[:, 2] = k_cols.transpose(2, 0, 1)
+    blocks[:, 3] = k2_cols.transpose(2, 0, 1)
 
 
 class ScrewMotion(Motion):
@@ -34,38 +87,9 @@ class ScrewMotion(Motion):
 
     def __init__(self, start, end, frame: ScrewFrame):
         super().__init__(start, end, frame)
-        phi, d = np.asarray(frame.phi), np.asarray(frame.d)
-        u = np.asarray(frame.axis_direction)
-        k = np.zeros(u.shape + (3,))
-        k[..., 0, 1], k[..., 0, 2], k[..., 1, 2] = -u[..., 2], u[..., 1], -u[..., 0]
-        k[..., 1, 0], k[..., 2, 0], k[..., 2, 1] = u[..., 2], -u[..., 1], u[..., 0]
-        k2 = k @ k
-        rot_a = rotations_from_quaternions(frame.p_start)
-        t_a = np.asarray(frame.t_start)
-        t_perp = frame.t_perp
-        cross = np.cross(u, t_perp)
-        # the table written in place: rows (1, t, sin, vers) of [R | t] and the denominators 1
-        self.table = np.empty(u.shape[:-1] + (4, 14))
-        blocks = self.table[..., :12].reshape(u.shape[:-1] + (4, 3, 4))
-        blocks[..., 0, :, :3] = rot_a
-        blocks[..., 1, :, :3] = 0.0
-        np.matmul(k, rot_a, out=blocks[..., 2, :, :3])
-        np.matmul(k2, rot_a, out=blocks[..., 3, :, :3])
-        self.table[..., 12:] = np.array([1.0, 0.0, 0.0, 0.0])[:, None]
-        trans = np.stack(
-            [t_a, d[..., None] * u, (k @ t_a[..., None])[..., 0], (k2 @ t_a[..., None])[..., 0]],
-            axis=-2,
-        )
-        turning = (phi > 0.0)[..., None]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            half_cot = np.where(
-                turning, 0.5 * np.cos(phi / 2)[..., None] / np.sin(phi / 2)[..., None], 0.0
-            )
-        trans[..., 2, :] += np.where(turning, half_cot * t_perp - 0.5 * cross, 0.0)
-        trans[..., 3, :] += np.where(turning, 0.5 * t_perp + half_cot * cross, 0.0)
-        trans[..., 1, :] += np.where(turning, 0.0, t_perp)
-        blocks[..., 3] = trans
+        self.table = screw_tables(frame)
         # p(t) = cos(tφ/2) pA + sin(tφ/2) u pA: the "ends" of this path are pA and u pA
+        u = np.asarray(frame.axis_direction)
         u_quat = np.concatenate([np.zeros(u.shape[:-1] + (1,)), u], axis=-1)
         self.quat_ends = np.stack([frame.p_start, quat_mul(u_quat, frame.p_start)], axis=-2)
 
