@@ -367,12 +367,11 @@ class McapFile:
         if int(entries["offset"].max()) > len(records) - _DATA_AT:
             raise InputFileError(f"{where} points past the chunk's {len(records)} bytes")
         offset = entries["offset"].astype(np.int64)
-        opcode = records[offset]
-        channel = records[offset + 9].astype(np.uint16) | (
-            records[offset + 10].astype(np.uint16) << 8
-        )
-        length = _u64(records, offset + 1)
-        log_time = _u64(records, offset + 15)
+        head = cut(records, offset, _DATA_AT)  # each message's record up to its data
+        opcode = head[:, 0]
+        channel = head[:, 9:11].copy().view("<u2")[:, 0]
+        length = head[:, 1:9].copy().view("<u8")[:, 0]
+        log_time = head[:, 15:23].copy().view("<u8")[:, 0]
         if (opcode != _MESSAGE).any() or (channel != key).any():
             raise InputFileError(f"{where} points at a record that is no message of the channel")
         if (length > (len(records) - 9 - offset).astype(np.uint64)).any() or (
@@ -435,7 +434,7 @@ def _inflate(raw: memoryview, compression: str, size: int, where: str) -> memory
     if compression == "zstd":
         import zstandard
 
-        out = bytearray(size + 1)
+        out = np.empty(size + 1, np.uint8)  # not zeroed: every byte kept is written
         try:
             reader = zstandard.ZstdDecompressor().stream_reader(raw, read_across_frames=True)
             got, view = 0, memoryview(out)
@@ -462,10 +461,6 @@ def _inflate(raw: memoryview, compression: str, size: int, where: str) -> memory
         more = "more" if got > size else f"{got}"
         raise InputFileError(f"{where} declares {size} bytes and inflates to {more}")
     return memoryview(out)[:size]
-
-
-def _u64(buffer: np.ndarray, at: np.ndarray) -> np.ndarray:
-    return buffer[at[:, None] + np.arange(8)].copy().view("<u8")[:, 0]
 
 
 #: Index entries gathered at a time by :func:`cut` (8 bytes each).
