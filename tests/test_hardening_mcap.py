@@ -12,7 +12,6 @@ import io
 import json
 import struct
 import subprocess
-import sys
 import zlib
 from pathlib import Path
 
@@ -359,7 +358,7 @@ def test_a_topic_without_poses_is_refused(tmp_path):
     log = {"timestamp": {"sec": 1, "nsec": 0}, "pose": {"position": {}}, "message": "hi"}
     data = mcap.add(Mcap.message(1, 1, json.dumps(log).encode())).bytes()
     line = refused(tmp_path, data, "--topic", "/log")
-    assert "/log carries foxglove.Log; a2b reads poses from CDR geometry_msgs/msg/PoseStamped" in line
+    assert "/log carries foxglove.Log; a2b reads poses from CDR geometry_msgs/msg/Pose" in line
 
 
 # -- damaged structure: one clear error each ---------------------------------------------------
@@ -379,7 +378,8 @@ def _put(data: bytes, at: int, value: bytes) -> bytes:
     start = struct.unpack_from("<Q", data, footer + 9)[0]
     if start > footer:
         return data
-    return data[: footer + 25] + struct.pack("<I", zlib.crc32(data[start : footer + 25])) + data[-8:]
+    crc = struct.pack("<I", zlib.crc32(data[start : footer + 25]))
+    return data[: footer + 25] + crc + data[-8:]
 
 
 def _damaged(data: bytes) -> dict:
@@ -390,6 +390,8 @@ def _damaged(data: bytes) -> dict:
     summary_start = struct.unpack_from("<Q", data, footer + 9)[0]
     mi = index.message_index_offsets[1]
     ci = data.index(struct.pack("<Q", index.chunk_start_offset), summary_start)
+    second = summary.chunk_indexes[1].chunk_start_offset
+    ci2 = data.index(struct.pack("<Q", second), summary_start)
     return {
         "cut in half": (data[: len(data) // 2], "ends without MCAP's Footer"),
         "no magic": (b"\0" + data[1:], "no MCAP magic"),
@@ -409,6 +411,10 @@ def _damaged(data: bytes) -> dict:
                                     "points past the chunk"),
         "unknown compression": (_put(data, index.chunk_start_offset + 9 + 28 + 4, b"zstX"),
                                 "compressed with 'zstX'"),
+        "one message indexed twice": (_put(data, mi + 15 + 16, data[mi + 15 : mi + 31]),
+                                      "points at messages that overlap"),
+        "two indexes of one chunk": (_put(data, ci2, data[ci : ci + 16]),
+                                     "two chunk indexes point at one chunk"),
     }  # fmt: skip
 
 

@@ -314,32 +314,34 @@ class McapFile:
         Through the indexes where every chunk has its Message Indexes (each chunk inflated
         once), else from the records as they stand in the file.
         """
-        if (
-            self._scanned is None
-            and self._chunk_indexes
-            and all(index.message_index_offsets for index in self._chunk_indexes)
-        ):
-            parts: dict = {key: [] for key in ids}
-            for index in self._chunk_indexes:
-                if not any(key in index.message_index_offsets for key in ids):
-                    continue
-                records = self._indexed_chunk(index)
-                for key in ids:
-                    if key in index.message_index_offsets:
-                        entries = self._entries(index.message_index_offsets[key], key)
-                        parts[key].append(self._cut(records, entries, key, index.offset))
-            found = {key: Messages.joined(part) for key, part in parts.items()}
-            for key, got in found.items():
-                counted = (self._counts or {}).get(key, len(got))
-                if counted != len(got):
-                    raise InputFileError(
-                        f"{self.name}: the statistics count {counted} messages on channel "
-                        f"{key}, its message indexes {len(got)}"
-                    )
-            return found
+        indexes = self._chunk_indexes
+        if self._scanned is None and indexes and all(i.message_index_offsets for i in indexes):
+            return self._through_indexes(ids)
         if self._scanned is None:
             self._scan()
         return {key: _scanned_messages(self._scanned.get(key, [])) for key in ids}
+
+    def _through_indexes(self, ids: list) -> dict:
+        if len({index.offset for index in self._chunk_indexes}) < len(self._chunk_indexes):
+            raise InputFileError(f"{self.name}: two chunk indexes point at one chunk")
+        parts: dict = {key: [] for key in ids}
+        for index in self._chunk_indexes:
+            if not any(key in index.message_index_offsets for key in ids):
+                continue
+            records = self._indexed_chunk(index)
+            for key in ids:
+                if key in index.message_index_offsets:
+                    entries = self._entries(index.message_index_offsets[key], key)
+                    parts[key].append(self._cut(records, entries, key, index.offset))
+        found = {key: Messages.joined(part) for key, part in parts.items()}
+        for key, got in found.items():
+            counted = (self._counts or {}).get(key, len(got))
+            if counted != len(got):
+                raise InputFileError(
+                    f"{self.name}: the statistics count {counted} messages on channel {key}, "
+                    f"its message indexes {len(got)}"
+                )
+        return found
 
     def _entries(self, at: int, key: int) -> np.ndarray:
         """The ``(log_time, offset)`` entries of the Message Index record at ``at``."""
@@ -382,6 +384,9 @@ class McapFile:
             raise InputFileError(f"{where} gives a message a log time it does not have")
         size = length.astype(np.int64) - (_DATA_AT - 9)
         start = offset + _DATA_AT
+        order = np.argsort(offset, kind="stable")
+        if (start[order][:-1] + size[order][:-1] > offset[order][1:]).any():
+            raise InputFileError(f"{where} points at messages that overlap")
         if (size == size[0]).all():  # one width: the chunk's messages as one strided view
             return Messages(rows=cut(records, start, int(size[0])), log_time=log_time)
         datas = [records[s : s + n].tobytes() for s, n in zip(start.tolist(), size.tolist())]

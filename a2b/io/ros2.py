@@ -349,9 +349,10 @@ class _Messages:
             if (chars == chars[0]).all():  # the usual case: one frame
                 codes[mine], names = len(names), names + [chars[0].tobytes()]
                 continue
-            texts, inverse = np.unique(chars.view(f"S{size - 1}")[:, 0], return_inverse=True)
+            texts = chars.view(f"S{size - 1}")[:, 0]
+            _, first, inverse = np.unique(texts, return_index=True, return_inverse=True)
             codes[mine] = len(names) + inverse.reshape(-1)
-            names += [chars[np.argmax(inverse == i)].tobytes() for i in range(len(texts))]
+            names += [chars[i].tobytes() for i in first.tolist()]
         return codes, names
 
     def header(self, rows: np.ndarray, at: np.ndarray):
