@@ -148,12 +148,12 @@ def ros2_file(tmp_path, n: int = 20, **options) -> bytes:
 # -- running a2b on them -------------------------------------------------------------------------
 
 
-def refused(tmp_path, data: bytes, *options) -> str:
+def refused(tmp_path, data: bytes, *options, seconds: float = SECONDS) -> str:
     """The one error line of ``a2b resample`` on the MCAP ``data``, checked as the module says."""
     path, out = tmp_path / "hostile.mcap", tmp_path / "out.csv"
     path.write_bytes(data)
     out.write_bytes(PRECIOUS)
-    argv = ["timeout", str(SECONDS), *a2b_cmd("resample", path, "--rate", 10, *options, "-o", out)]
+    argv = ["timeout", str(seconds), *a2b_cmd("resample", path, "--rate", 10, *options, "-o", out)]
     peak, done = _peak_of_command(argv)
     lines = done.stderr.decode(errors="replace").splitlines()
     assert done.returncode == 1 and len(lines) == 1, (done.returncode, lines[-3:])
@@ -180,7 +180,7 @@ def test_a_chunk_that_inflates_to_a_gibibyte_is_refused_before_inflating(tmp_pat
     chunk = Mcap.chunk(b"", compression, size=GIB, crc=0, raw=raw)
     data = Mcap().schema(1, POSE).channel(1, 1, "/p").add(chunk).bytes()
     line = refused(tmp_path, data)
-    assert f"declares {GIB} bytes from {len(raw)} compressed: more than the 67108864" in line
+    assert f"declares {GIB} bytes from {len(raw)} compressed: more than the 33554432" in line
 
 
 def test_a_chunk_that_inflates_past_its_declared_size_is_refused():
@@ -310,6 +310,33 @@ def test_a_200_kb_frame_id_among_short_ones_reads_in_bounded_memory(tmp_path):
     tfs = [tf_message(k, [b"c" * (200_000 if k == 5 else 1)]) for k in range(1, 2001)]
     tr = read(_one_message_file(TF, *tfs), child_frame="c")
     assert tr.times.tolist() == [k for k in range(1, 2001) if k != 5]
+
+
+def test_transforms_of_many_per_message_are_placed_message_by_message():
+    """Messages of 1, 3 and 20 transforms (child frame ids of 1 to 11 characters), read
+    transform by transform and message by message alike."""
+    frames = [b"base", b"camera_link", b"a", b"cam"]
+    datas, want = [], []
+    for k in range(1, 40):
+        cdr = Cdr().u32(1 if k % 3 == 0 else 3 if k % 3 == 1 else 20)
+        for i in range(int(struct.unpack_from("<I", cdr.data)[0])):
+            child = frames[(k + i) % 4]
+            numbers = [k + i / 100, float(i), 0.0, 0.0, 0.0, 0.0, 1.0]
+            cdr.align(4).data += struct.pack("<iI", k, i) + struct.pack("<I", 6) + b"world\0"
+            cdr.string(child).pose(numbers)
+            if child == b"cam":
+                want.append((k + i * 1e-9, k + i / 100, float(i)))
+        datas.append(cdr.bytes())
+    tr = read(_one_message_file(TF, *datas), child_frame="cam")
+    assert list(zip(tr.times, tr.translations[:, 0], tr.translations[:, 1])) == want
+
+
+@linux_only
+def test_300_000_transforms_in_a_4_kb_file_take_seconds(tmp_path):
+    message = Mcap.message(1, 1, tf_message(1, [b"c"] * 300_000))
+    data = Mcap().schema(1, TF).channel(1, 1, "/tf").add(Mcap.chunk(message, "zstd")).bytes()
+    assert len(data) < 10_000
+    assert "the time 1.0 repeats" in refused(tmp_path, data, seconds=60)
 
 
 # -- bounded messages --------------------------------------------------------------------------

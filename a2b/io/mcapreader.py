@@ -49,10 +49,11 @@ _DATA_AT = 1 + 8 + 2 + 4 + 8 + 8  # a Message record's data: after opcode … pu
 _FOOTER_SIZE = 1 + 8 + 20
 
 #: Chunks inflate to at most this many bytes in all, whatever the size of the file …
-FREE_INFLATION = 64 << 20
+FREE_INFLATION = 32 << 20
 #: … or to this many times the bytes of the file. Messages with stamps that differ compress
-#: 3 to 50 times; only runs of one byte (a bomb of zeros) compress 1000 times.
-INFLATION = 1000
+#: 3 to 30 times (a2b's own files 3 to 6 times in all, 31 times in the most for one chunk: a
+#: Path of one pose repeated); runs of one byte (a bomb of zeros) compress 30,000 times.
+INFLATION = 100
 
 
 @dataclass
@@ -75,37 +76,45 @@ class _ChunkIndex:
 
 
 class Messages:
-    """The data of a channel's messages, in log-time order: ``rows`` (an ``(n, width)`` uint8
-    array) when they are all ``width`` bytes long, else ``datas`` (a list of bytes); and
-    ``log_time`` (``uint64`` nanoseconds)."""
+    """The data of a channel's messages in log-time order, side by side: message ``k`` is
+    ``buffer[start[k] : start[k] + length[k]]`` (``buffer`` a uint8 array), logged at
+    ``log_time[k]`` (``uint64`` nanoseconds)."""
 
-    def __init__(self, rows=None, datas=None, log_time=None):
-        self.rows, self.datas = rows, datas
-        self.log_time = np.zeros(len(self), np.uint64) if log_time is None else log_time
+    def __init__(self, buffer: np.ndarray, start, length, log_time=None):
+        self.buffer, self.start, self.length = buffer, start, length
+        self.log_time = np.zeros(len(start), np.uint64) if log_time is None else log_time
+
+    @classmethod
+    def of(cls, datas: list, log_time=None) -> Messages:
+        """The messages ``datas`` (bytes each), joined into one buffer."""
+        length = np.fromiter(map(len, datas), np.int64, len(datas))
+        buffer = np.frombuffer(b"".join(datas), np.uint8)
+        return cls(buffer, np.cumsum(length) - length, length, log_time)
 
     def __len__(self) -> int:
-        return len(self.rows) if self.rows is not None else len(self.datas)
+        return len(self.start)
 
     def as_bytes(self) -> list:
         """One ``bytes`` per message."""
-        return [row.tobytes() for row in self.rows] if self.rows is not None else self.datas
+        return [self.buffer[s : s + n].tobytes()
+                for s, n in zip(self.start.tolist(), self.length.tolist())]  # fmt: skip
 
     @classmethod
     def joined(cls, parts: list) -> Messages:
-        """The messages of ``parts`` (each a :class:`Messages`) in log-time order, stable."""
-        parts = [part for part in parts if len(part)]
-        if not parts:
-            return cls(datas=[])
-        log_time = np.concatenate([part.log_time for part in parts])
+        """The messages of ``parts`` (each a :class:`Messages`) in log-time order, stable: the
+        buffers end to end, the messages put in order by their starts alone."""
+        parts = [part for part in parts if len(part)] or [cls.of([])]
+        shift = np.cumsum([0] + [len(part.buffer) for part in parts[:-1]])
+        buffer = parts[0].buffer if len(parts) == 1 else np.concatenate([p.buffer for p in parts])
+        start, length, log_time = (
+            np.concatenate([getattr(part, key) + (at if key == "start" else 0)
+                            for part, at in zip(parts, shift.tolist())])
+            for key in ("start", "length", "log_time")
+        )  # fmt: skip
         order = np.argsort(log_time, kind="stable")
-        in_order = not (np.diff(order) != 1).any()
-        widths = {part.rows.shape[1] if part.rows is not None else -1 for part in parts}
-        if len(widths) == 1 and -1 not in widths:  # one width: rows stay rows
-            rows = parts[0].rows if len(parts) == 1 else np.concatenate([p.rows for p in parts])
-            return cls(rows=rows if in_order else rows[order], log_time=log_time[order])
-        datas = [data for part in parts for data in part.as_bytes()]
-        return cls(datas=datas if in_order else [datas[k] for k in order.tolist()],
-                   log_time=log_time[order])  # fmt: skip
+        if (np.diff(order) != 1).any():
+            start, length, log_time = start[order], length[order], log_time[order]
+        return cls(buffer, start, length, log_time)
 
 
 class _Fields:
@@ -171,7 +180,7 @@ class McapFile:
 
     Reading checks the magic at both ends, the Footer, the CRCs of the summary and the data
     section, and reads the summary's Schema, Channel, Chunk Index and Statistics records. A
-    file without a summary of channels is read record by record at once.
+    file without a summary of channels is read record by record at once, for its channels.
 
     Raises
     ------
@@ -186,10 +195,11 @@ class McapFile:
         self._chunk_indexes: list[_ChunkIndex] = []
         self._counts: dict | None = None
         self._scanned: dict | None = None
-        self._budget = max(FREE_INFLATION, INFLATION * len(data))
+        self._keep: set = set()
+        self._budget = 0
         self.data_end = self._ends()
         if not self.channels:
-            self._scan()
+            self._scan(())
 
     # -- the ends: magic, footer, summary, data end ------------------------------------------
 
@@ -314,12 +324,12 @@ class McapFile:
         Through the indexes where every chunk has its Message Indexes (each chunk inflated
         once), else from the records as they stand in the file.
         """
+        self._budget = max(FREE_INFLATION, INFLATION * len(self.data))  # for each reading
         indexes = self._chunk_indexes
-        if self._scanned is None and indexes and all(i.message_index_offsets for i in indexes):
+        if indexes and all(index.message_index_offsets for index in indexes):
             return self._through_indexes(ids)
-        if self._scanned is None:
-            self._scan()
-        return {key: _scanned_messages(self._scanned.get(key, [])) for key in ids}
+        self._scan(ids)
+        return {key: self._scanned.get(key, Messages.of([])) for key in ids}
 
     def _through_indexes(self, ids: list) -> dict:
         if len({index.offset for index in self._chunk_indexes}) < len(self._chunk_indexes):
@@ -365,7 +375,7 @@ class McapFile:
         record of channel ``key`` that fits in the chunk, at the log time of its entry."""
         where = f"{self.name}: the message index of channel {key} in the chunk at byte {chunk}"
         if not len(entries):
-            return Messages(datas=[])
+            return Messages.of([])
         if int(entries["offset"].max()) > len(records) - _DATA_AT:
             raise InputFileError(f"{where} points past the chunk's {len(records)} bytes")
         offset = entries["offset"].astype(np.int64)
@@ -388,16 +398,19 @@ class McapFile:
         if (start[order][:-1] + size[order][:-1] > offset[order][1:]).any():
             raise InputFileError(f"{where} points at messages that overlap")
         if (size == size[0]).all():  # one width: the chunk's messages as one strided view
-            return Messages(rows=cut(records, start, int(size[0])), log_time=log_time)
+            rows = cut(records, start, int(size[0]))
+            return Messages(rows.reshape(-1), np.arange(len(rows)) * rows.shape[1], size, log_time)
         datas = [records[s : s + n].tobytes() for s, n in zip(start.tolist(), size.tolist())]
-        return Messages(datas=datas, log_time=log_time)
+        return Messages.of(datas, log_time)
 
     # -- record by record -------------------------------------------------------------------
 
-    def _scan(self) -> None:
-        """Read the data section record by record: the schemas, channels and messages as they
-        stand, chunks inflated one at a time (:attr:`_scanned`: channel → messages)."""
-        self._scanned = {}
+    def _scan(self, keep) -> None:
+        """Read the data section record by record: the schemas, channels, and the messages of
+        the channels ``keep`` as they stand, chunks inflated one at a time (:attr:`_scanned`:
+        channel → :class:`Messages`)."""
+        self._scanned, self._keep = {}, set(keep)
+        self._budget = max(FREE_INFLATION, INFLATION * len(self.data))
         where = f"{self.name}: the data section"
         for opcode, body, end, at in _walk(self.data, len(MAGIC), self.data_end, where):
             if opcode == _CHUNK:
@@ -408,6 +421,10 @@ class McapFile:
             else:
                 self._take(self.data, opcode, body, end, where)
         self._name_schemas()
+        for key, found in self._scanned.items():
+            log_time = np.array([time for time, _ in found], np.uint64)
+            order = np.argsort(log_time, kind="stable").tolist()  # equal times: file order
+            self._scanned[key] = Messages.of([found[k][1] for k in order], log_time[order])
 
     def _take(self, buffer, opcode: int, start: int, end: int, where: str) -> None:
         fields = _Fields(buffer, start, end, where)
@@ -423,14 +440,9 @@ class McapFile:
                     f"{where}: a message at byte {start - 9} is on channel {key}, which no "
                     "Channel record before it defines"
                 )
-            self._scanned.setdefault(key, []).append((log_time, bytes(buffer[fields.at : end])))
-
-
-def _scanned_messages(found: list) -> Messages:
-    """:class:`Messages` of ``(log_time, data)`` pairs in file order (kept for equal times)."""
-    log_time = np.array([time for time, _ in found], np.uint64)
-    order = np.argsort(log_time, kind="stable").tolist()
-    return Messages(datas=[found[k][1] for k in order], log_time=log_time[order])
+            if key in self._keep:
+                message = bytes(buffer[fields.at : end])
+                self._scanned.setdefault(key, []).append((log_time, message))
 
 
 def _inflate(raw: memoryview, compression: str, size: int, where: str) -> memoryview:

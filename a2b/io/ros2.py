@@ -25,7 +25,7 @@ import struct
 import numpy as np
 
 from ..errors import InputFileError, ParameterError, listing
-from .mcapreader import cut
+from .mcapreader import Messages, cut
 
 __all__ = [
     "POSE_TYPES",
@@ -276,15 +276,10 @@ class _Messages:
     """The CDR messages of one topic, side by side in one buffer, read at arrays of offsets."""
 
     def __init__(self, datas, where: str):
-        rows = getattr(datas, "rows", None)  # a2b.io.mcapreader.Messages of one width
-        if rows is not None:
-            lengths = np.full(len(rows), rows.shape[1], np.int64)
-            self.buffer = np.ascontiguousarray(rows).reshape(-1)
-        else:
-            datas = getattr(datas, "datas", datas)
-            lengths = np.fromiter(map(len, datas), np.int64, len(datas))
-            self.buffer = np.frombuffer(b"".join(datas), np.uint8)
-        self.start = np.cumsum(lengths) - lengths
+        if not isinstance(datas, Messages):
+            datas = Messages.of(datas)
+        self.buffer, self.start = datas.buffer, datas.start
+        lengths = datas.length
         self.end = self.start + lengths
         self.origin = self.start + 4
         self.where = where
@@ -391,28 +386,44 @@ def _odometry(messages: _Messages, rows, where, child_frame):
     return sec, nanosec, numbers, rows
 
 
+#: A TFMessage of more transforms than this has them placed one message at a time
+#: (:func:`_entry_starts`); fewer are read transform by transform across all messages.
+_FEW_TRANSFORMS = 8
+
+
 def _transforms(messages: _Messages, rows, where: str, child_frame: str | None):
     """The stamps and numbers of the transforms to ``child_frame`` in TFMessages, in order."""
     count, at = messages.count(rows, np.zeros(len(rows), np.int64), _TRANSFORM_BYTES,
                                "transforms")  # fmt: skip
-    found = []  # per transform: (message, place in it, sec, nanosec, child at, length, numbers)
-    k = 0
-    while (count > k).any():
-        active = count > k
-        here = rows[active]
-        sec, nanosec, after = messages.header(here, at[active])
-        length, child_end = messages.string(here, after)
-        numbers, at[active] = messages.read(here, child_end, "<f8", 7)
-        child_at = after + 4 + (-after % 4)
-        found.append((here, np.full(len(here), k), sec, nanosec, child_at, length, numbers))
-        k += 1
+    found = []  # per transform: (message, place in it, its CDR offset)
+    few = count <= _FEW_TRANSFORMS
+    for k in range(int(count[few].max(initial=0))):  # the k-th transform of each message
+        here = few & (count > k)
+        found.append((rows[here], np.full(int(here.sum()), k), at[here]))
+        at[here] = _entry_ends(messages, rows[here], at[here], 2)
+    for row in rows[~few].tolist():
+        starts = _entry_starts(messages, row, int(at[row]), int(count[row]), 2, where)
+        found.append((np.full(len(starts), row), np.arange(len(starts)), starts))
     if not found:
         return np.empty(0, np.int32), np.empty(0, np.uint32), np.empty((0, 7)), rows[:0]
-    message, place, sec, nanosec, child_at, length, numbers = (
-        found[0][i] if len(found) == 1 else np.concatenate([part[i] for part in found])
-        for i in range(7)
-    )
-    codes, names = messages.names(message, child_at, length)
+    message, place, start = (np.concatenate([part[i] for part in found]) for i in range(3))
+    sec, nanosec, after = messages.header(message, start)
+    length, child_end = messages.string(message, after)
+    numbers, _ = messages.read(message, child_end, "<f8", 7)
+    codes, names = messages.names(message, after + 4 + (-after % 4), length)
+    mine = codes == _child_code(names, child_frame, where)
+    if not mine.all():
+        sec, nanosec, numbers, message, place = (
+            a[mine] for a in (sec, nanosec, numbers, message, place)
+        )
+    order = np.lexsort((place, message))  # message by message, in order within
+    if (np.diff(order) != 1).any():
+        sec, nanosec, numbers, message = (a[order] for a in (sec, nanosec, numbers, message))
+    return sec, nanosec, numbers, message
+
+
+def _child_code(names: list, child_frame: str | None, where: str) -> int:
+    """The index in ``names`` of ``child_frame``, or of the one child frame there is."""
     children = sorted(name.decode(errors="replace") for name in names)
     if child_frame is None:
         if len(children) != 1:
@@ -426,39 +437,55 @@ def _transforms(messages: _Messages, rows, where: str, child_frame: str | None):
             f"{where}: no transform to the child frame {listing([repr(child_frame)])}; the frames "
             f"are {listing(children) or 'none'}"
         )
-    mine = codes == names.index(child_frame.encode())
-    order = np.lexsort((place[mine], message[mine]))  # message by message, in order within
-    return sec[mine][order], nanosec[mine][order], numbers[mine][order], message[mine][order]
+    return names.index(child_frame.encode())
 
 
-def _entry_offsets(messages: _Messages, row: int, offset: int, count: int, where: str):
-    """The CDR offsets of the ``count`` PoseStamped entries of a Path from ``offset`` on: at
-    once where every frame id is as long as the first's (then every entry after the first is
-    as long), else one by one (each entry's place depends on the lengths before it)."""
-    origin, end, data = int(messages.origin[row]), int(messages.end[row]), messages.buffer
+def _entry_ends(messages: _Messages, rows, at, strings: int):
+    """The CDR offsets after the stamped entries at ``at`` of messages ``rows``: a Time,
+    ``strings`` strings (a frame id; a TransformStamped's child frame id too), 7 doubles."""
+    _stamp, at = messages.read(rows, at, "<u4", 2)
+    for _ in range(strings):
+        _length, at = messages.string(rows, at)
+    _numbers, at = messages.read(rows, at, "<f8", 7)
+    return at
 
-    def length_at(at: int) -> int:  # the frame id's length field of the entry at ``at``
-        if origin + at + 12 > end:
-            raise InputFileError(f"{where} message {row + 1}: the message ends too soon")
-        return int(data[origin + at + 8 : origin + at + 12].view("<u4")[0])
 
-    def after(at: int) -> int:
-        at += 12 + length_at(at)
-        return at + (-at % 8) + 56
+def _entry_starts(messages: _Messages, row: int, offset: int, count: int, strings: int, where):
+    """The CDR offsets of ``count`` stamped entries of message ``row`` from ``offset`` on (the
+    PoseStamped of a Path: ``strings`` 1; the TransformStamped of a TFMessage: 2).
 
-    if count > 1:
-        second = after(offset)
-        step = after(second) - second if count > 2 else 0
-        starts = np.concatenate([[offset], second + step * np.arange(count - 1)])
-        fields = origin + starts[:, None] + np.arange(8, 12)
-        if (
-            fields.max() < end
-            and (data[fields].copy().view("<u4")[:, 0] == length_at(second)).all()
+    Every entry after the first starts 8-aligned (after doubles), so where each has strings
+    as long as the second's, they are evenly spaced: found at once and checked; else one by
+    one (each entry's place depends on the lengths before it).
+    """
+    origin, end = int(messages.origin[row]), int(messages.end[row])
+    view = memoryview(messages.buffer)
+
+    def after(at: int) -> tuple[int, list, list]:  # the end, places and bytes of the lengths
+        at += -at % 4 + 8
+        places, lengths = [], []
+        for _ in range(strings):
+            at += -at % 4
+            if origin + at + 4 > end:
+                raise InputFileError(f"{where} message {row + 1}: the message ends too soon")
+            places.append(at)
+            lengths.append(messages.buffer[origin + at : origin + at + 4])
+            at += 4 + struct.unpack_from("<I", view, origin + at)[0]
+        return at + (-at % 8) + 56, places, lengths
+
+    if count > 2:
+        second, _, _ = after(offset)
+        third, places, lengths = after(second)
+        starts = np.concatenate([[offset], second + (third - second) * np.arange(count - 1)])
+        last = origin + int(starts[-1]) + max(places) - second + 4
+        if last <= end and all(
+            (cut(messages.buffer, origin + starts[1:] + (place - second), 4) == length).all()
+            for place, length in zip(places, lengths)
         ):
             return starts
     starts = np.empty(count, np.int64)
     for i in range(count):
-        starts[i], offset = offset, after(offset)
+        starts[i], offset = offset, after(offset)[0]
     return starts
 
 
@@ -469,7 +496,7 @@ def _path(messages: _Messages, rows, where: str, child_frame):
     last = rows[-1:]
     _sec, _nanosec, at = messages.header(last, np.zeros(1, np.int64))
     count, at = messages.count(last, at, _POSE_STAMPED_BYTES, "poses")
-    starts = _entry_offsets(messages, int(last[0]), int(at[0]), int(count[0]), where)
+    starts = _entry_starts(messages, int(last[0]), int(at[0]), int(count[0]), 1, where)
     here = np.full(len(starts), last[0])
     sec, nanosec, at = messages.header(here, starts)
     numbers, _ = messages.read(here, at, "<f8", 7)
