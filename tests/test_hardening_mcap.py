@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import io
 import json
+import re
 import struct
 import subprocess
 import zlib
@@ -274,6 +275,37 @@ def test_each_channel_of_a_topic_is_decoded_by_its_own_schema():
     assert tr.times.tolist() == list(range(1, 31))
     assert tr.translations[:, 0].tolist() == list(range(1, 31))
     assert (tr.quat_wxyz == [1, 0, 0, 0]).all()
+
+
+def _json_file(*messages) -> bytes:
+    mcap = Mcap().schema(1, "foxglove.PoseInFrame", "jsonschema").channel(1, 1, "/p", "json")
+    return mcap.add(*(Mcap.message(1, k, m) for k, m in enumerate(messages, 1))).bytes()
+
+
+def _pose_in_frame(sec, nsec=0) -> bytes:
+    pose = {"position": {"x": 1, "y": 2, "z": 3}, "orientation": {"x": 0, "y": 0, "z": 0, "w": 1}}
+    return json.dumps({"timestamp": {"sec": sec, "nsec": nsec}, "pose": pose}).encode()
+
+
+@pytest.mark.parametrize(
+    ("message", "expected"),
+    [
+        (_pose_in_frame(2.5), "message 2: not a PoseInFrame or FrameTransform message (ValueErr"),
+        (_pose_in_frame(3, "5"), "the stamp 3, '5' is not two whole numbers"),
+        (_pose_in_frame(-3), "the stamp -3, 0 is not two whole numbers"),
+        (_pose_in_frame(3) + b"," + _pose_in_frame(4), "message 2: not a PoseInFrame or Frame"),
+        (b"[" * 100_000 + b"]" * 100_000, "(RecursionError: maximum recursion depth"),
+        (b"", "message 2: not a PoseInFrame or FrameTransform message (JSONDecodeError: Exp"),
+    ],
+)
+def test_json_messages_are_whole_stamps_and_one_value_each(message, expected):
+    """A stamp of 2.5 s was read as 2 s; two values in one message, each a message."""
+    data = _json_file(_pose_in_frame(1), message, _pose_in_frame(9))
+    with pytest.raises(InputFileError, match=re.escape(expected)):
+        read(data)
+    tr = read(_json_file(*(_pose_in_frame(k, 5) for k in range(1, 5000))))
+    assert np.array_equal(tr.times, np.arange(1, 5000) + 5e-9)
+    assert (tr.translations == [1, 2, 3]).all() and (tr.quat_wxyz == [1, 0, 0, 0]).all()
 
 
 # -- counts and lengths that lie ---------------------------------------------------------------

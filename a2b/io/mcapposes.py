@@ -36,32 +36,64 @@ _TF = "tf2_msgs/msg/TFMessage"
 _PATH = "nav_msgs/msg/Path"
 
 
+#: JSON messages parsed by one call of ``json.loads`` (as one array).
+_JSON_BLOCK = 4096
+
+
 def json_poses(datas: list, where: str):
     """``(times, quat_wxyz, translations, message)`` of JSON ``foxglove.PoseInFrame`` or
     ``foxglove.FrameTransform`` messages (``datas``, bytes each): one pose per message,
-    ``timestamp.sec + timestamp.nsec · 1e-9`` with both whole numbers."""
-    times, quats, trans = [], [], []
-    for i, data in enumerate(datas):
+    ``timestamp.sec + timestamp.nsec · 1e-9`` with both whole numbers.
+
+    A block of messages is parsed as one JSON array, which is the messages only where each
+    message is one value: else (or where that fails) message by message, to name the one
+    that is not.
+    """
+    poses = []  # (time, x, y, z, qw, qx, qy, qz) each
+    for lo in range(0, len(datas), _JSON_BLOCK):
+        block = datas[lo : lo + _JSON_BLOCK]
         try:
-            msg = json.loads(data)
-            stamp = msg["timestamp"]
-            sec, nsec = stamp["sec"], stamp["nsec"]
-            if not all(type(n) is int and 0 <= n < 2**63 for n in (sec, nsec)):
-                raise ValueError(f"the stamp {sec!r:.40}, {nsec!r:.40} is not whole numbers")
-            times.append(sec + nsec * 1e-9)
-            if "pose" in msg:
-                position, orientation = msg["pose"]["position"], msg["pose"]["orientation"]
-            else:
-                position, orientation = msg["translation"], msg["rotation"]
-            quats.append([float(orientation[k]) for k in "wxyz"])
-            trans.append([float(position[k]) for k in "xyz"])
-        except (ValueError, KeyError, TypeError, OverflowError, RecursionError) as e:
-            raise InputFileError(
-                f"{where} message {i + 1}: not a PoseInFrame or FrameTransform message "
-                f"({type(e).__name__}: {str(e)[:80]})"
-            ) from None
-    quat, translation = np.array(quats).reshape(-1, 4), np.array(trans).reshape(-1, 3)
-    return np.array(times), quat, translation, np.arange(len(times))
+            found = json.loads(b"[" + b",".join(block) + b"]")
+        except (ValueError, RecursionError):
+            found = []
+        if len(found) != len(block):
+            found = [_json_value(data, where, lo + i) for i, data in enumerate(block)]
+        for i, msg in enumerate(found, lo):
+            try:
+                poses.append(_json_pose(msg))
+            except (ValueError, KeyError, TypeError, OverflowError) as e:
+                raise InputFileError(_not_a_pose(where, i, e)) from None
+    numbers = np.array(poses).reshape(-1, 8)
+    return numbers[:, 0], numbers[:, 4:], numbers[:, 1:4], np.arange(len(numbers))
+
+
+def _json_value(data: bytes, where: str, i: int):
+    try:
+        return json.loads(data)
+    except (ValueError, RecursionError) as e:
+        raise InputFileError(_not_a_pose(where, i, e)) from None
+
+
+def _not_a_pose(where: str, i: int, e: Exception) -> str:
+    return (
+        f"{where} message {i + 1}: not a PoseInFrame or FrameTransform message "
+        f"({type(e).__name__}: {str(e)[:80]})"
+    )
+
+
+def _json_pose(msg: dict) -> tuple:
+    """The time and the numbers ``x y z qw qx qy qz`` of one PoseInFrame or FrameTransform."""
+    stamp = msg["timestamp"]
+    sec, nsec = stamp["sec"], stamp["nsec"]
+    whole = type(sec) is int and type(nsec) is int
+    if not (whole and 0 <= sec < 2**63 and 0 <= nsec < 2**63):
+        raise ValueError(f"the stamp {sec!r:.40}, {nsec!r:.40} is not two whole numbers ≥ 0")
+    if "pose" in msg:
+        position, orientation = msg["pose"]["position"], msg["pose"]["orientation"]
+    else:
+        position, orientation = msg["translation"], msg["rotation"]
+    x, y, z = (float(position[k]) for k in "xyz")
+    return sec + nsec * 1e-9, x, y, z, *(float(orientation[k]) for k in "wxyz")
 
 
 def _decoder(channel):
