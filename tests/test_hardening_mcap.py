@@ -477,6 +477,17 @@ def _damaged(data: bytes) -> dict:
     }  # fmt: skip
 
 
+def test_a_channel_or_schema_defined_twice_differently_is_refused():
+    """The second /p record of channel 1 would make its messages poses of /q."""
+    pose = Mcap.message(1, 1, pose_stamped(1))
+    data = Mcap().schema(1, POSE).channel(1, 1, "/p").add(pose).channel(1, 1, "/q").bytes()
+    with pytest.raises(InputFileError, match="f.mcap: two channel records of id 1 differ"):
+        read(data)
+    data = Mcap().schema(1, POSE).channel(1, 1, "/p").add(pose).schema(1, TF).bytes()
+    with pytest.raises(InputFileError, match="f.mcap: two schema records of id 1 differ"):
+        read(data)
+
+
 def test_damaged_structure_is_one_clear_error_each(tmp_path):
     data = ros2_file(tmp_path)
     assert len(read(data)) == 20

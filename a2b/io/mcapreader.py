@@ -159,6 +159,15 @@ class _Fields:
         return dict(zip(pairs["key"].tolist(), pairs["value"].tolist()))
 
 
+def _defined(value):
+    """What a Schema or Channel record defines (a channel's schema without its names)."""
+    return (
+        (value.topic, value.message_encoding, value.schema_id)
+        if isinstance(value, Channel)
+        else value
+    )
+
+
 def _walk(buffer, start: int, end: int, where: str):
     """``(opcode, body start, body end, record start)`` of each record in ``[start, end)``."""
     at = start
@@ -254,14 +263,20 @@ class McapFile:
         self._name_schemas()
 
     def _define(self, opcode: int, fields: _Fields) -> None:
-        """Read a Schema or a Channel record."""
+        """Read a Schema or a Channel record: a second record of one id must repeat the first."""
         key = fields.number("<H")
         if opcode == _SCHEMA:
-            self._schemas[key] = (fields.string(), fields.string())
-        elif key not in self.channels:
+            found, known, what = (fields.string(), fields.string()), self._schemas, "schema"
+        else:
             schema = fields.number("<H")
-            topic, encoding = fields.string(), fields.string()
-            self.channels[key] = Channel(key, topic, encoding, schema)
+            found = Channel(key, fields.string(), fields.string(), schema)
+            known, what = self.channels, "channel"
+        if key in known and _defined(known[key]) != _defined(found):
+            raise InputFileError(
+                f"{self.name}: two {what} records of id {key} differ (a file keeps one {what} "
+                "per id)"
+            )
+        known.setdefault(key, found)
 
     def _name_schemas(self) -> None:
         """Give each channel its schema's name and encoding."""
@@ -289,8 +304,8 @@ class McapFile:
         if compression and size > self._budget:
             raise InputFileError(
                 f"{where} declares {size} bytes from {len(raw)} compressed: more than the "
-                f"{self._budget} bytes a file of {len(self.data)} bytes may inflate to "
-                f"(the larger of {FREE_INFLATION} and {INFLATION} times its size)"
+                f"{self._budget} bytes left to inflate for a file of {len(self.data)} bytes (in "
+                f"all, the larger of {FREE_INFLATION} and {INFLATION} times its size)"
             )
         records = _inflate(raw, compression, size, where) if compression else raw
         self._budget -= size if compression else 0
