@@ -1,19 +1,19 @@
 """Poses from MCAP files: the topic chosen, and each channel's messages decoded by its own schema.
 
-==========  ======================================  =======================================
-encoding    schemas                                 decoded by
-==========  ======================================  =======================================
-``cdr``     ROS 2 ``geometry_msgs/msg/PoseStamped``,  :func:`a2b.io.ros2.decode_poses`
-            ``tf2_msgs/msg/TFMessage``,
-            ``nav_msgs/msg/Odometry``, ``nav_msgs/msg/Path``
-``json``    ``foxglove.PoseInFrame``,                 :func:`json_poses`
-            ``foxglove.FrameTransform``, or none
-==========  ======================================  =======================================
+========  ==============================================  ==================================
+encoding  schemas                                         decoded by
+========  ==============================================  ==================================
+cdr       ROS 2 ``geometry_msgs/msg/PoseStamped``,        :func:`a2b.io.ros2.decode_poses`
+          ``tf2_msgs/msg/TFMessage``,
+          ``nav_msgs/msg/Odometry``, ``nav_msgs/msg/Path``
+json      ``foxglove.PoseInFrame``,                       :func:`json_poses`
+          ``foxglove.FrameTransform``, or none
+========  ==============================================  ==================================
 
-A topic may be carried by several channels, each with its own schema: the poses of each
-channel are decoded by that channel's schema and joined in the log-time order of their
-messages. A file is read by :class:`a2b.io.mcapreader.McapFile`, which checks its records, its
-CRCs and its compressed sizes.
+The table is :data:`DECODERS`: a new message encoding is one row there. A topic may be carried
+by several channels, each with its own schema: the poses of each channel are decoded by that
+channel's schema and joined in the log-time order of their messages. A file is read by
+:class:`a2b.io.mcapreader.McapFile`, which checks its records, its CRCs and its compressed sizes.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from .jobscan import stream_name
 from .mcapreader import McapFile
 from .ros2 import POSE_TYPES, decode_poses
 
-__all__ = ["JSON_SCHEMAS", "json_poses", "mcap_poses", "read_mcap"]
+__all__ = ["DECODERS", "JSON_SCHEMAS", "json_poses", "mcap_poses", "read_mcap"]
 
 #: The Foxglove schemas of JSON messages a2b reads poses from.
 JSON_SCHEMAS = ("foxglove.PoseInFrame", "foxglove.FrameTransform")
@@ -96,14 +96,23 @@ def _json_pose(msg: dict) -> tuple:
     return sec + nsec * 1e-9, x, y, z, *(float(orientation[k]) for k in "wxyz")
 
 
+def _json_channel(_schema: str, messages, where: str, _child_frame):
+    return json_poses(messages.as_bytes(), where)
+
+
+#: For each message encoding: the schemas a2b reads poses from (``""``: none), and the decoder
+#: of their messages, ``(schema name, Messages, where, child frame)`` → ``(times, quat_wxyz,
+#: translations, the message of each pose)``.
+DECODERS = {
+    "cdr": (POSE_TYPES, decode_poses),
+    "json": (JSON_SCHEMAS + ("",), _json_channel),
+}
+
+
 def _decoder(channel):
-    """The decoder of ``channel``'s messages (a function of ``(datas, where, child_frame)``),
-    or None when a2b reads no poses from them."""
-    if channel.message_encoding == "cdr" and channel.schema_name in POSE_TYPES:
-        return lambda datas, where, child: decode_poses(channel.schema_name, datas, where, child)
-    if channel.message_encoding == "json" and channel.schema_name in JSON_SCHEMAS + ("",):
-        return lambda datas, where, _child: json_poses(datas.as_bytes(), where)
-    return None
+    """The decoder of ``channel``'s messages, or None when a2b reads no poses from them."""
+    schemas, decoder = DECODERS.get(channel.message_encoding, ((), None))
+    return decoder if channel.schema_name in schemas else None
 
 
 def _kind(channel) -> str:
@@ -131,10 +140,11 @@ def mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | Non
     where = f"{name}: {listing([topic], width=80)}"
     kinds = sorted({_kind(channel) for channel in mine})
     if any(_decoder(channel) is None for channel in mine):
-        raise InputFileError(
-            f"{where} carries {listing(kinds)}; a2b reads poses from CDR "
-            f"{', '.join(POSE_TYPES)} and JSON {', '.join(JSON_SCHEMAS)}"
+        readable = "; ".join(
+            f"{encoding.upper()} {', '.join(name for name in names if name)}"
+            for encoding, (names, _) in DECODERS.items()
         )
+        raise InputFileError(f"{where} carries {listing(kinds)}; a2b reads poses from {readable}")
     if child_frame is not None and kinds != [_TF]:
         raise InputFileError(
             f"{where} carries {listing(kinds)}: --input-child-frame is for {_TF} topics"
@@ -146,7 +156,8 @@ def mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | Non
     for channel in mine:
         here = where if len(mine) == 1 else f"{where} (channel {channel.id})"
         messages = found[channel.id]
-        times, quat, trans, message = _decoder(channel)(messages, here, child_frame)
+        decode = _decoder(channel)
+        times, quat, trans, message = decode(channel.schema_name, messages, here, child_frame)
         parts.append((times, quat, trans, messages.log_time[message]))
     if len(parts) == 1:
         times, quat, trans, _ = parts[0]
