@@ -92,8 +92,12 @@ def _json_pose(msg: dict) -> tuple:
         position, orientation = msg["pose"]["position"], msg["pose"]["orientation"]
     else:
         position, orientation = msg["translation"], msg["rotation"]
-    x, y, z = (float(position[k]) for k in "xyz")
-    return sec + nsec * 1e-9, x, y, z, *(float(orientation[k]) for k in "wxyz")
+    p, q = position, orientation
+    return (
+        sec + nsec * 1e-9,
+        *(float(p["x"]), float(p["y"]), float(p["z"])),
+        *(float(q["w"]), float(q["x"]), float(q["y"]), float(q["z"])),
+    )
 
 
 def _json_channel(_schema: str, messages, where: str, _child_frame):

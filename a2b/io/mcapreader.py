@@ -415,8 +415,8 @@ class McapFile:
         if (size == size[0]).all():  # one width: the chunk's messages as one strided view
             rows = cut(records, start, int(size[0]))
             return Messages(rows.reshape(-1), np.arange(len(rows)) * rows.shape[1], size, log_time)
-        datas = [records[s : s + n].tobytes() for s, n in zip(start.tolist(), size.tolist())]
-        return Messages.of(datas, log_time)
+        buffer, packed = _packed(records, start, size)
+        return Messages(buffer, packed, size, log_time)
 
     # -- record by record -------------------------------------------------------------------
 
@@ -493,6 +493,21 @@ def _inflate(raw: memoryview, compression: str, size: int, where: str) -> memory
         more = "more" if got > size else f"{got}"
         raise InputFileError(f"{where} declares {size} bytes and inflates to {more}")
     return memoryview(out)[:size]
+
+
+def _packed(buffer: np.ndarray, start: np.ndarray, size: np.ndarray):
+    """The ``size[k]`` bytes of ``buffer`` from each ``start[k]``, end to end, and where each
+    starts there; gathered a block of messages at a time (an index of at most about
+    :data:`_GATHER` entries)."""
+    packed = np.cumsum(size) - size
+    out = np.empty(int(size.sum()), np.uint8)
+    step = max(1, _GATHER // max(int(size.max()), 1))
+    for lo in range(0, len(start), step):
+        here = slice(lo, lo + step)
+        index = np.repeat(start[here] - packed[here], size[here])
+        out_at = slice(int(packed[lo]), int(packed[lo]) + len(index))
+        out[out_at] = buffer[index + np.arange(out_at.start, out_at.stop)]
+    return out, packed
 
 
 #: Index entries gathered at a time by :func:`cut` (8 bytes each).
