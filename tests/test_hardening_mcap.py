@@ -308,6 +308,13 @@ def test_json_messages_are_whole_stamps_and_one_value_each(message, expected):
     assert (tr.translations == [1, 2, 3]).all() and (tr.quat_wxyz == [1, 0, 0, 0]).all()
 
 
+def test_a_bad_json_message_is_named_by_its_number():
+    good = [_pose_in_frame(k) for k in range(1, 200)]
+    for bad in (b"{", _pose_in_frame(2.5)):
+        with pytest.raises(InputFileError, match=r"/p message 150: not a PoseInFrame"):
+            read(_json_file(*good[:149], bad, *good[150:]))
+
+
 # -- counts and lengths that lie ---------------------------------------------------------------
 
 
