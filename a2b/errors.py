@@ -86,3 +86,13 @@ def quoted(text, most: int = 60) -> str:
     if len(text) <= most:
         return f"'{printable(text)}'"
     return f"'{printable(text[:most])}…' ({len(text)} characters)"
+
+
+def listing(items, limit: int = 4, width: int = 60) -> str:
+    """``items`` (strings) for a one-line message: the first ``limit``, each cut to ``width``
+    characters, then how many more there are (``a, b, c, d and 12 more``), so that a file of
+    thousands of names or a name of a megabyte still makes a short line."""
+    items = list(items)
+    shown = [item if len(item) <= width else item[: width - 1] + "…" for item in items[:limit]]
+    more = len(items) - len(shown)
+    return ", ".join(shown) + (f" and {more} more" if more else "")

@@ -164,7 +164,7 @@ TABLE = (
         name="mcap", suffixes=(".mcap",),
         layout="foxglove.PoseInFrame on /a2b/pose and foxglove.FrameTransform on /tf",
         holds=frozenset({"poses", "times"}), binary=True, representation="quat_trans",
-        batch="topics", **_MCAP, reader=f"{_READ}:read_mcap", options=_FRAMED,
+        batch="topics", **_MCAP, reader="a2b.io.mcapposes:read_mcap", options=_FRAMED,
         writer_options={"profile": "foxglove", "count": None}, limits=MCAP_LIMITS,
     ),
     Format(

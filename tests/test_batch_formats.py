@@ -13,7 +13,7 @@ from mcap.reader import make_reader
 
 import a2b
 from a2b.cli import cli
-from a2b.io import documents, poseschema, trajectories
+from a2b.io import documents, mcapposes, poseschema, trajectories
 
 from .conftest import random_pose
 
@@ -122,7 +122,7 @@ def test_mcap_has_a_topic_per_job_read_by_the_mcap_reader(tmp_path, jobs_file):
             np.testing.assert_allclose(got_x, x, rtol=0, atol=1e-15 * max(1, np.abs(x).max()))
             np.testing.assert_allclose(got_q, q, rtol=0, atol=1e-15)
         with open(out, "rb") as f:  # a2b's own reader, by topic
-            t_read, trans_read, _ = trajectories.read_mcap(f, topic=f"/a2b/{name}/pose")
+            t_read, trans_read, _ = mcapposes.read_mcap(f, topic=f"/a2b/{name}/pose")
         assert len(t_read) == job["samples"]
 
 

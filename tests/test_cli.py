@@ -16,7 +16,7 @@ from click.testing import CliRunner
 
 import a2b
 from a2b.cli import COMMANDS, cli
-from a2b.io import csvtable, documents, poseschema, trajectories
+from a2b.io import csvtable, documents, mcapposes, poseschema, trajectories
 from a2b.poses import matrices_from_quat_trans, quat_trans_from_matrices
 
 from .conftest import random_pose
@@ -200,7 +200,7 @@ def test_mcap_round_trip(poses, tmp_path):
     want_trans = _as_given(a, b, want_trans)
     for topic in ("/a2b/pose", "/tf"):
         with open(out, "rb") as f:
-            time, quat, trans = trajectories.read_mcap(f, topic)
+            time, quat, trans = mcapposes.read_mcap(f, topic)
         assert np.allclose(time, ts * 3 + 5, atol=1e-9, rtol=0)
         assert np.array_equal(quat, want_quat)
         assert np.array_equal(trans, want_trans)

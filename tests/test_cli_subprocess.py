@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import a2b
-from a2b.io import poseschema, trajectories
+from a2b.io import mcapposes, poseschema
 
 ROOT = Path(__file__).resolve().parent.parent
 A2B = [sys.executable, "-c", "from a2b.cli import cli; cli(prog_name='a2b')"]
@@ -62,7 +62,7 @@ def test_mcap_into_a_pipe(tmp_path):
     ts = np.linspace(0, 1, 50)
     want_quat, want_trans = a2b.motion(job.start, job.end).quat_trans(ts)
     with open(out, "rb") as f:
-        time_, quat, trans = trajectories.read_mcap(f)
+        time_, quat, trans = mcapposes.read_mcap(f)
     assert np.allclose(time_, ts, atol=1e-9, rtol=0)
     assert np.array_equal(quat, want_quat) and np.array_equal(trans, want_trans)
     # every message is valid JSON with the schema's required keys

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from a2b.errors import ParameterError
-from a2b.io import csvtable, parallel, trajectories, writers
+from a2b.io import csvtable, mcapposes, parallel, trajectories, writers
 from a2b.io.floatrepr import format_rows, integer_words, number_words, text_words
 from a2b.output import stamped, write
 from a2b.poses import matrices_from_quat_trans, rotations_from_quaternions, study_from_matrices
@@ -181,7 +181,7 @@ def test_writer_reader_pairs(rng, fmt):
     elif fmt == "kitti":
         assert np.array_equal(trajectories.read_kitti(stream), mats)
     else:
-        got_time, got_q, got_tr = trajectories.read_mcap(stream)
+        got_time, got_q, got_tr = mcapposes.read_mcap(stream)
         assert np.allclose(got_time, 2.0 * t + 3.0, atol=1e-9, rtol=0)
         assert np.array_equal(got_q, quat) and np.array_equal(got_tr, trans)
 
@@ -201,7 +201,7 @@ def test_mcap_writer_needs_no_seek(rng):
     pipe = NonSeekableStream()
     chunks, _ = _chunks(rng, 10, 4)
     writers.write_mcap(pipe, chunks)
-    got_time, _, _ = trajectories.read_mcap(io.BytesIO(bytes(pipe.data)))
+    got_time, _, _ = mcapposes.read_mcap(io.BytesIO(bytes(pipe.data)))
     assert len(got_time) == 10
 
 

@@ -24,8 +24,8 @@ import struct
 
 import numpy as np
 
-from ..errors import InputFileError, ParameterError
-from .mcapreader import cut
+from ..errors import InputFileError, ParameterError, listing
+from .mcapreader import Messages, cut
 
 __all__ = [
     "POSE_TYPES",
@@ -59,14 +59,6 @@ DEFINITIONS = {
     "geometry_msgs/Twist": "geometry_msgs/Vector3 linear\ngeometry_msgs/Vector3 angular\n",
     "geometry_msgs/TwistStamped": "std_msgs/Header header\ngeometry_msgs/Twist twist\n",
 }
-
-#: The message types a2b reads poses from, by their schema names.
-POSE_TYPES = (
-    "geometry_msgs/msg/PoseStamped",
-    "tf2_msgs/msg/TFMessage",
-    "nav_msgs/msg/Odometry",
-    "nav_msgs/msg/Path",
-)
 
 
 def schema_name(type_name: str) -> str:
@@ -273,20 +265,21 @@ def path_message(frame_id: str, lead: int, count: int) -> tuple[Cdr, Cdr]:
 
 # -- reading CDR ----------------------------------------------------------------------------------
 
+#: The fewest bytes of a ``PoseStamped`` in a Path (stamp, a frame id of 1 byte and its NUL, the
+#: pose) and of a ``TransformStamped`` (the same and a child frame id): a count of entries that
+#: the bytes left cannot hold is refused before anything is allocated for it.
+_POSE_STAMPED_BYTES = 4 + 4 + 4 + 1 + 56
+_TRANSFORM_BYTES = _POSE_STAMPED_BYTES + 4 + 1
+
 
 class _Messages:
     """The CDR messages of one topic, side by side in one buffer, read at arrays of offsets."""
 
     def __init__(self, datas, where: str):
-        rows = getattr(datas, "rows", None)  # a2b.io.mcapreader.Messages of one width
-        if rows is not None:
-            lengths = np.full(len(rows), rows.shape[1], np.int64)
-            self.buffer = np.ascontiguousarray(rows).reshape(-1)
-        else:
-            datas = getattr(datas, "datas", datas)
-            lengths = np.fromiter(map(len, datas), np.int64, len(datas))
-            self.buffer = np.frombuffer(b"".join(datas), np.uint8)
-        self.start = np.cumsum(lengths) - lengths
+        if not isinstance(datas, Messages):
+            datas = Messages.of(datas)
+        self.buffer, self.start = datas.buffer, datas.start
+        lengths = datas.length
         self.end = self.start + lengths
         self.origin = self.start + 4
         self.where = where
@@ -321,144 +314,228 @@ class _Messages:
         (:func:`a2b.io.mcapreader.cut`: one strided view where they are evenly spaced)."""
         return cut(self.buffer, self.origin[rows] + at, size)
 
+    def room(self, rows: np.ndarray, at: np.ndarray) -> np.ndarray:
+        """The bytes of messages ``rows`` after CDR offset ``at``."""
+        return self.end[rows] - self.origin[rows] - at
+
     def string(self, rows: np.ndarray, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The strings at ``at`` as fixed-width bytes (NUL dropped), and the offset after them."""
+        """The lengths (with the NUL) of the strings at ``at``, each checked to lie within its
+        message, and the offset after them; the text is not copied (:meth:`names`)."""
         length, at = self.read(rows, at, "<u4")
         length = length.astype(np.int64)
-        bad = (length < 1) | (self.origin[rows] + at + length > self.end[rows])
+        bad = (length < 1) | (length > self.room(rows, at))
         if bad.any():
             k = int(rows[np.argmax(bad)])
             raise InputFileError(f"{self.where} message {k + 1}: a string overruns the message")
-        width = max(int(length.max(initial=1)) - 1, 1)
-        if len(rows) and (length == length[0]).all() and length[0] > 1:  # one length: a slice
-            chars = np.ascontiguousarray(self._bytes(rows, at, width))
-        else:
-            index = (self.origin[rows] + at)[:, None] + np.arange(width)
-            chars = self.buffer[np.minimum(index, len(self.buffer) - 1)]
-            chars = np.where(np.arange(width) < (length - 1)[:, None], chars, 0)
-        return chars.view(f"S{width}").reshape(-1), at + length
+        return length, at + length
+
+    def names(self, rows: np.ndarray, at: np.ndarray, length: np.ndarray):
+        """``(codes, names)``: the strings of ``length`` bytes (with the NUL) at ``at`` as one
+        integer each, the index of its text in ``names`` (bytes, in order of the texts). Strings
+        of one length are compared as fixed-width rows, one length at a time: never more bytes
+        than the strings hold."""
+        codes, names = np.empty(len(rows), np.int64), []
+        for size in np.unique(length).tolist():
+            mine = np.flatnonzero(length == size)
+            if size == 1:
+                codes[mine], names = len(names), names + [b""]
+                continue
+            chars = self._bytes(rows[mine], at[mine], size - 1)
+            if (chars == chars[0]).all():  # the usual case: one frame
+                codes[mine], names = len(names), names + [chars[0].tobytes()]
+                continue
+            texts = chars.view(f"S{size - 1}")[:, 0]
+            _, first, inverse = np.unique(texts, return_index=True, return_inverse=True)
+            codes[mine] = len(names) + inverse.reshape(-1)
+            names += [chars[i].tobytes() for i in first.tolist()]
+        return codes, names
 
     def header(self, rows: np.ndarray, at: np.ndarray):
-        """``(sec, nanosec, frame_id, offset after)`` of a ``std_msgs/Header`` at ``at``."""
+        """``(sec, nanosec, offset after)`` of a ``std_msgs/Header`` at ``at``."""
         sec, at = self.read(rows, at, "<i4")
         nanosec, at = self.read(rows, at, "<u4")
-        frame, at = self.string(rows, at)
-        return sec, nanosec, frame, at
+        _frame, at = self.string(rows, at)
+        return sec, nanosec, at
+
+    def count(self, rows: np.ndarray, at: np.ndarray, least: int, what: str):
+        """A sequence's length at ``at``, refused where the bytes left cannot hold that many
+        elements of at least ``least`` bytes; and the offset after it."""
+        count, at = self.read(rows, at, "<u4")
+        room = self.room(rows, at)
+        over = count.astype(np.int64) * least > room
+        if over.any():
+            k = int(np.argmax(over))
+            raise InputFileError(
+                f"{self.where} message {int(rows[k]) + 1}: {int(count[k])} {what} declared in "
+                f"the {int(room[k])} bytes left (each takes at least {least})"
+            )
+        return count.astype(np.int64), at
+
+
+def _pose_stamped(messages: _Messages, rows, where, child_frame):
+    sec, nanosec, at = messages.header(rows, np.zeros(len(rows), np.int64))
+    numbers, _ = messages.read(rows, at, "<f8", 7)
+    return sec, nanosec, numbers, rows
+
+
+def _odometry(messages: _Messages, rows, where, child_frame):
+    """The header, ``child_frame_id``, then the pose (its covariance and the twist follow)."""
+    sec, nanosec, at = messages.header(rows, np.zeros(len(rows), np.int64))
+    _child, at = messages.string(rows, at)
+    numbers, _ = messages.read(rows, at, "<f8", 7)
+    return sec, nanosec, numbers, rows
+
+
+#: A TFMessage of more transforms than this has them placed one message at a time
+#: (:func:`_entry_starts`); fewer are read transform by transform across all messages.
+_FEW_TRANSFORMS = 8
+
+
+def _transforms(messages: _Messages, rows, where: str, child_frame: str | None):
+    """The stamps and numbers of the transforms to ``child_frame`` in TFMessages, in order."""
+    count, at = messages.count(rows, np.zeros(len(rows), np.int64), _TRANSFORM_BYTES,
+                               "transforms")  # fmt: skip
+    found = []  # per transform: (message, place in it, its CDR offset)
+    few = count <= _FEW_TRANSFORMS
+    for k in range(int(count[few].max(initial=0))):  # the k-th transform of each message
+        here = few & (count > k)
+        found.append((rows[here], np.full(int(here.sum()), k), at[here]))
+        at[here] = _entry_ends(messages, rows[here], at[here], 2)
+    for row in rows[~few].tolist():
+        starts = _entry_starts(messages, row, int(at[row]), int(count[row]), 2, where)
+        found.append((np.full(len(starts), row), np.arange(len(starts)), starts))
+    if not found:
+        return np.empty(0, np.int32), np.empty(0, np.uint32), np.empty((0, 7)), rows[:0]
+    message, place, start = (np.concatenate([part[i] for part in found]) for i in range(3))
+    sec, nanosec, after = messages.header(message, start)
+    length, child_end = messages.string(message, after)
+    numbers, _ = messages.read(message, child_end, "<f8", 7)
+    codes, names = messages.names(message, after + 4 + (-after % 4), length)
+    mine = codes == _child_code(names, child_frame, where)
+    if not mine.all():
+        sec, nanosec, numbers, message, place = (
+            a[mine] for a in (sec, nanosec, numbers, message, place)
+        )
+    order = np.lexsort((place, message))  # message by message, in order within
+    if (np.diff(order) != 1).any():
+        sec, nanosec, numbers, message = (a[order] for a in (sec, nanosec, numbers, message))
+    return sec, nanosec, numbers, message
+
+
+def _child_code(names: list, child_frame: str | None, where: str) -> int:
+    """The index in ``names`` of ``child_frame``, or of the one child frame there is."""
+    children = sorted(name.decode(errors="replace") for name in names)
+    if child_frame is None:
+        if len(children) != 1:
+            raise InputFileError(
+                f"{where}: transforms to {len(children)} child frames ({listing(children)}); "
+                "choose one with --input-child-frame"
+            )
+        child_frame = children[0]
+    if child_frame.encode() not in names:
+        raise InputFileError(
+            f"{where}: no transform to the child frame {listing([repr(child_frame)])}; the frames "
+            f"are {listing(children) or 'none'}"
+        )
+    return names.index(child_frame.encode())
+
+
+def _entry_ends(messages: _Messages, rows, at, strings: int):
+    """The CDR offsets after the stamped entries at ``at`` of messages ``rows``: a Time,
+    ``strings`` strings (a frame id; a TransformStamped's child frame id too), 7 doubles."""
+    _stamp, at = messages.read(rows, at, "<u4", 2)
+    for _ in range(strings):
+        _length, at = messages.string(rows, at)
+    _numbers, at = messages.read(rows, at, "<f8", 7)
+    return at
+
+
+def _entry_starts(messages: _Messages, row: int, offset: int, count: int, strings: int, where):
+    """The CDR offsets of ``count`` stamped entries of message ``row`` from ``offset`` on (the
+    PoseStamped of a Path: ``strings`` 1; the TransformStamped of a TFMessage: 2).
+
+    Every entry after the first starts 8-aligned (after doubles), so where each has strings
+    as long as the second's, they are evenly spaced: found at once and checked; else one by
+    one (each entry's place depends on the lengths before it).
+    """
+    origin, end = int(messages.origin[row]), int(messages.end[row])
+    view = memoryview(messages.buffer)
+
+    def after(at: int) -> tuple[int, list, list]:  # the end, places and bytes of the lengths
+        at += -at % 4 + 8
+        places, lengths = [], []
+        for _ in range(strings):
+            at += -at % 4
+            if origin + at + 4 > end:
+                raise InputFileError(f"{where} message {row + 1}: the message ends too soon")
+            places.append(at)
+            lengths.append(messages.buffer[origin + at : origin + at + 4])
+            at += 4 + struct.unpack_from("<I", view, origin + at)[0]
+        return at + (-at % 8) + 56, places, lengths
+
+    if count > 2:
+        second, _, _ = after(offset)
+        third, places, lengths = after(second)
+        starts = np.concatenate([[offset], second + (third - second) * np.arange(count - 1)])
+        last = origin + int(starts[-1]) + max(places) - second + 4
+        if last <= end and all(
+            (cut(messages.buffer, origin + starts[1:] + (place - second), 4) == length).all()
+            for place, length in zip(places, lengths)
+        ):
+            return starts
+    starts = np.empty(count, np.int64)
+    for i in range(count):
+        starts[i], offset = offset, after(offset)[0]
+    return starts
+
+
+def _path(messages: _Messages, rows, where: str, child_frame):
+    """The stamps and numbers of the poses of the last ``nav_msgs/Path`` message."""
+    if not len(rows):
+        return np.empty(0, np.int32), np.empty(0, np.uint32), np.empty((0, 7)), rows
+    last = rows[-1:]
+    _sec, _nanosec, at = messages.header(last, np.zeros(1, np.int64))
+    count, at = messages.count(last, at, _POSE_STAMPED_BYTES, "poses")
+    starts = _entry_starts(messages, int(last[0]), int(at[0]), int(count[0]), 1, where)
+    here = np.full(len(starts), last[0])
+    sec, nanosec, at = messages.header(here, starts)
+    numbers, _ = messages.read(here, at, "<f8", 7)
+    return sec, nanosec, numbers, here
+
+
+#: The readers of each message type a2b reads poses from, by schema name: each returns
+#: ``(sec, nanosec, numbers (N, 7), the message of each pose)``.
+_DECODERS = {
+    "geometry_msgs/msg/PoseStamped": _pose_stamped,
+    "tf2_msgs/msg/TFMessage": _transforms,
+    "nav_msgs/msg/Odometry": _odometry,
+    "nav_msgs/msg/Path": _path,
+}
+
+#: The message types a2b reads poses from, by their schema names.
+POSE_TYPES = tuple(_DECODERS)
 
 
 def decode_poses(type_name: str, datas, where: str, child_frame: str | None = None):
-    """``(times in s, quat_wxyz (N, 4), translations (N, 3))`` of the CDR messages ``datas``
-    (a list of bytes, or :class:`a2b.io.mcapreader.Messages`).
+    """``(times in s, quat_wxyz (N, 4), translations (N, 3), message (N,))`` of the CDR
+    messages ``datas`` (a list of bytes, or :class:`a2b.io.mcapreader.Messages`); ``message``
+    is the index of the message that holds each pose.
 
     ``type_name`` is one of :data:`POSE_TYPES`; the time of a pose is its header's stamp,
     ``sec + nanosec · 1e-9``. ``geometry_msgs/PoseStamped`` and ``nav_msgs/Odometry`` give one
     pose per message; ``nav_msgs/Path`` the poses of its last message (the latest plan);
     ``tf2_msgs/TFMessage`` every transform to ``child_frame``, which may be left out when there
-    is one child frame. ``where`` starts every error message.
+    is one child frame (and is used by no other type). ``where`` starts every error message.
+    Every count and length in a message is checked against the bytes it has before anything
+    is allocated for it.
     """
+    decoder = _DECODERS.get(type_name)
+    if decoder is None:
+        raise InputFileError(
+            f"{where}: a2b reads {', '.join(POSE_TYPES)}, not {listing([type_name])}"
+        )
     messages = _Messages(datas, where)
-    rows = np.arange(len(datas))
-    zero = np.zeros(len(datas), np.int64)
-    if type_name == "nav_msgs/msg/Path":
-        sec, nanosec, numbers = _path(messages, where)
-    elif type_name == "geometry_msgs/msg/PoseStamped":
-        sec, nanosec, _frame, at = messages.header(rows, zero)
-        numbers, _ = messages.read(rows, at, "<f8", 7)
-    elif type_name == "nav_msgs/msg/Odometry":  # header, child_frame_id, then the pose
-        sec, nanosec, _frame, at = messages.header(rows, zero)
-        _child, at = messages.string(rows, at)
-        numbers, _ = messages.read(rows, at, "<f8", 7)
-    elif type_name == "tf2_msgs/msg/TFMessage":
-        sec, nanosec, numbers = _transforms(messages, rows, where, child_frame)
-    else:
-        raise InputFileError(f"{where}: a2b reads {', '.join(POSE_TYPES)}, not {type_name}")
+    sec, nanosec, numbers, message = decoder(messages, np.arange(len(datas)), where, child_frame)
     numbers = numbers.reshape(-1, 7)
     times = sec.astype(float) + nanosec.astype(float) * 1e-9
-    return times, numbers[:, [6, 3, 4, 5]], numbers[:, :3].copy()
-
-
-def _transforms(messages: _Messages, rows, where: str, child_frame: str | None):
-    """The stamps and numbers of the transforms to ``child_frame`` in TFMessages, in order."""
-    count, at = messages.read(rows, np.zeros(len(rows), np.int64), "<u4")
-    found = []  # per transform: (message, place in it, sec, nanosec, child, numbers)
-    k = 0
-    while (count > k).any():
-        active = count > k
-        here = rows[active]
-        sec, nanosec, _frame, after = messages.header(here, at[active])
-        child, after = messages.string(here, after)
-        numbers, after = messages.read(here, after, "<f8", 7)
-        found.append((here, np.full(len(here), k), sec, nanosec, child, numbers))
-        at[active] = after
-        k += 1
-    if not found:
-        return np.empty(0, np.int32), np.empty(0, np.uint32), np.empty((0, 7))
-    message, place, sec, nanosec, child, numbers = (
-        found[0][i] if len(found) == 1 else np.concatenate([part[i] for part in found])
-        for i in range(6)
-    )
-    one = len(child) and (child == child[0]).all()  # the usual case: no sort needed
-    names = child[:1] if one else np.unique(child)
-    children = sorted(name.decode(errors="replace") for name in names)
-    if child_frame is None:
-        if len(children) != 1:
-            raise InputFileError(
-                f"{where}: transforms to {len(children)} child frames ({', '.join(children)}); "
-                "choose one with --input-child-frame"
-            )
-        child_frame = children[0]
-    mine = child == child_frame.encode()
-    if not mine.any():
-        raise InputFileError(
-            f"{where}: no transform to the child frame {child_frame!r}; the frames are "
-            f"{', '.join(children) or 'none'}"
-        )
-    if len(found) == 1:  # one transform per message: already in order
-        return (sec, nanosec, numbers) if one else (sec[mine], nanosec[mine], numbers[mine])
-    order = np.lexsort((place[mine], message[mine]))
-    return sec[mine][order], nanosec[mine][order], numbers[mine][order]
-
-
-def _entry_offsets(messages: _Messages, row: int, offset: int, count: int, where: str):
-    """The CDR offsets of the ``count`` PoseStamped entries of a Path from ``offset`` on: at
-    once where every frame id is as long as the first's (then every entry after the first is
-    as long), else one by one (each entry's place depends on the lengths before it)."""
-    origin, end, data = int(messages.origin[row]), int(messages.end[row]), messages.buffer
-
-    def length_at(at: int) -> int:  # the frame id's length field of the entry at ``at``
-        if origin + at + 12 > end:
-            raise InputFileError(f"{where} message {row + 1}: the message ends too soon")
-        return int(data[origin + at + 8 : origin + at + 12].view("<u4")[0])
-
-    def after(at: int) -> int:
-        at += 12 + length_at(at)
-        return at + (-at % 8) + 56
-
-    if count > 1:
-        second = after(offset)
-        step = after(second) - second if count > 2 else 0
-        starts = np.concatenate([[offset], second + step * np.arange(count - 1)])
-        fields = origin + starts[:, None] + np.arange(8, 12)
-        if (
-            fields.max() < end
-            and (data[fields].copy().view("<u4")[:, 0] == length_at(second)).all()
-        ):
-            return starts
-    starts = np.empty(count, np.int64)
-    for i in range(count):
-        starts[i], offset = offset, after(offset)
-    return starts
-
-
-def _path(messages: _Messages, where: str):
-    """The stamps and numbers of the poses of the last ``nav_msgs/Path`` message."""
-    if not len(messages.start):
-        return np.empty(0, np.int32), np.empty(0, np.uint32), np.empty((0, 7))
-    last = len(messages.start) - 1
-    _sec, _nanosec, _frame, at = messages.header(np.array([last]), np.zeros(1, np.int64))
-    count, at = messages.read(np.array([last]), at, "<u4")
-    starts = _entry_offsets(messages, last, int(at[0]), int(count[0]), where)
-    rows = np.full(len(starts), last)
-    sec, nanosec, _frame, at = messages.header(rows, starts)
-    numbers, _ = messages.read(rows, at, "<f8", 7)
-    return sec, nanosec, numbers
+    return times, numbers[:, [6, 3, 4, 5]], numbers[:, :3].copy(), message

@@ -31,8 +31,6 @@ normalised here; the matrices of a quaternion file are built from the normalised
 
 from __future__ import annotations
 
-import io
-import json
 import os
 from collections.abc import Iterator
 from typing import IO
@@ -43,6 +41,7 @@ from ..errors import InputFileError, printable
 from . import csvtable, euroc, kitti, tum
 from .csvtable import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER, fmt_from_header
 from .documents import stream_name
+from .mcapposes import mcap_poses
 from .textrows import (
     BOM,
     check_text,
@@ -63,7 +62,6 @@ __all__ = [
     "read_csv",
     "read_kitti",
     "read_matrix_csv",
-    "read_mcap",
     "read_study_csv",
     "opened",
     "read_trajectory",
@@ -74,7 +72,7 @@ __all__ = [
 
 #: The readers of the text formats: modules with ``layout(data, name, fmt)``,
 #: ``trajectory(rows, lines, name, fmt, rate, orthonormalize, row)`` and ``TIMES`` (whether
-#: the rows hold times). MCAP is read by :func:`_mcap`.
+#: the rows hold times). MCAP is read by :func:`a2b.io.mcapposes.mcap_poses`.
 TEXT_READERS = {
     "tum": tum,
     "kitti": kitti,
@@ -93,7 +91,6 @@ INPUT_OPTIONS = {
     "child_frame": ("--input-child-frame", ("mcap",), "the frame of an MCAP /tf topic"),
 }
 MCAP_MAGIC = b"\x89MCAP0\r\n"
-POSE_SCHEMAS = ("foxglove.PoseInFrame", "foxglove.FrameTransform")
 #: Bytes read to tell the format before the rest.
 HEAD_BYTES = 1 << 16
 
@@ -206,7 +203,7 @@ def trajectory_pieces(
     """
     check_input_options(name, fmt, rate=rate, topic=topic, child_frame=child_frame)
     if fmt == "mcap":
-        times, quat, trans = _mcap(data, name, topic, child_frame)
+        times, quat, trans = mcap_poses(data, name, topic, child_frame)
         piece = from_quaternions(times, quat, trans, name, fmt, None)
         check_times(piece.times, name, None)
         yield piece
@@ -266,121 +263,6 @@ def sniff_format(data: bytes, name: str) -> str:
     )
 
 
-# -- MCAP --------------------------------------------------------------------------------------
-
-
-def _mcap(data: bytes, name: str, topic: str | None, child_frame: str | None = None):
-    """Times (s), quaternions and translations of the pose messages of one MCAP topic: JSON
-    (Foxglove) or CDR (ROS 2, :func:`a2b.io.ros2.decode_poses`).
-
-    Whatever the ``mcap`` package raises on a damaged file (its own errors, ``struct`` and
-    zstd errors, undecodable text) becomes one :class:`InputFileError`.
-    """
-    try:
-        return _mcap_poses(data, name, topic, child_frame)
-    except InputFileError:
-        raise
-    except Exception as e:  # noqa: BLE001 - a damaged file, in the words of the mcap package
-        raise InputFileError(
-            f"{name}: not a readable MCAP file ({type(e).__name__}: {e})"
-        ) from None
-
-
-def _mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | None):
-    from mcap.reader import NonSeekingReader, make_reader
-
-    from .ros2 import POSE_TYPES, decode_poses
-
-    reader = make_reader(io.BytesIO(data))
-    summary = reader.get_summary()
-    if summary is None or not summary.chunk_indexes:  # read record by record, from the start
-        reader = NonSeekingReader(io.BytesIO(data))  # (mcap 1.1's seeking one finds nothing)
-    channels = summary.channels if summary is not None else None
-    if channels is None:
-        channels = {}
-        for _schema, channel, _message in reader.iter_messages():
-            channels.setdefault(channel.id, channel)
-        reader = NonSeekingReader(io.BytesIO(data))
-        schemas = None
-    else:
-        schemas = summary.schemas
-    topics = sorted({c.topic for c in channels.values()})
-    if topic is None:
-        candidates = []
-        for channel in channels.values():
-            schema = schemas.get(channel.schema_id) if schemas else None
-            if schema is None or schema.name in POSE_SCHEMAS + POSE_TYPES:
-                candidates.append(channel.topic)
-        candidates = sorted(set(candidates))
-        if "/a2b/pose" in candidates:
-            candidates = ["/a2b/pose"]
-        if len(candidates) != 1:
-            raise InputFileError(
-                f"{name}: {'several' if candidates else 'no'} pose topics "
-                f"({', '.join(candidates or topics) or 'none'}); choose one with --topic"
-            )
-        topic = candidates[0]
-    elif topic not in topics:
-        raise InputFileError(
-            f"{name}: no topic {topic!r}; the file has {', '.join(topics) or 'none'}"
-        )
-    from .mcapreader import channel_messages
-
-    where = f"{name}: {topic}"
-    ids = [key for key, channel in channels.items() if channel.topic == topic]
-    fast = channel_messages(data, summary, ids[0]) if len(ids) == 1 and schemas else None
-    if fast is not None:  # through the indexes, with arrays (a2b.io.mcapreader)
-        channel = channels[ids[0]]
-        schema = schemas.get(channel.schema_id)
-        encoding, type_name, datas = channel.message_encoding, getattr(schema, "name", None), fast
-    else:  # record by record, with the mcap package's reader
-        encoding, type_name, datas = None, None, []
-        for schema, channel, message in reader.iter_messages(topics=[topic]):
-            encoding, type_name = channel.message_encoding, getattr(schema, "name", None)
-            datas.append(message.data)
-    if encoding == "cdr" and type_name is not None:
-        return _finite(*decode_poses(type_name, datas, where, child_frame), where)
-    if child_frame is not None:
-        raise InputFileError(f"{name}: --input-child-frame is for ROS 2 TFMessage topics")
-    if encoding not in ("json", None):
-        raise InputFileError(
-            f"{where} message 1: encoding {encoding!r}; a2b reads JSON-encoded "
-            "foxglove.PoseInFrame and foxglove.FrameTransform, and CDR-encoded ROS 2 messages"
-        )
-    return _finite(*_json_poses(getattr(datas, "as_bytes", lambda: datas)(), where), where)
-
-
-def _json_poses(datas: list, where: str):
-    """Times, quaternions and translations of JSON PoseInFrame or FrameTransform messages."""
-    times, quats, trans = [], [], []
-    for i, data in enumerate(datas):
-        try:
-            msg = json.loads(data)
-            stamp = msg["timestamp"]
-            times.append(int(stamp["sec"]) + int(stamp["nsec"]) * 1e-9)
-            if "pose" in msg:
-                position, orientation = msg["pose"]["position"], msg["pose"]["orientation"]
-            else:
-                position, orientation = msg["translation"], msg["rotation"]
-            quats.append([float(orientation[k]) for k in "wxyz"])
-            trans.append([float(position[k]) for k in "xyz"])
-        except (ValueError, KeyError, TypeError) as e:
-            raise InputFileError(
-                f"{where} message {i + 1}: not a PoseInFrame or FrameTransform message ({e!r})"
-            ) from None
-    quat, translation = np.array(quats).reshape(-1, 4), np.array(trans).reshape(-1, 3)
-    return np.array(times), quat, translation
-
-
-def _finite(times, quat, translation, where: str):
-    if not (np.isfinite(quat).all() and np.isfinite(translation).all()):
-        raise InputFileError(f"{where}: a pose is not finite")
-    return times, quat, translation
-
-
-# -- the layouts of the writers, for tests and scripts ------------------------------------------
-
-
 def read_csv(stream: IO) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Read ``csv`` output: ``t (N,)``, ``quat_wxyz (N, 4)``, ``translations (N, 3)``."""
     tr = read_trajectory(stream, fmt="csv", minimum=0)
@@ -408,9 +290,3 @@ def read_tum(stream: IO) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def read_kitti(stream: IO) -> np.ndarray:
     """Read KITTI poses: matrices ``(N, 4, 4)``."""
     return read_trajectory(stream, fmt="kitti", minimum=0).matrices
-
-
-def read_mcap(stream: IO, topic: str = "/a2b/pose") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Read the poses of an MCAP topic: ``time`` (s), ``quat_wxyz``, ``translations``."""
-    tr = read_trajectory(stream, fmt="mcap", topic=topic, minimum=0)
-    return tr.times, tr.quat_wxyz, tr.translations

@@ -1,0 +1,207 @@
+"""Poses from MCAP files: the topic chosen, and each channel's messages decoded by its own schema.
+
+========  ==============================================  ==================================
+encoding  schemas                                         decoded by
+========  ==============================================  ==================================
+cdr       ROS 2 ``geometry_msgs/msg/PoseStamped``,        :func:`a2b.io.ros2.decode_poses`
+          ``tf2_msgs/msg/TFMessage``,
+          ``nav_msgs/msg/Odometry``, ``nav_msgs/msg/Path``
+json      ``foxglove.PoseInFrame``,                       :func:`json_poses`
+          ``foxglove.FrameTransform``, or none
+========  ==============================================  ==================================
+
+The table is :data:`DECODERS`: a new message encoding is one row there. A topic may be carried
+by several channels, each with its own schema: the poses of each channel are decoded by that
+channel's schema and joined in the log-time order of their messages. A file is read by
+:class:`a2b.io.mcapreader.McapFile`, which checks its records, its CRCs and its compressed sizes.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import IO
+
+import numpy as np
+
+from ..errors import InputFileError, listing
+from .documents import stream_name
+from .mcapreader import McapFile
+from .ros2 import POSE_TYPES, decode_poses
+
+__all__ = ["DECODERS", "JSON_SCHEMAS", "json_poses", "mcap_poses", "read_mcap"]
+
+#: The Foxglove schemas of JSON messages a2b reads poses from.
+JSON_SCHEMAS = ("foxglove.PoseInFrame", "foxglove.FrameTransform")
+_TF = "tf2_msgs/msg/TFMessage"
+_PATH = "nav_msgs/msg/Path"
+
+
+#: JSON messages parsed by one call of ``json.loads`` (as one array): few, so that few of the
+#: objects it makes are alive at once (4096 at a time were slower than one by one).
+_JSON_BLOCK = 64
+
+
+def json_poses(datas: list, where: str):
+    """``(times, quat_wxyz, translations, message)`` of JSON ``foxglove.PoseInFrame`` or
+    ``foxglove.FrameTransform`` messages (``datas``, bytes each): one pose per message,
+    ``timestamp.sec + timestamp.nsec · 1e-9`` with both whole numbers.
+
+    A block of messages is parsed as one JSON array, which is the messages only where each
+    message is one value: else (or where that fails) message by message, to name the one
+    that is not.
+    """
+    blocks = [np.empty((0, 8))]  # (time, x, y, z, qw, qx, qy, qz) per message
+    for lo in range(0, len(datas), _JSON_BLOCK):
+        block = datas[lo : lo + _JSON_BLOCK]
+        try:
+            found = json.loads(b"[" + b",".join(block) + b"]")
+        except (ValueError, RecursionError):
+            found = []
+        if len(found) != len(block):
+            found = [_json_value(data, where, lo + i) for i, data in enumerate(block)]
+        poses = []
+        for i, msg in enumerate(found, lo):
+            try:
+                poses.append(_json_pose(msg))
+            except (ValueError, KeyError, TypeError, OverflowError) as e:
+                raise InputFileError(_not_a_pose(where, i, e)) from None
+        blocks.append(np.array(poses))
+    numbers = np.concatenate(blocks)
+    return numbers[:, 0], numbers[:, 4:], numbers[:, 1:4], np.arange(len(numbers))
+
+
+def _json_value(data: bytes, where: str, i: int):
+    try:
+        return json.loads(data)
+    except (ValueError, RecursionError) as e:
+        raise InputFileError(_not_a_pose(where, i, e)) from None
+
+
+def _not_a_pose(where: str, i: int, e: Exception) -> str:
+    return (
+        f"{where} message {i + 1}: not a PoseInFrame or FrameTransform message "
+        f"({type(e).__name__}: {str(e)[:80]})"
+    )
+
+
+def _json_pose(msg: dict) -> tuple:
+    """The time and the numbers ``x y z qw qx qy qz`` of one PoseInFrame or FrameTransform."""
+    stamp = msg["timestamp"]
+    sec, nsec = stamp["sec"], stamp["nsec"]
+    whole = type(sec) is int and type(nsec) is int
+    if not (whole and 0 <= sec < 2**63 and 0 <= nsec < 2**63):
+        raise ValueError(f"the stamp {sec!r:.40}, {nsec!r:.40} is not two whole numbers ≥ 0")
+    if "pose" in msg:
+        position, orientation = msg["pose"]["position"], msg["pose"]["orientation"]
+    else:
+        position, orientation = msg["translation"], msg["rotation"]
+    p, q = position, orientation
+    return (
+        sec + nsec * 1e-9,
+        *(float(p["x"]), float(p["y"]), float(p["z"])),
+        *(float(q["w"]), float(q["x"]), float(q["y"]), float(q["z"])),
+    )
+
+
+def _json_channel(_schema: str, messages, where: str, _child_frame):
+    return json_poses(messages.as_bytes(), where)
+
+
+#: For each message encoding: the schemas a2b reads poses from (``""``: none), and the decoder
+#: of their messages, ``(schema name, Messages, where, child frame)`` → ``(times, quat_wxyz,
+#: translations, the message of each pose)``.
+DECODERS = {
+    "cdr": (POSE_TYPES, decode_poses),
+    "json": (JSON_SCHEMAS + ("",), _json_channel),
+}
+
+
+def _decoder(channel):
+    """The decoder of ``channel``'s messages, or None when a2b reads no poses from them."""
+    schemas, decoder = DECODERS.get(channel.message_encoding, ((), None))
+    return decoder if channel.schema_name in schemas else None
+
+
+def _kind(channel) -> str:
+    """What ``channel`` carries, for messages: its schema's name, else its encoding."""
+    return channel.schema_name or f"schemaless {channel.message_encoding}"
+
+
+def mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | None = None):
+    """Times (s), quaternions ``(N, 4)`` wxyz and translations ``(N, 3)`` of the poses of one
+    topic of the MCAP file ``data`` (see the module's table).
+
+    ``topic`` None picks the one topic with poses (``/a2b/pose`` among several; with
+    ``child_frame``, the one ``TFMessage`` topic); ``child_frame`` picks the transforms of a
+    ``TFMessage`` topic and is refused on any other.
+
+    Raises
+    ------
+    InputFileError
+        If the file is damaged, the topic has no poses or is not one, or a pose is not finite.
+    """
+    mcap = McapFile(data, name)
+    channels = list(mcap.channels.values())
+    topic = _topic(channels, name, topic, child_frame)
+    mine = [channel for channel in channels if channel.topic == topic]
+    where = f"{name}: {listing([topic], width=80)}"
+    kinds = sorted({_kind(channel) for channel in mine})
+    if any(_decoder(channel) is None for channel in mine):
+        readable = "; ".join(
+            f"{encoding.upper()} {', '.join(name for name in names if name)}"
+            for encoding, (names, _) in DECODERS.items()
+        )
+        raise InputFileError(f"{where} carries {listing(kinds)}; a2b reads poses from {readable}")
+    if child_frame is not None and kinds != [_TF]:
+        raise InputFileError(
+            f"{where} carries {listing(kinds)}: --input-child-frame is for {_TF} topics"
+        )
+    if len(mine) > 1 and _PATH in kinds:
+        raise InputFileError(f"{where}: a Path topic is read from one channel, not {len(mine)}")
+    found = mcap.messages([channel.id for channel in mine])
+    parts = []
+    for channel in mine:
+        here = where if len(mine) == 1 else f"{where} (channel {channel.id})"
+        messages = found[channel.id]
+        decode = _decoder(channel)
+        times, quat, trans, message = decode(channel.schema_name, messages, here, child_frame)
+        parts.append((times, quat, trans, messages.log_time[message]))
+    if len(parts) == 1:
+        times, quat, trans, _ = parts[0]
+    else:
+        order = np.argsort(np.concatenate([part[3] for part in parts]), kind="stable")
+        times, quat, trans = (np.concatenate([part[i] for part in parts])[order] for i in range(3))
+    if not (np.isfinite(quat).all() and np.isfinite(trans).all()):
+        raise InputFileError(f"{where}: a pose is not finite")
+    return times, quat, trans
+
+
+def _topic(channels: list, name: str, topic: str | None, child_frame: str | None) -> str:
+    """The topic to read: ``topic`` if the file has it, else the one with poses."""
+    topics = sorted({channel.topic for channel in channels})
+    if topic is not None:
+        if topic not in topics:
+            raise InputFileError(
+                f"{name}: no topic {listing([repr(topic)])}; the file has "
+                f"{listing(topics) or 'none'}"
+            )
+        return topic
+    candidates = sorted({
+        channel.topic for channel in channels
+        if _decoder(channel) is not None and (child_frame is None or channel.schema_name == _TF)
+    })  # fmt: skip
+    if "/a2b/pose" in candidates and child_frame is None:
+        candidates = ["/a2b/pose"]
+    if len(candidates) != 1:
+        what = f"{_TF} topics" if child_frame is not None else "pose topics"
+        raise InputFileError(
+            f"{name}: {'several' if candidates else 'no'} {what} "
+            f"({listing(candidates or topics) or 'none'}); choose one with --topic"
+        )
+    return candidates[0]
+
+
+def read_mcap(stream: IO, topic: str = "/a2b/pose") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Read the poses of an MCAP topic from a binary ``stream``: ``time`` (s), ``quat_wxyz``,
+    ``translations`` as the messages hold them (:func:`mcap_poses`)."""
+    return mcap_poses(stream.read(), stream_name(stream, None), topic)
