@@ -20,7 +20,7 @@ from mcap.stream_reader import StreamReader, breakup_chunk
 
 from a2b.errors import A2bError, ParameterError
 from a2b.io import mcapwriter, parallel, writers
-from a2b.io.mcapwriter import MAGIC
+from a2b.io.mcapreader import MAGIC
 from a2b.output import stamped, write
 from a2b.samples import Samples
 

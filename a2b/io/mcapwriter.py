@@ -47,11 +47,11 @@ import numpy as np
 
 from ..errors import ParameterError
 from .floatrepr import integer_words, number_words, without_zero_bytes
+from .mcapreader import MAGIC
 from .parallel import in_order
 
-__all__ = ["CHUNK_POSES", "MAGIC", "write_pose_mcap", "write_topic_mcap"]
+__all__ = ["CHUNK_POSES", "write_pose_mcap", "write_topic_mcap"]
 
-MAGIC = b"\x89MCAP0\r\n"
 _HEADER, _FOOTER, _SCHEMA, _CHANNEL, _MESSAGE, _CHUNK = 0x01, 0x02, 0x03, 0x04, 0x05, 0x06
 _MESSAGE_INDEX, _CHUNK_INDEX, _STATISTICS, _SUMMARY_OFFSET, _DATA_END = 0x07, 0x08, 0x0B, 0x0E, 0x0F
 

@@ -42,6 +42,7 @@ from . import csvtable, euroc, kitti, tum
 from .csvtable import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER, fmt_from_header
 from .documents import stream_name
 from .mcapposes import mcap_poses
+from .mcapreader import MAGIC
 from .textrows import (
     BOM,
     check_text,
@@ -90,7 +91,6 @@ INPUT_OPTIONS = {
     "topic": ("--topic", ("mcap",), "the topic of an MCAP file"),
     "child_frame": ("--input-child-frame", ("mcap",), "the frame of an MCAP /tf topic"),
 }
-MCAP_MAGIC = b"\x89MCAP0\r\n"
 #: Bytes read to tell the format before the rest.
 HEAD_BYTES = 1 << 16
 
@@ -160,8 +160,8 @@ def opened(stream: IO, name: str | None = None, fmt: str | None = None) -> tuple
         )
     if fmt != "mcap":
         return name, read_text_bytes(stream, name, head), fmt
-    if not head.startswith(MCAP_MAGIC):
-        raise InputFileError(f"{name}: not an MCAP file (it does not start with MCAP's magic)")
+    if not head.startswith(MAGIC):
+        raise InputFileError(f"{name}: not an MCAP file (no MCAP magic at its start)")
     whole = whole_file(stream, head)
     if whole is not None:
         return name, whole, fmt
@@ -237,7 +237,7 @@ def sniff_format(data: bytes, name: str) -> str:
     by_suffix = _SUFFIXES.get(os.path.splitext(name)[1].lower())
     if by_suffix:
         return by_suffix
-    if data.startswith(MCAP_MAGIC):
+    if data.startswith(MAGIC):
         return "mcap"
     head = data[:4096].removeprefix(BOM)
     first = first_line(head).strip()
