@@ -85,6 +85,14 @@ class Format:
         The format that reads it back, if not its own reader (``ros2``: ``mcap``).
     header
         The column names of a text table (tum: after ``# ``).
+    trajectory
+        The module that reads the format as a trajectory (``a2b resample``, ``view``, the
+        pose lists of ``spline``): for a text format one with ``layout(data, name, fmt)`` and
+        ``trajectory(rows, lines, name, fmt, rate, orthonormalize, row)`` over the rows
+        (:mod:`a2b.io.textrows`); for a binary one :func:`a2b.io.mcapposes.mcap_poses`'s.
+    input_options
+        The options of :func:`a2b.io.trajectories.read_trajectory` the format takes (others
+        are refused): ``rate`` (times for poses that have none), ``topic``, ``child_frame``.
     """
 
     name: str
@@ -103,6 +111,8 @@ class Format:
     extra: str | None = None
     read_as: str | None = None
     header: str | None = None
+    trajectory: str | None = None
+    input_options: frozenset = frozenset()
 
     @property
     def timed(self) -> bool:
@@ -128,18 +138,21 @@ TABLE = (
         binary=False, representation="quat_trans", batch="rows",
         writer=f"{_TEXT}:write_csv", batch_writer=f"{_TEXT}:write_batch_csv",
         reader=f"{_READ}:read_csv", header="t,tx,ty,tz,qw,qx,qy,qz",
+        trajectory="a2b.io.csvtable",
     ),
     Format(
         name="matrix", suffixes=(), layout="t and the 12 entries of [R | t], row by row",
         holds=_TABLE_ROWS, binary=False, representation="matrices", batch="rows",
         writer=f"{_TEXT}:write_matrix_csv", batch_writer=f"{_TEXT}:write_batch_csv",
         reader=f"{_READ}:read_matrix_csv", header="t,r11,r12,r13,tx,r21,r22,r23,ty,r31,r32,r33,tz",
+        trajectory="a2b.io.csvtable",
     ),
     Format(
         name="study", suffixes=(), layout="t,p0,p1,p2,p3,q0,q1,q2,q3 (unit Study parameters)",
         holds=_TABLE_ROWS, binary=False, representation="study", batch="rows",
         writer=f"{_TEXT}:write_study_csv", batch_writer=f"{_TEXT}:write_batch_csv",
         reader=f"{_READ}:read_study_csv", header="t,p0,p1,p2,p3,q0,q1,q2,q3",
+        trajectory="a2b.io.csvtable",
     ),
     Format(
         name="tum", suffixes=(".tum",),
@@ -147,18 +160,20 @@ TABLE = (
         holds=frozenset({"poses", "times"}), binary=False, representation="quat_trans",
         batch="files", writer=f"{_TEXT}:write_tum", batch_writer=f"{_TEXT}:write_batch_files",
         reader=f"{_READ}:read_tum", options=_STAMPED, limits=Limits(distinct_times=True),
-        header="time tx ty tz qx qy qz qw",
+        header="time tx ty tz qx qy qz qw", trajectory="a2b.io.tum",
     ),
     Format(
         name="kitti", suffixes=(".kitti",), layout="12 numbers of [R | t] per line",
         holds=frozenset({"poses"}), binary=False, representation="matrices", batch="files",
         writer=f"{_TEXT}:write_kitti", batch_writer=f"{_TEXT}:write_batch_files",
-        reader=f"{_READ}:read_kitti",
+        reader=f"{_READ}:read_kitti", trajectory="a2b.io.kitti",
+        input_options=frozenset({"rate"}),
     ),
     Format(
         name="euroc", suffixes=(), layout="#timestamp [ns],p_x,p_y,p_z,q_w,q_x,q_y,q_z (read only)",
         holds=frozenset({"poses", "times"}), binary=False, representation=None, batch=None,
         writer=None, batch_writer=None, reader=f"{_READ}:read_trajectory",
+        trajectory="a2b.io.euroc",
     ),
     Format(
         name="mcap", suffixes=(".mcap",),
@@ -166,6 +181,7 @@ TABLE = (
         holds=frozenset({"poses", "times"}), binary=True, representation="quat_trans",
         batch="topics", **_MCAP, reader="a2b.io.mcapposes:read_mcap", options=_FRAMED,
         writer_options={"profile": "foxglove", "count": None}, limits=MCAP_LIMITS,
+        trajectory="a2b.io.mcapposes", input_options=frozenset({"topic", "child_frame"}),
     ),
     Format(
         name="ros2", suffixes=(),
@@ -180,7 +196,7 @@ TABLE = (
 BY_NAME = {row.name: row for row in TABLE}
 #: The formats a2b writes (``--format``) and reads as trajectories (``--input-format``).
 OUTPUT_NAMES = tuple(row.name for row in TABLE if row.writer is not None)
-INPUT_NAMES = tuple(row.name for row in TABLE if row.reader is not None)
+INPUT_NAMES = tuple(row.name for row in TABLE if row.trajectory is not None)
 #: Suffix → format, for guesses from a file name (``.csv`` names the default anyway: left out).
 SUFFIXES = {s: row.name for row in TABLE for s in row.suffixes if s != ".csv"}
 

@@ -16,7 +16,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from a2b.errors import InputFileError
-from a2b.io.trajectories import TEXT_READERS, read_trajectory
+from a2b.formats import BY_NAME, INPUT_NAMES
+from a2b.io.trajectories import read_trajectory
 
 EXAMPLES = max(200, int(os.environ.get("A2B_FUZZ_EXAMPLES", "10000")) // 20)
 
@@ -67,8 +68,12 @@ def mutated(draw):
     if draw(st.booleans()):
         at = draw(st.integers(0, len(data)))
         data = data[:at] + bytes([draw(st.integers(0, 255))]) + data[at:]
-    given_fmt = draw(st.sampled_from([None, fmt, *TEXT_READERS]))
+    given_fmt = draw(st.sampled_from([None, fmt, *TEXT_FORMATS]))
     return fmt, data, given_fmt
+
+
+#: The trajectory formats that are text (MCAP is fuzzed in tests/test_hardening_mcap.py).
+TEXT_FORMATS = [name for name in INPUT_NAMES if not BY_NAME[name].binary]
 
 
 @settings(

@@ -21,6 +21,7 @@ from typing import IO
 import numpy as np
 
 from ..errors import A2bError, InputFileError, printable
+from ..formats import BY_NAME, TABLE
 from .textrows import NUMBER, TextLayout, header_line, named_layout, role
 from .trajectory import Trajectory, from_matrices, from_quaternions
 
@@ -34,16 +35,16 @@ __all__ = [
     "trajectory",
 ]
 
-#: The rows hold times.
-TIMES = True
-CSV_HEADER = "t,tx,ty,tz,qw,qx,qy,qz"
-MATRIX_HEADER = "t,r11,r12,r13,tx,r21,r22,r23,ty,r31,r32,r33,tz"
-STUDY_HEADER = "t,p0,p1,p2,p3,q0,q1,q2,q3"
-#: The columns of each layout, in the order its reader takes them.
+#: The headers of the three layouts this module reads, from the table of formats.
+CSV_HEADER = BY_NAME["csv"].header
+MATRIX_HEADER = BY_NAME["matrix"].header
+STUDY_HEADER = BY_NAME["study"].header
+#: The columns of each layout, in the order its reader takes them; the widest first, as
+#: :func:`fmt_from_header` tries them (a csv header's columns are also a matrix header's).
 COLUMNS = {
-    "csv": tuple(CSV_HEADER.split(",")),
-    "matrix": tuple(MATRIX_HEADER.split(",")),
-    "study": tuple(STUDY_HEADER.split(",")),
+    row.name: tuple(row.header.split(","))
+    for row in sorted(TABLE, key=lambda row: -len(row.header or ""))
+    if row.trajectory == __name__
 }
 
 
@@ -52,8 +53,8 @@ def fmt_from_header(head: str) -> str | None:
     if "," not in head:
         return None
     roles = {role(column.strip()) for column in head.split(",")}
-    for fmt in ("matrix", "study", "csv"):  # the csv columns are those of a matrix's too
-        if roles.issuperset(COLUMNS[fmt]):
+    for fmt, columns in COLUMNS.items():
+        if roles.issuperset(columns):
             return fmt
     return None
 

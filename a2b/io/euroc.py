@@ -14,9 +14,6 @@ from .trajectory import Trajectory, from_quaternions
 
 __all__ = ["POSE_COLUMNS", "layout", "trajectory"]
 
-#: The rows hold times.
-TIMES = True
-
 #: The columns of a quaternion pose, in the order its reader takes them.
 POSE_COLUMNS = ("t", "tx", "ty", "tz", "qw", "qx", "qy", "qz")
 

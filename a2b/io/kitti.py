@@ -12,9 +12,6 @@ from .trajectory import Trajectory, from_matrices
 
 __all__ = ["layout", "trajectory"]
 
-#: The rows hold no times.
-TIMES = False
-
 _LAYOUT = TextLayout(None, 0, 12, tuple(range(12)), fmt="kitti")
 
 

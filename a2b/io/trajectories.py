@@ -31,6 +31,7 @@ normalised here; the matrices of a quaternion file are built from the normalised
 
 from __future__ import annotations
 
+import importlib
 import os
 from collections.abc import Iterator
 from typing import IO
@@ -38,7 +39,7 @@ from typing import IO
 import numpy as np
 
 from ..errors import InputFileError, printable
-from . import csvtable, euroc, kitti, tum
+from ..formats import BY_NAME, INPUT_NAMES, SUFFIXES, TABLE
 from .csvtable import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER, fmt_from_header
 from .documents import stream_name
 from .mcapposes import mcap_poses
@@ -71,25 +72,18 @@ __all__ = [
     "trajectory_pieces",
 ]
 
-#: The readers of the text formats: modules with ``layout(data, name, fmt)``,
-#: ``trajectory(rows, lines, name, fmt, rate, orthonormalize, row)`` and ``TIMES`` (whether
-#: the rows hold times). MCAP is read by :func:`a2b.io.mcapposes.mcap_poses`.
-TEXT_READERS = {
-    "tum": tum,
-    "kitti": kitti,
-    "euroc": euroc,
-    "csv": csvtable,
-    "matrix": csvtable,
-    "study": csvtable,
-}
-TRAJECTORY_FORMATS = (*TEXT_READERS, "mcap")
-_SUFFIXES = {".tum": "tum", ".kitti": "kitti", ".mcap": "mcap"}
-#: The options of :func:`read_trajectory` that apply to some formats only: keyword ->
-#: (the command line's option, the formats it applies to, what it is for).
+#: The trajectory formats and their readers come from the table of formats
+#: (:attr:`a2b.formats.Format.trajectory`): a text format's module has ``layout(data, name,
+#: fmt)`` and ``trajectory(rows, lines, name, fmt, rate, orthonormalize, row)``; MCAP is read
+#: by :func:`a2b.io.mcapposes.mcap_poses`.
+TRAJECTORY_FORMATS = INPUT_NAMES
+#: The options of :func:`read_trajectory` that some formats take
+#: (:attr:`a2b.formats.Format.input_options`): keyword -> (the command line's option, what
+#: it is for).
 INPUT_OPTIONS = {
-    "rate": ("--input-rate", ("kitti",), "the times of poses that have none"),
-    "topic": ("--topic", ("mcap",), "the topic of an MCAP file"),
-    "child_frame": ("--input-child-frame", ("mcap",), "the frame of an MCAP /tf topic"),
+    "rate": ("--input-rate", "the times of poses that have none"),
+    "topic": ("--topic", "the topic of an MCAP file"),
+    "child_frame": ("--input-child-frame", "the frame of an MCAP /tf topic"),
 }
 #: Bytes read to tell the format before the rest.
 HEAD_BYTES = 1 << 16
@@ -134,11 +128,12 @@ def read_trajectory(
 def check_input_options(name: str, fmt: str, **given) -> None:
     """Refuse an option of :data:`INPUT_OPTIONS` given for a format it does not apply to."""
     for key, value in given.items():
-        option, formats, purpose = INPUT_OPTIONS[key]
-        if value is not None and fmt not in formats:
+        option, purpose = INPUT_OPTIONS[key]
+        if value is not None and key not in BY_NAME[fmt].input_options:
+            takes = [row.name for row in TABLE if key in row.input_options]
             raise InputFileError(
                 f"{name}: {option} does not apply to {fmt} input; it gives {purpose} "
-                f"({', '.join(formats)} only)"
+                f"({', '.join(takes)} only)"
             )
 
 
@@ -158,7 +153,7 @@ def opened(stream: IO, name: str | None = None, fmt: str | None = None) -> tuple
             f"{name}: unknown trajectory format '{printable(str(fmt)[:40])}' (expected one of "
             f"{', '.join(TRAJECTORY_FORMATS)})"
         )
-    if fmt != "mcap":
+    if not BY_NAME[fmt].binary:
         return name, read_text_bytes(stream, name, head), fmt
     if not head.startswith(MAGIC):
         raise InputFileError(f"{name}: not an MCAP file (no MCAP magic at its start)")
@@ -202,14 +197,14 @@ def trajectory_pieces(
     computes the first segments while the file is parsed.
     """
     check_input_options(name, fmt, rate=rate, topic=topic, child_frame=child_frame)
-    if fmt == "mcap":
+    if BY_NAME[fmt].binary:
         times, quat, trans = mcap_poses(data, name, topic, child_frame)
         piece = from_quaternions(times, quat, trans, name, fmt, None)
         check_times(piece.times, name, None)
         yield piece
         return
     data = check_text(data, name)
-    reader = TEXT_READERS[fmt]
+    reader = importlib.import_module(BY_NAME[fmt].trajectory)
     layout = reader.layout(data, name, fmt)
     start, line, row, previous = 0, 0, 0, None
     while start < len(data):
@@ -218,7 +213,7 @@ def trajectory_pieces(
         text = data[start:stop]
         rows, lines = read_rows(text, name, layout, line, skip=start == 0)
         piece = reader.trajectory(rows, lines, name, fmt, rate, orthonormalize, row)
-        written = written_times(lines, layout) if reader.TIMES else None
+        written = written_times(lines, layout) if "times" in BY_NAME[fmt].holds else None
         check_times(piece.times, name, lines, previous, written)
         if len(piece):
             yield piece
@@ -234,8 +229,8 @@ def sniff_format(data: bytes, name: str) -> str:
     InputFileError
         If neither tells (the file is no trajectory).
     """
-    by_suffix = _SUFFIXES.get(os.path.splitext(name)[1].lower())
-    if by_suffix:
+    by_suffix = SUFFIXES.get(os.path.splitext(name)[1].lower())
+    if by_suffix in INPUT_NAMES:
         return by_suffix
     if data.startswith(MAGIC):
         return "mcap"

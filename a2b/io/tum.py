@@ -11,9 +11,6 @@ from .trajectory import Trajectory, from_quaternions
 
 __all__ = ["layout", "trajectory"]
 
-#: The rows hold times.
-TIMES = True
-
 #: t, tx, ty, tz, qw, qx, qy, qz: the fields of a line in the order of a2b's quaternions.
 _LAYOUT = TextLayout(None, 0, 8, (0, 1, 2, 3, 7, 4, 5, 6), fmt="tum")
 
