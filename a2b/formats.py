@@ -202,20 +202,25 @@ SUFFIXES = {s: row.name for row in TABLE for s in row.suffixes if s != ".csv"}
 
 
 def from_suffix(path, batch: bool = False) -> tuple[str, str] | None:
-    """``(format, suffix)`` that the suffix of ``path`` names, else ``None``.
+    """``(format, suffix)`` of the output format that the suffix of ``path`` names, else
+    ``None`` (a format a2b only reads names none).
 
     With ``batch``, only formats that a batch writes into one file (not a file per job).
     """
     suffix = os.path.splitext(os.fspath(path))[1].lower()
     name = SUFFIXES.get(suffix)
-    if name is None or (batch and BY_NAME[name].batch == "files"):
+    if name is None or BY_NAME[name].writer is None or (batch and BY_NAME[name].batch == "files"):
         return None
     return name, suffix
 
 
 def suffix_names(batch: bool = False) -> list[str]:
     """The suffixes that choose an output format (``.tum``), for help texts."""
-    return [s for s, n in SUFFIXES.items() if not (batch and BY_NAME[n].batch == "files")]
+    return [
+        s
+        for s, n in SUFFIXES.items()
+        if BY_NAME[n].writer is not None and not (batch and BY_NAME[n].batch == "files")
+    ]
 
 
 def resolve(reference: str):
