@@ -26,9 +26,17 @@ import numpy as np
 from ..errors import InputFileError, listing
 from .documents import stream_name
 from .mcapreader import McapFile
-from .ros2 import POSE_TYPES, decode_poses
+from .ros2 import POSE_TYPES, decode_poses, decode_transforms
+from .tftree import TransformRecords, compose
 
-__all__ = ["DECODERS", "JSON_SCHEMAS", "json_poses", "mcap_poses", "read_mcap"]
+__all__ = [
+    "DECODERS",
+    "JSON_SCHEMAS",
+    "json_poses",
+    "mcap_poses",
+    "mcap_tf_poses",
+    "read_mcap",
+]
 
 #: The Foxglove schemas of JSON messages a2b reads poses from.
 JSON_SCHEMAS = ("foxglove.PoseInFrame", "foxglove.FrameTransform")
@@ -174,6 +182,54 @@ def mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | Non
     if not (np.isfinite(quat).all() and np.isfinite(trans).all()):
         raise InputFileError(f"{where}: a pose is not finite")
     return times, quat, trans
+
+
+#: The topic of latched transforms (ROS 2's ``tf2_ros`` static broadcaster).
+TF_STATIC = "/tf_static"
+
+
+def mcap_tf_poses(
+    data: bytes,
+    name: str,
+    topic: str | None,
+    parent: str,
+    child: str,
+    mode: str = "screw",
+    **parameters,
+):
+    """``(times, quat_wxyz, translations, statement)``: the poses of the frame ``child`` in
+    ``parent``, composed through the TF tree of the MCAP file ``data``
+    (:func:`a2b.io.tftree.compose`, which says the chain in ``statement``).
+
+    The transforms are those of every ``TFMessage`` topic (``topic``: that one and
+    :data:`TF_STATIC`); the ones on :data:`TF_STATIC` are static. ``mode`` and ``parameters``
+    interpolate each dynamic link between its stamps.
+    """
+    mcap = McapFile(data, name)
+    channels = [
+        channel for channel in mcap.channels.values()
+        if channel.topic in (topic, TF_STATIC) or (topic is None and channel.schema_name == _TF)
+    ]  # fmt: skip
+    if topic is not None:
+        _topic(list(mcap.channels.values()), name, topic, child)
+    where = f"{name}: {listing(sorted({channel.topic for channel in channels}), width=80)}"
+    wrong = sorted({_kind(channel) for channel in channels} - {_TF})
+    if wrong or not channels:
+        raise InputFileError(
+            f"{where}: --input-frame composes {_TF} transforms, "
+            + (f"not {listing(wrong)}" if wrong else "and the file has none")
+        )
+    found = mcap.messages([channel.id for channel in channels])
+    parts = []
+    for channel in channels:
+        here = f"{name}: {listing([channel.topic], width=80)}"
+        *frames, times, quat, trans, _ = decode_transforms(found[channel.id], here)
+        static = np.full(len(times), channel.topic == TF_STATIC)
+        parts.append(TransformRecords(*frames, times, quat, trans, static))
+    records = TransformRecords.joined(parts)
+    if not (np.isfinite(records.quat_wxyz).all() and np.isfinite(records.translations).all()):
+        raise InputFileError(f"{where}: a transform is not finite")
+    return compose(records, parent, child, where, mode, **parameters)
 
 
 def _topic(channels: list, name: str, topic: str | None, child_frame: str | None) -> str:
