@@ -24,7 +24,7 @@ import struct
 
 import numpy as np
 
-from ..errors import InputFileError, ParameterError, listing
+from ..errors import InputFileError, ParameterError, listing, printable, quoted
 from .mcapreader import Messages, cut
 
 __all__ = [
@@ -32,6 +32,7 @@ __all__ = [
     "Cdr",
     "check_frame_id",
     "check_topic",
+    "child_index",
     "decode_poses",
     "decode_transforms",
     "qos_profiles",
@@ -395,7 +396,8 @@ _FEW_TRANSFORMS = 8
 def _transforms(messages: _Messages, rows, where: str, child_frame: str | None):
     """The stamps and numbers of the transforms to ``child_frame`` in TFMessages, in order."""
     sec, nanosec, numbers, message, _parents, (codes, names) = _tf_entries(messages, rows, where)
-    mine = codes == _child_code(names, child_frame, where)
+    mine = codes == child_index([name.decode(errors="replace") for name in names], child_frame,
+                                where)  # fmt: skip
     if not mine.all():
         sec, nanosec, numbers, message = (a[mine] for a in (sec, nanosec, numbers, message))
     return sec, nanosec, numbers, message
@@ -452,22 +454,23 @@ def decode_transforms(datas, where: str):
     return (*frames, times, numbers[:, [6, 3, 4, 5]], numbers[:, :3].copy(), message)
 
 
-def _child_code(names: list, child_frame: str | None, where: str) -> int:
-    """The index in ``names`` of ``child_frame``, or of the one child frame there is."""
-    children = sorted(name.decode(errors="replace") for name in names)
+def child_index(names: list, child_frame: str | None, where: str) -> int:
+    """The index in ``names`` (the child frames, str) of ``child_frame``, or of the one child
+    frame there is; else a one-line error that lists them."""
+    children = sorted(names)
     if child_frame is None:
         if len(children) != 1:
             raise InputFileError(
-                f"{where}: transforms to {len(children)} child frames ({listing(children)}); "
-                "choose one with --input-child-frame"
+                f"{where}: transforms to {len(children)} child frames "
+                f"({listing(map(printable, children))}); choose one with --input-child-frame"
             )
         child_frame = children[0]
-    if child_frame.encode() not in names:
+    if child_frame not in names:
         raise InputFileError(
-            f"{where}: no transform to the child frame {listing([repr(child_frame)])}; the frames "
-            f"are {listing(children) or 'none'}"
+            f"{where}: no transform to the child frame {quoted(child_frame)}; the frames "
+            f"are {listing(map(printable, children)) or 'none'}"
         )
-    return names.index(child_frame.encode())
+    return names.index(child_frame)
 
 
 def _entry_ends(messages: _Messages, rows, at, strings: int):
