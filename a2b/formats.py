@@ -193,6 +193,14 @@ TABLE = (
         writer_options={"profile": "ros2", "count": None},
         limits=Limits(2**32, 2**63 - 1, True, "a2b.io.ros2:split_stamps"), read_as="mcap",
     ),
+    Format(
+        name="protobuf", suffixes=(),
+        layout="MCAP of Protobuf foxglove.PoseInFrame on /a2b/pose, FrameTransform on /tf",
+        holds=frozenset({"poses", "times"}), binary=True, representation="quat_trans",
+        batch="topics", **_MCAP, reader=None, options=_FRAMED,
+        writer_options={"profile": "protobuf", "count": None}, limits=MCAP_LIMITS,
+        read_as="mcap",
+    ),
 )  # fmt: skip
 
 BY_NAME = {row.name: row for row in TABLE}

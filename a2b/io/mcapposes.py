@@ -9,6 +9,7 @@ cdr       ROS 2 ``geometry_msgs/msg/PoseStamped``,        :func:`a2b.io.ros2.dec
 json      ``foxglove.PoseInFrame``, ``PosesInFrame``,     :func:`json_entries`
           ``FrameTransform``, ``FrameTransforms``, or
           none
+protobuf  the same four Foxglove schemas                  :func:`a2b.io.protobuf.protobuf_entries`
 ========  ==============================================  ==================================
 
 ``--input-child-frame`` picks the transforms to one frame of a channel of transforms
@@ -31,6 +32,7 @@ import numpy as np
 from ..errors import InputFileError, listing
 from .documents import stream_name
 from .mcapreader import McapFile
+from .protobuf import PROTOBUF_SCHEMAS
 from .ros2 import POSE_TYPES, child_index, decode_poses, decode_transforms
 from .tftree import TransformRecords, compose
 
@@ -152,11 +154,22 @@ def _json_pose(msg: dict) -> tuple:
     )
 
 
-def _json_channel(schema: str, messages, where: str, child_frame):
-    """The poses of JSON messages: one per message; a FrameTransform(s) channel's transforms
-    to ``child_frame`` (which may be left out when there is one child frame); a PosesInFrame
-    channel's poses of its last message, at the times 0, 1, 2, … (they share one stamp)."""
-    numbers, _parents, children, message = json_entries(messages.as_bytes(), where, schema)
+def _foxglove_entries(channel, messages, where: str):
+    """:func:`json_entries` of a JSON channel's messages, or their Protobuf equivalent."""
+    if channel.message_encoding == "protobuf":
+        from .protobuf import protobuf_entries
+
+        return protobuf_entries(messages.as_bytes(), where, channel.schema_name)
+    return json_entries(messages.as_bytes(), where, channel.schema_name)
+
+
+def _foxglove_channel(channel, messages, where: str, child_frame):
+    """The poses of Foxglove messages (JSON or Protobuf): one per message; a FrameTransform(s)
+    channel's transforms to ``child_frame`` (which may be left out when there is one child
+    frame); a PosesInFrame channel's poses of its last message, at the times 0, 1, 2, … (they
+    share one stamp)."""
+    schema = channel.schema_name
+    numbers, _parents, children, message = _foxglove_entries(channel, messages, where)
     if schema == "foxglove.PosesInFrame":
         last = message == message[-1] if len(message) else message == 0
         numbers, message = numbers[last], message[last]
@@ -168,12 +181,17 @@ def _json_channel(schema: str, messages, where: str, child_frame):
     return numbers[:, 0], numbers[:, 4:], numbers[:, 1:4], message
 
 
+def _cdr_channel(channel, messages, where: str, child_frame):
+    return decode_poses(channel.schema_name, messages, where, child_frame)
+
+
 #: For each message encoding: the schemas a2b reads poses from (``""``: none), and the decoder
-#: of their messages, ``(schema name, Messages, where, child frame)`` → ``(times, quat_wxyz,
+#: of their messages, ``(Channel, Messages, where, child frame)`` → ``(times, quat_wxyz,
 #: translations, the message of each pose)``.
 DECODERS = {
-    "cdr": (POSE_TYPES, decode_poses),
-    "json": (JSON_SCHEMAS + ("",), _json_channel),
+    "cdr": (POSE_TYPES, _cdr_channel),
+    "json": (JSON_SCHEMAS + ("",), _foxglove_channel),
+    "protobuf": (PROTOBUF_SCHEMAS, _foxglove_channel),
 }
 
 
@@ -228,7 +246,7 @@ def mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | Non
         here = where if len(mine) == 1 else f"{where} (channel {channel.id})"
         messages = found[channel.id]
         decode = _decoder(channel)
-        times, quat, trans, message = decode(channel.schema_name, messages, here, child_frame)
+        times, quat, trans, message = decode(channel, messages, here, child_frame)
         parts.append((times, quat, trans, messages.log_time[message]))
     if len(parts) == 1:
         times, quat, trans, _ = parts[0]
@@ -283,8 +301,7 @@ def mcap_tf_poses(
         if channel.schema_name == _TF:
             *frames, times, quat, trans, _ = decode_transforms(found[channel.id], here)
         else:
-            numbers, *frames, _ = json_entries(found[channel.id].as_bytes(), here,
-                                               channel.schema_name)  # fmt: skip
+            numbers, *frames, _ = _foxglove_entries(channel, found[channel.id], here)
             frames = [np.array(names, object) for names in frames]
             times, quat, trans = numbers[:, 0], numbers[:, 4:], numbers[:, 1:4]
         static = np.full(len(times), channel.topic == TF_STATIC)
