@@ -4,6 +4,8 @@ back exactly. Needs the extra a2b-motions[protobuf]."""
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -103,3 +105,19 @@ def test_files_of_foxglove_sdk_are_read_exactly(tmp_path, rng):
         assert tr.times.tolist() == [k + 5e-9 for k in range(4)], topic
         assert tr.quat_wxyz.tolist() == quat.tolist(), topic
         assert tr.trans.tolist() == trans.tolist(), topic
+
+
+def test_without_the_extra_protobuf_is_one_line_that_names_it(tmp_path, rng, monkeypatch):
+    quat, trans = _poses(rng, 2)
+    tum = _tum(tmp_path / "in.tum", np.arange(2.0), quat, trans)
+    out = tmp_path / "out.mcap"
+    args = ["resample", str(tum), "--rate", "1", "-o", str(out), "--profile", "protobuf"]
+    assert CliRunner().invoke(cli, args).exit_code == 0
+    monkeypatch.setitem(sys.modules, "foxglove_schemas_protobuf.PoseInFrame_pb2", None)
+    for args in (args, ["resample", str(out), "--rate", "1"]):
+        result = CliRunner().invoke(cli, args)
+        assert result.exit_code == 1
+        assert result.output == (
+            "Error: Foxglove's Protobuf messages need protobuf and foxglove-schemas-protobuf: "
+            "pip install 'a2b-motions[protobuf]'\n"
+        )
