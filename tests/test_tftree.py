@@ -1,11 +1,13 @@
 """TF as a tree: a frame's pose composed through /tf and /tf_static (a2b.io.tftree).
 
-The files are written by mcap-ros2-support's Writer (its own CDR encoder) with the ROS 2
-definitions a2b writes; the expected poses are products of the transforms written, and the
-interpolated ones a screw about z, whose ScLERP is linear in angle and height.
+The files are written by the `mcap` package, with TFMessages in CDR made here by struct; the
+expected poses are products of the transforms written, and the interpolated ones a screw about
+z, whose ScLERP is linear in angle and height.
 """
 
 from __future__ import annotations
+
+import struct
 
 import numpy as np
 import pytest
@@ -18,7 +20,7 @@ from a2b.io.tftree import TransformRecords, compose
 from a2b.io.trajectories import read_trajectory
 from a2b.poses import matrices_from_quat_trans
 
-mcap_ros2_writer = pytest.importorskip("mcap_ros2.writer")
+mcap_writer = pytest.importorskip("mcap.writer")
 
 TF = "tf2_msgs/msg/TFMessage"
 
@@ -36,24 +38,41 @@ def _about_z(angle, height):
 
 
 def _transform(t, parent, child, quat, trans):
+    """A TransformStamped: ``(sec, nanosec, parent, child, x y z qx qy qz qw)``."""
     sec, nanosec = divmod(round(t * 1e9), 10**9)
-    return {
-        "header": {"stamp": {"sec": sec, "nanosec": nanosec}, "frame_id": parent},
-        "child_frame_id": child,
-        "transform": {
-            "translation": dict(zip("xyz", map(float, trans))),
-            "rotation": dict(zip("wxyz", map(float, quat))),
-        },
-    }
+    return sec, nanosec, parent, child, [*map(float, trans), *map(float, quat[1:]), float(quat[0])]
+
+
+def _tf_message(transforms) -> bytes:
+    """CDR of a ``tf2_msgs/msg/TFMessage`` (little endian), each field aligned to its size
+    from the end of the 4-byte encapsulation header."""
+    body = bytearray(struct.pack("<I", len(transforms)))
+
+    def align(size):
+        body.extend(b"\0" * (-len(body) % size))
+
+    for sec, nanosec, parent, child, numbers in transforms:
+        align(4)
+        body += struct.pack("<iI", sec, nanosec)
+        for name in (parent, child):
+            align(4)
+            body += struct.pack("<I", len(name) + 1) + name.encode() + b"\0"
+        align(8)
+        body += struct.pack("<7d", *numbers)
+    return b"\0\x01\0\0" + bytes(body)
 
 
 def _write(path, messages):
-    """``messages``: (topic, [transform, …]) in log order."""
+    """``messages``: (topic, [transform, …]) in log order, written by the `mcap` package."""
     with open(path, "wb") as f:
-        writer = mcap_ros2_writer.Writer(f)
-        schema = writer.register_msgdef(TF, ros2.schema_text("tf2_msgs/TFMessage").decode())
+        writer = mcap_writer.Writer(f)
+        writer.start(profile="ros2")
+        schema = writer.register_schema(TF, "ros2msg", ros2.schema_text("tf2_msgs/TFMessage"))
+        channels = {}
         for i, (topic, transforms) in enumerate(messages):
-            writer.write_message(topic, schema, {"transforms": transforms}, log_time=i)
+            if topic not in channels:
+                channels[topic] = writer.register_channel(topic, "cdr", schema)
+            writer.add_message(channels[topic], i, _tf_message(transforms), i)
         writer.finish()
 
 
