@@ -1,10 +1,15 @@
 """Foxglove's messages as Protobuf (`--profile protobuf`): a2b's output read by the `mcap`
-package's Protobuf decoding (mcap-protobuf-support), and files written by foxglove-sdk read
-back exactly. Needs the extra a2b-motions[protobuf]."""
+package's Protobuf decoding, imported by rerun as transforms (read back from its .rrd), and
+files written by foxglove-sdk read back exactly. Needs the extra a2b-motions[protobuf]."""
 
 from __future__ import annotations
 
+import json
+import shutil
+import subprocess
 import sys
+import venv
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,6 +17,7 @@ from click.testing import CliRunner
 
 from a2b.cli import cli
 from a2b.io.trajectories import read_trajectory
+from tests.conftest import TOOLS
 
 pytest.importorskip("foxglove_schemas_protobuf")
 
@@ -145,3 +151,60 @@ def test_without_the_extra_protobuf_is_one_line_that_names_it(tmp_path, rng, mon
             "Error: Foxglove's Protobuf messages need protobuf and foxglove-schemas-protobuf: "
             "pip install 'a2b-motions[protobuf]'\n"
         )
+
+
+#: rerun-sdk, in a venv of its own (its pyarrow and numpy pins are its own).
+RERUN = "rerun-sdk==0.41.0"
+_TRANSFORMS = """
+import json, sys
+from rerun.chunk import RrdReader
+found = {}
+for chunk in RrdReader(sys.argv[1]).stream():
+    batch = chunk.to_record_batch()
+    for name in batch.schema.names:
+        if name.startswith("Transform3D:"):
+            found.setdefault(chunk.entity_path, {})[name] = batch.column(name).to_pylist()
+print(json.dumps(found))
+"""
+
+
+@pytest.fixture(scope="session")
+def rerun_bin() -> Path:
+    """The ``bin`` directory of a venv with :data:`RERUN`, installed once from the package
+    index; the test is skipped, with the reason, when it cannot be installed."""
+    home = TOOLS / "rerun"
+    python = home / "bin" / "python"
+    check = [str(python), "-c", "import rerun.chunk"]
+    if python.exists() and subprocess.run(check, capture_output=True).returncode == 0:
+        return home / "bin"
+    try:
+        if not python.exists():
+            venv.create(home, with_pip=True)
+        subprocess.run([str(home / "bin" / "pip"), "install", "-q", RERUN], check=True,
+                       capture_output=True, timeout=900)  # fmt: skip
+    except (subprocess.SubprocessError, OSError) as e:
+        shutil.rmtree(home, ignore_errors=True)
+        pytest.skip(f"{RERUN} could not be installed from the package index: {e}")
+    return home / "bin"
+
+
+@pytest.mark.clients
+def test_rerun_imports_protobuf_output_as_transforms(tmp_path, rng, rerun_bin):
+    """rerun decodes Foxglove's schemas only when Protobuf-encoded: the .rrd it converts holds
+    Transform3D rows (float32) of a2b's transforms."""
+    quat, trans = _poses(rng, 3)
+    tum = _tum(tmp_path / "in.tum", np.arange(3.0), quat, trans)
+    out, rrd = tmp_path / "out.mcap", tmp_path / "out.rrd"
+    args = ["resample", str(tum), "--rate", "1", "-o", str(out), "--profile", "protobuf",
+            "--frame-id", "map", "--child-frame-id", "robot"]  # fmt: skip
+    assert CliRunner().invoke(cli, args).exit_code == 0
+    subprocess.run([str(rerun_bin / "rerun"), "mcap", "convert", str(out), "-o", str(rrd)],
+                   check=True, capture_output=True, timeout=300)  # fmt: skip
+    found = subprocess.run([str(rerun_bin / "python"), "-c", _TRANSFORMS, str(rrd)], check=True,
+                           capture_output=True, text=True, timeout=300).stdout  # fmt: skip
+    tf = json.loads(found)["/tf"]
+    assert tf["Transform3D:parent_frame"] == [["map"]] * 3
+    assert tf["Transform3D:child_frame"] == [["robot"]] * 3
+    xyzw = quat[:, [1, 2, 3, 0]].astype(np.float32)
+    assert tf["Transform3D:quaternion"] == [[q] for q in xyzw.tolist()]
+    assert tf["Transform3D:translation"] == [[p] for p in trans.astype(np.float32).tolist()]
