@@ -520,8 +520,9 @@ def trajectory_input_options(rate: bool = True):
         click.option(
             "--input-child-frame",
             metavar="FRAME",
-            help="mcap input, a ROS 2 tf2_msgs/TFMessage topic: the poses are its transforms "
-            "to FRAME  [default: its only child frame]",
+            help="mcap input, a topic of transforms (ROS 2 TFMessage, Foxglove FrameTransform "
+            "or FrameTransforms): the poses are its transforms to FRAME  [default: its only "
+            "child frame]",
         ),
         click.option(
             "--input-frame",
