@@ -92,7 +92,8 @@ class Format:
         (:mod:`a2b.io.textrows`); for a binary one :func:`a2b.io.mcapposes.mcap_poses`'s.
     input_options
         The options of :func:`a2b.io.trajectories.read_trajectory` the format takes (others
-        are refused): ``rate`` (times for poses that have none), ``topic``, ``child_frame``.
+        are refused): ``rate`` (times for poses that have none), ``topic``, ``child_frame``,
+        ``input_frame``.
     """
 
     name: str
@@ -181,7 +182,8 @@ TABLE = (
         holds=frozenset({"poses", "times"}), binary=True, representation="quat_trans",
         batch="topics", **_MCAP, reader="a2b.io.mcapposes:read_mcap", options=_FRAMED,
         writer_options={"profile": "foxglove", "count": None}, limits=MCAP_LIMITS,
-        trajectory="a2b.io.mcapposes", input_options=frozenset({"topic", "child_frame"}),
+        trajectory="a2b.io.mcapposes",
+        input_options=frozenset({"topic", "child_frame", "input_frame"}),
     ),
     Format(
         name="ros2", suffixes=(),
@@ -190,6 +192,14 @@ TABLE = (
         representation="quat_trans", batch="topics", **_MCAP, reader=None, options=_FRAMED,
         writer_options={"profile": "ros2", "count": None},
         limits=Limits(2**32, 2**63 - 1, True, "a2b.io.ros2:split_stamps"), read_as="mcap",
+    ),
+    Format(
+        name="protobuf", suffixes=(),
+        layout="MCAP of Protobuf foxglove.PoseInFrame on /a2b/pose, FrameTransform on /tf",
+        holds=frozenset({"poses", "times"}), binary=True, representation="quat_trans",
+        batch="topics", **_MCAP, reader=None, options=_FRAMED,
+        writer_options={"profile": "protobuf", "count": None}, limits=MCAP_LIMITS,
+        read_as="mcap",
     ),
 )  # fmt: skip
 

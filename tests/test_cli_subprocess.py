@@ -206,7 +206,7 @@ def test_shell_completion_of_commands_and_formats():
     env.update(COMP_WORDS="a2b interpolate x --format ", COMP_CWORD="4")
     result = subprocess.run(A2B, capture_output=True, text=True, env=env, timeout=60, check=False)
     assert result.stdout.split() == [
-        f"plain,{f}" for f in ("csv", "matrix", "study", "tum", "kitti", "mcap", "ros2")
+        f"plain,{f}" for f in ("csv", "matrix", "study", "tum", "kitti", "mcap", "ros2", "protobuf")
     ]
 
 

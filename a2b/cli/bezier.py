@@ -35,6 +35,7 @@ def command(
     input_format,
     topic,
     input_child_frame,
+    input_frame,
     orthonormalize,
     **parameters,
 ):
@@ -68,7 +69,14 @@ def command(
     out.update(options.pop_time_law(parameters))
     choices: list[str] = []
     curve = options.read_pose_list_option(
-        poses, "controls", input_format, topic, input_child_frame, orthonormalize, choices
+        poses,
+        "controls",
+        input_format,
+        topic,
+        input_child_frame,
+        orthonormalize,
+        choices,
+        input_frame,
     )
     parameters["alphas"] = parameters["alphas"] or None
     motion = options.curve_motion(curve, space, choices, parameters)

@@ -506,8 +506,8 @@ def check_finite(data, what: str) -> None:
 
 
 def trajectory_input_options(rate: bool = True):
-    """``--input-format``, ``--topic``, ``--input-child-frame``, ``--orthonormalize`` and (with
-    ``rate``) ``--input-rate`` for a trajectory file
+    """``--input-format``, ``--topic``, ``--input-child-frame``, ``--input-frame``,
+    ``--orthonormalize`` and (with ``rate``) ``--input-rate`` for a trajectory file
     (:func:`a2b.io.trajectories.read_trajectory`)."""
     options = [
         click.option(
@@ -520,8 +520,15 @@ def trajectory_input_options(rate: bool = True):
         click.option(
             "--input-child-frame",
             metavar="FRAME",
-            help="mcap input, a ROS 2 tf2_msgs/TFMessage topic: the poses are its transforms "
-            "to FRAME  [default: its only child frame]",
+            help="mcap input, a topic of transforms (ROS 2 TFMessage, Foxglove FrameTransform "
+            "or FrameTransforms): the poses are its transforms to FRAME  [default: its only "
+            "child frame]",
+        ),
+        click.option(
+            "--input-frame",
+            metavar="FRAME",
+            help="mcap input: the poses of --input-child-frame in FRAME, composed through "
+            "/tf and /tf_static; -v states the chain.",
         ),
         orthonormalize_option,
     ]
@@ -577,7 +584,14 @@ def repaired(count: int, residual: float, what: str) -> str:
 
 
 def read_pose_list_option(
-    stream, key: str, fmt, topic, child_frame, orthonormalize: bool, choices: list
+    stream,
+    key: str,
+    fmt,
+    topic,
+    child_frame,
+    orthonormalize: bool,
+    choices: list,
+    input_frame: str | None = None,
 ):
     """The poses of a pose-list file (``controls`` or ``poses``), or of a trajectory file: one
     given ``--input-format``, with a trajectory suffix, or whose content is a trajectory's."""
@@ -598,8 +612,10 @@ def read_pose_list_option(
         else:
             choices.append(f"input format {fmt}: a trajectory file (--input-format to change)")
     if fmt is None:
-        if topic or child_frame:
-            given = "--topic" if topic else "--input-child-frame"
+        if topic or child_frame or input_frame:
+            given = (
+                "--topic" if topic else "--input-frame" if input_frame else "--input-child-frame"
+            )
             raise click.UsageError(f"{given} is for trajectory files")
         with repairing(orthonormalize, choices):
             return read_pose_list(io.BytesIO(data), key, name)
@@ -609,9 +625,11 @@ def read_pose_list_option(
         fmt,
         topic=topic,
         child_frame=child_frame,
+        input_frame=input_frame,
         orthonormalize=orthonormalize,
         minimum=2,
     )
+    choices.extend(path.notes)
     if path.repaired is not None:
         choices.append(repaired(len(path), path.repaired, "rotation block"))
     return PoseList(key, path.matrices)

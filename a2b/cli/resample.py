@@ -62,7 +62,8 @@ from . import CONTEXT_SETTINGS, options, writing
 @writing.format_option
 @writing.frame_options
 @options.verbose_option
-def command(trajectory, input_format, topic, input_child_frame, input_rate, orthonormalize,
+def command(trajectory, input_format, topic, input_child_frame, input_frame, input_rate,
+            orthonormalize,
             rate, reference, times_file, mode, clip, max_gap, mark, output, fmt, profile, frame_id,
             child_frame_id, verbose, **parameters):  # fmt: skip
     """Sample TRAJECTORY (a file, or - for stdin) at new times.
@@ -127,8 +128,12 @@ def command(trajectory, input_format, topic, input_child_frame, input_rate, orth
         # the latest time is known: refused before a byte is written, into a pipe too
         check_times(fmt, 0.0, max(float(new_times.times[-1]), 0.0))
     pieces = trajectory_pieces(data, name, in_fmt, rate=input_rate, topic=topic,
-                               child_frame=input_child_frame, orthonormalize=orthonormalize,
+                               child_frame=input_child_frame, input_frame=input_frame, mode=mode,
+                               orthonormalize=orthonormalize,
                                **({"size": len(data) + 1} if mode == "spline" else {}))  # fmt: skip
+    if input_frame is not None:  # one piece: its TF chain stated with the other choices
+        pieces = list(pieces)
+        choices.extend(pieces[0].notes)
     run = _Run(name, mode, max_gap, clip, mark, parameters)
     options.state_choices(choices, verbose)
     write_samples(run.samples(pieces, new_times, fmt.representation), output, fmt, **frames)

@@ -18,7 +18,17 @@ from . import CONTEXT_SETTINGS, options, writing
 @writing.trajectory_options
 @options.time_law_options
 def command(
-    poses, space, m, samples, verbose, input_format, topic, input_child_frame, orthonormalize, **out
+    poses,
+    space,
+    m,
+    samples,
+    verbose,
+    input_format,
+    topic,
+    input_child_frame,
+    input_frame,
+    orthonormalize,
+    **out,
 ):
     """Sample the C¹ spline through the key poses in POSES (a file, or - for stdin).
 
@@ -47,7 +57,14 @@ def command(
     """
     choices: list[str] = []
     curve = options.read_pose_list_option(
-        poses, "poses", input_format, topic, input_child_frame, orthonormalize, choices
+        poses,
+        "poses",
+        input_format,
+        topic,
+        input_child_frame,
+        orthonormalize,
+        choices,
+        input_frame,
     )
     motion = options.curve_motion(curve, space, choices, {"m": m})
     writing.sample_and_write(motion, samples, curve.samples, choices, verbose, out)

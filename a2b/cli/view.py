@@ -38,7 +38,8 @@ from .plot import ModeList, points_option, units_options
 @options.trajectory_input_options(rate=True)
 @options.verbose_option
 def command(poses, output, open_, mode, space, compare, points, angle_unit, length_unit,
-            samples, input_format, topic, input_child_frame, input_rate, orthonormalize,
+            samples, input_format, topic, input_child_frame, input_frame, input_rate,
+            orthonormalize,
             verbose, **parameters):  # fmt: skip
     """Write one self-contained HTML page that shows the motion between the poses in POSES
     (a file, or - for stdin) in 3D: the moving frame animated along t (play, pause, a
@@ -95,17 +96,18 @@ def command(poses, output, open_, mode, space, compare, points, angle_unit, leng
         if named:
             raise click.UsageError(f"{named[0]} is for poses files; this is a trajectory")
         path = read_trajectory(io.BytesIO(data), name, fmt, rate=input_rate, topic=topic,
-                               child_frame=input_child_frame, orthonormalize=orthonormalize,
-                               minimum=2)  # fmt: skip
+                               child_frame=input_child_frame, input_frame=input_frame,
+                               orthonormalize=orthonormalize, minimum=2)  # fmt: skip
+        choices.extend(path.notes)
         mats = path.matrices
         samples = len(mats)
         times = None if fmt == "kitti" and input_rate is None else path.times  # else indices
         page = view_page(mats[0], mats[-1], [("trajectory", mats)], samples=samples,
                          times=times, title=f"{name}: {samples} poses", **style)  # fmt: skip
     else:
-        if topic or input_child_frame or input_rate:
-            raise click.UsageError("--topic, --input-child-frame and --input-rate are for "
-                                   "trajectory files")  # fmt: skip
+        if topic or input_child_frame or input_frame or input_rate:
+            raise click.UsageError("--topic, --input-child-frame, --input-frame and --input-rate "
+                                   "are for trajectory files")  # fmt: skip
         with options.repairing(orthonormalize, choices):
             job = read_motion_file(io.BytesIO(data), name)
         samples = options.pick("samples", samples, job.samples, 101, choices, "--samples")

@@ -85,10 +85,17 @@ def profile_option(batch: bool = False):
     )
     return click.option(
         "--profile",
-        type=click.Choice(("foxglove", "ros2")),
+        type=click.Choice(
+            [
+                row.writer_options["profile"]
+                for row in formats.TABLE
+                if "profile" in row.writer_options
+            ]
+        ),
         help="mcap: foxglove (JSON foxglove.PoseInFrame"
         + ("" if batch else " and FrameTransform")
-        + f", the default) or ros2 (CDR {ros2}, as --format ros2).",
+        + ", the default), protobuf (the same in Protobuf; needs a2b-motions[protobuf]) "
+        f"or ros2 (CDR {ros2}, as --format ros2).",
     )
 
 

@@ -6,9 +6,15 @@ encoding  schemas                                         decoded by
 cdr       ROS 2 ``geometry_msgs/msg/PoseStamped``,        :func:`a2b.io.ros2.decode_poses`
           ``tf2_msgs/msg/TFMessage``,
           ``nav_msgs/msg/Odometry``, ``nav_msgs/msg/Path``
-json      ``foxglove.PoseInFrame``,                       :func:`json_poses`
-          ``foxglove.FrameTransform``, or none
+json      ``foxglove.PoseInFrame``, ``PosesInFrame``,     :func:`json_entries`
+          ``FrameTransform``, ``FrameTransforms``, or
+          none
+protobuf  the same four Foxglove schemas                  :func:`a2b.io.protobuf.protobuf_entries`
 ========  ==============================================  ==================================
+
+``--input-child-frame`` picks the transforms to one frame of a channel of transforms
+(:data:`TRANSFORM_SCHEMAS`), which may carry several; with ``--input-frame`` the pose of that
+frame is composed through the TF tree (:func:`mcap_tf_poses`).
 
 The table is :data:`DECODERS`: a new message encoding is one row there. A topic may be carried
 by several channels, each with its own schema: the poses of each channel are decoded by that
@@ -26,14 +32,31 @@ import numpy as np
 from ..errors import InputFileError, listing
 from .documents import stream_name
 from .mcapreader import McapFile
-from .ros2 import POSE_TYPES, decode_poses
+from .protobuf import PROTOBUF_SCHEMAS
+from .ros2 import POSE_TYPES, child_index, decode_poses, decode_transforms
+from .tftree import TransformRecords, compose
 
-__all__ = ["DECODERS", "JSON_SCHEMAS", "json_poses", "mcap_poses", "read_mcap"]
+__all__ = [
+    "DECODERS",
+    "JSON_SCHEMAS",
+    "TRANSFORM_SCHEMAS",
+    "json_entries",
+    "mcap_poses",
+    "mcap_tf_poses",
+    "read_mcap",
+]
 
 #: The Foxglove schemas of JSON messages a2b reads poses from.
-JSON_SCHEMAS = ("foxglove.PoseInFrame", "foxglove.FrameTransform")
+JSON_SCHEMAS = (
+    "foxglove.PoseInFrame",
+    "foxglove.PosesInFrame",
+    "foxglove.FrameTransform",
+    "foxglove.FrameTransforms",
+)
 _TF = "tf2_msgs/msg/TFMessage"
 _PATH = "nav_msgs/msg/Path"
+#: The schemas of transforms between named frames: ``--input-child-frame`` picks among them.
+TRANSFORM_SCHEMAS = (_TF, "foxglove.FrameTransform", "foxglove.FrameTransforms")
 
 
 #: JSON messages parsed by one call of ``json.loads`` (as one array): few, so that few of the
@@ -41,16 +64,19 @@ _PATH = "nav_msgs/msg/Path"
 _JSON_BLOCK = 64
 
 
-def json_poses(datas: list, where: str):
-    """``(times, quat_wxyz, translations, message)`` of JSON ``foxglove.PoseInFrame`` or
-    ``foxglove.FrameTransform`` messages (``datas``, bytes each): one pose per message,
-    ``timestamp.sec + timestamp.nsec · 1e-9`` with both whole numbers.
+def json_entries(datas: list, where: str, schema: str = ""):
+    """The poses of JSON Foxglove messages (``datas``, bytes each) of ``schema`` (one of
+    :data:`JSON_SCHEMAS`; ``""``: a PoseInFrame or FrameTransform each):
+    ``(numbers (N, 8), parents, children, message (N,))``, ``numbers`` the rows
+    ``time x y z qw qx qy qz``, ``time = timestamp.sec + timestamp.nsec · 1e-9`` with both
+    whole numbers; ``parents`` and ``children`` the frames of each transform (None for a pose);
+    ``message`` the index of the message of each.
 
     A block of messages is parsed as one JSON array, which is the messages only where each
     message is one value: else (or where that fails) message by message, to name the one
     that is not.
     """
-    blocks = [np.empty((0, 8))]  # (time, x, y, z, qw, qx, qy, qz) per message
+    blocks, parents, children, message = [np.empty((0, 8))], [], [], []
     for lo in range(0, len(datas), _JSON_BLOCK):
         block = datas[lo : lo + _JSON_BLOCK]
         try:
@@ -58,30 +84,55 @@ def json_poses(datas: list, where: str):
         except (ValueError, RecursionError):
             found = []
         if len(found) != len(block):
-            found = [_json_value(data, where, lo + i) for i, data in enumerate(block)]
-        poses = []
+            found = [_json_value(data, where, lo + i, schema) for i, data in enumerate(block)]
+        rows = []
         for i, msg in enumerate(found, lo):
             try:
-                poses.append(_json_pose(msg))
+                for item in _json_items(msg, schema):
+                    rows.append(_json_pose(item))
+                    parents.append(_frame(item, "parent_frame_id", schema))
+                    children.append(_frame(item, "child_frame_id", schema))
+                    message.append(i)
             except (ValueError, KeyError, TypeError, OverflowError) as e:
-                raise InputFileError(_not_a_pose(where, i, e)) from None
-        blocks.append(np.array(poses))
-    numbers = np.concatenate(blocks)
-    return numbers[:, 0], numbers[:, 4:], numbers[:, 1:4], np.arange(len(numbers))
+                raise InputFileError(_not_a_pose(where, i, e, schema)) from None
+        blocks.append(np.array(rows).reshape(-1, 8))
+    return np.concatenate(blocks), parents, children, np.array(message, np.int64)
 
 
-def _json_value(data: bytes, where: str, i: int):
+def _json_items(msg, schema: str) -> list:
+    """The messages of one pose each that ``msg`` holds: a FrameTransforms' transforms, a
+    PosesInFrame's poses (each with its stamp), else ``msg``."""
+    if schema == "foxglove.FrameTransforms":
+        items = msg["transforms"]
+    elif schema == "foxglove.PosesInFrame":
+        items = [{"timestamp": msg["timestamp"], "pose": pose} for pose in msg["poses"]]
+    else:
+        return [msg]
+    if not isinstance(items, list):
+        raise TypeError(f"its {'transforms' if 'Frame' in schema else 'poses'} are not a list")
+    return items
+
+
+def _frame(item: dict, key: str, schema: str):
+    """The frame ``key`` of a FrameTransform, checked to be text; None for other schemas."""
+    if "FrameTransform" not in schema:
+        return None
+    frame = item[key]
+    if not isinstance(frame, str):
+        raise TypeError(f"{key} is not a string")
+    return frame
+
+
+def _json_value(data: bytes, where: str, i: int, schema: str):
     try:
         return json.loads(data)
     except (ValueError, RecursionError) as e:
-        raise InputFileError(_not_a_pose(where, i, e)) from None
+        raise InputFileError(_not_a_pose(where, i, e, schema)) from None
 
 
-def _not_a_pose(where: str, i: int, e: Exception) -> str:
-    return (
-        f"{where} message {i + 1}: not a PoseInFrame or FrameTransform message "
-        f"({type(e).__name__}: {str(e)[:80]})"
-    )
+def _not_a_pose(where: str, i: int, e: Exception, schema: str) -> str:
+    what = schema.removeprefix("foxglove.") or "PoseInFrame or FrameTransform"
+    return f"{where} message {i + 1}: not a {what} message ({type(e).__name__}: {str(e)[:80]})"
 
 
 def _json_pose(msg: dict) -> tuple:
@@ -103,16 +154,44 @@ def _json_pose(msg: dict) -> tuple:
     )
 
 
-def _json_channel(_schema: str, messages, where: str, _child_frame):
-    return json_poses(messages.as_bytes(), where)
+def _foxglove_entries(channel, messages, where: str):
+    """:func:`json_entries` of a JSON channel's messages, or their Protobuf equivalent."""
+    if channel.message_encoding == "protobuf":
+        from .protobuf import protobuf_entries
+
+        return protobuf_entries(messages.as_bytes(), where, channel.schema_name)
+    return json_entries(messages.as_bytes(), where, channel.schema_name)
+
+
+def _foxglove_channel(channel, messages, where: str, child_frame):
+    """The poses of Foxglove messages (JSON or Protobuf): one per message; a FrameTransform(s)
+    channel's transforms to ``child_frame`` (which may be left out when there is one child
+    frame); a PosesInFrame channel's poses of its last message, at the times 0, 1, 2, … (they
+    share one stamp)."""
+    schema = channel.schema_name
+    numbers, _parents, children, message = _foxglove_entries(channel, messages, where)
+    if schema == "foxglove.PosesInFrame":
+        last = message == message[-1] if len(message) else message == 0
+        numbers, message = numbers[last], message[last]
+        numbers[:, 0] = np.arange(len(numbers))
+    elif "FrameTransform" in schema:
+        names = sorted(set(children))
+        mine = np.array(children, object) == names[child_index(names, child_frame, where)]
+        numbers, message = numbers[mine], message[mine]
+    return numbers[:, 0], numbers[:, 4:], numbers[:, 1:4], message
+
+
+def _cdr_channel(channel, messages, where: str, child_frame):
+    return decode_poses(channel.schema_name, messages, where, child_frame)
 
 
 #: For each message encoding: the schemas a2b reads poses from (``""``: none), and the decoder
-#: of their messages, ``(schema name, Messages, where, child frame)`` → ``(times, quat_wxyz,
+#: of their messages, ``(Channel, Messages, where, child frame)`` → ``(times, quat_wxyz,
 #: translations, the message of each pose)``.
 DECODERS = {
-    "cdr": (POSE_TYPES, decode_poses),
-    "json": (JSON_SCHEMAS + ("",), _json_channel),
+    "cdr": (POSE_TYPES, _cdr_channel),
+    "json": (JSON_SCHEMAS + ("",), _foxglove_channel),
+    "protobuf": (PROTOBUF_SCHEMAS, _foxglove_channel),
 }
 
 
@@ -132,8 +211,8 @@ def mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | Non
     topic of the MCAP file ``data`` (see the module's table).
 
     ``topic`` None picks the one topic with poses (``/a2b/pose`` among several; with
-    ``child_frame``, the one ``TFMessage`` topic); ``child_frame`` picks the transforms of a
-    ``TFMessage`` topic and is refused on any other.
+    ``child_frame``, the one topic of transforms); ``child_frame`` picks the transforms to that
+    frame on a topic of :data:`TRANSFORM_SCHEMAS` and is refused on any other.
 
     Raises
     ------
@@ -152,19 +231,22 @@ def mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | Non
             for encoding, (names, _) in DECODERS.items()
         )
         raise InputFileError(f"{where} carries {listing(kinds)}; a2b reads poses from {readable}")
-    if child_frame is not None and kinds != [_TF]:
+    if child_frame is not None and not set(kinds) <= set(TRANSFORM_SCHEMAS):
         raise InputFileError(
-            f"{where} carries {listing(kinds)}: --input-child-frame is for {_TF} topics"
+            f"{where} carries {listing(kinds)}: --input-child-frame is for topics of "
+            f"{listing(TRANSFORM_SCHEMAS)}"
         )
-    if len(mine) > 1 and _PATH in kinds:
-        raise InputFileError(f"{where}: a Path topic is read from one channel, not {len(mine)}")
+    if len(mine) > 1 and {_PATH, "foxglove.PosesInFrame"} & set(kinds):
+        raise InputFileError(
+            f"{where}: a Path or PosesInFrame topic is read from one channel, not {len(mine)}"
+        )
     found = mcap.messages([channel.id for channel in mine])
     parts = []
     for channel in mine:
         here = where if len(mine) == 1 else f"{where} (channel {channel.id})"
         messages = found[channel.id]
         decode = _decoder(channel)
-        times, quat, trans, message = decode(channel.schema_name, messages, here, child_frame)
+        times, quat, trans, message = decode(channel, messages, here, child_frame)
         parts.append((times, quat, trans, messages.log_time[message]))
     if len(parts) == 1:
         times, quat, trans, _ = parts[0]
@@ -174,6 +256,60 @@ def mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | Non
     if not (np.isfinite(quat).all() and np.isfinite(trans).all()):
         raise InputFileError(f"{where}: a pose is not finite")
     return times, quat, trans
+
+
+#: The topic of latched transforms (ROS 2's ``tf2_ros`` static broadcaster).
+TF_STATIC = "/tf_static"
+
+
+def mcap_tf_poses(
+    data: bytes,
+    name: str,
+    topic: str | None,
+    parent: str,
+    child: str,
+    mode: str = "screw",
+    **parameters,
+):
+    """``(times, quat_wxyz, translations, statement)``: the poses of the frame ``child`` in
+    ``parent``, composed through the TF tree of the MCAP file ``data``
+    (:func:`a2b.io.tftree.compose`, which says the chain in ``statement``).
+
+    The transforms are those of every topic of :data:`TRANSFORM_SCHEMAS` (``topic``: that one and
+    :data:`TF_STATIC`); the ones on :data:`TF_STATIC` are static. ``mode`` and ``parameters``
+    interpolate each dynamic link between its stamps.
+    """
+    mcap = McapFile(data, name)
+    channels = [
+        channel for channel in mcap.channels.values()
+        if channel.topic in (topic, TF_STATIC)
+        or (topic is None and channel.schema_name in TRANSFORM_SCHEMAS)
+    ]  # fmt: skip
+    if topic is not None:
+        _topic(list(mcap.channels.values()), name, topic, child)
+    where = f"{name}: {listing(sorted({channel.topic for channel in channels}), width=80)}"
+    wrong = sorted({_kind(channel) for channel in channels} - set(TRANSFORM_SCHEMAS))
+    if wrong or not channels:
+        raise InputFileError(
+            f"{where}: --input-frame composes the transforms of {listing(TRANSFORM_SCHEMAS)}, "
+            + (f"not {listing(wrong)}" if wrong else "and the file has none")
+        )
+    found = mcap.messages([channel.id for channel in channels])
+    parts = []
+    for channel in channels:
+        here = f"{name}: {listing([channel.topic], width=80)}"
+        if channel.schema_name == _TF:
+            *frames, times, quat, trans, _ = decode_transforms(found[channel.id], here)
+        else:
+            numbers, *frames, _ = _foxglove_entries(channel, found[channel.id], here)
+            frames = [np.array(names, object) for names in frames]
+            times, quat, trans = numbers[:, 0], numbers[:, 4:], numbers[:, 1:4]
+        static = np.full(len(times), channel.topic == TF_STATIC)
+        parts.append(TransformRecords(*frames, times, quat, trans, static))
+    records = TransformRecords.joined(parts)
+    if not (np.isfinite(records.quat_wxyz).all() and np.isfinite(records.translations).all()):
+        raise InputFileError(f"{where}: a transform is not finite")
+    return compose(records, parent, child, where, mode, **parameters)
 
 
 def _topic(channels: list, name: str, topic: str | None, child_frame: str | None) -> str:
@@ -188,12 +324,13 @@ def _topic(channels: list, name: str, topic: str | None, child_frame: str | None
         return topic
     candidates = sorted({
         channel.topic for channel in channels
-        if _decoder(channel) is not None and (child_frame is None or channel.schema_name == _TF)
+        if _decoder(channel) is not None
+        and (child_frame is None or channel.schema_name in TRANSFORM_SCHEMAS)
     })  # fmt: skip
     if "/a2b/pose" in candidates and child_frame is None:
         candidates = ["/a2b/pose"]
     if len(candidates) != 1:
-        what = f"{_TF} topics" if child_frame is not None else "pose topics"
+        what = "transform topics" if child_frame is not None else "pose topics"
         raise InputFileError(
             f"{name}: {'several' if candidates else 'no'} {what} "
             f"({listing(candidates or topics) or 'none'}); choose one with --topic"

@@ -39,13 +39,34 @@ import numpy as np
 
 from ..errors import InputFileError
 
-__all__ = ["FREE_INFLATION", "INFLATION", "MAGIC", "Channel", "McapFile", "Messages", "cut"]
+__all__ = [
+    "FREE_INFLATION",
+    "INFLATION",
+    "MAGIC",
+    "MESSAGE_HEAD",
+    "Channel",
+    "McapFile",
+    "Messages",
+    "cut",
+]
 
 MAGIC = b"\x89MCAP0\r\n"
 _FOOTER, _SCHEMA, _CHANNEL, _MESSAGE, _CHUNK = 0x02, 0x03, 0x04, 0x05, 0x06
 _MESSAGE_INDEX, _CHUNK_INDEX, _STATISTICS, _DATA_END = 0x07, 0x08, 0x0B, 0x0F
 _ENTRY = np.dtype([("log_time", "<u8"), ("offset", "<u8")])
-_DATA_AT = 1 + 8 + 2 + 4 + 8 + 8  # a Message record's data: after opcode … publish time
+#: A Message record up to its data: opcode, record length, channel id, sequence, log time,
+#: publish time (the writers pack their records with it).
+MESSAGE_HEAD = np.dtype(
+    [
+        ("opcode", "u1"),
+        ("length", "<u8"),
+        ("channel", "<u2"),
+        ("sequence", "<u4"),
+        ("log_time", "<u8"),
+        ("publish_time", "<u8"),
+    ]
+)
+_DATA_AT = MESSAGE_HEAD.itemsize  # a Message record's data: after opcode … publish time
 _FOOTER_SIZE = 1 + 8 + 20
 
 #: Chunks inflate to at most this many bytes in all, whatever the size of the file …

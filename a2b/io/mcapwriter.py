@@ -47,7 +47,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from .floatrepr import integer_words, number_words, without_zero_bytes
-from .mcapreader import MAGIC
+from .mcapreader import MAGIC, MESSAGE_HEAD
 from .parallel import in_order
 
 __all__ = ["CHUNK_POSES", "write_pose_mcap", "write_topic_mcap"]
@@ -70,18 +70,7 @@ BIG_CHUNK = 16 << 20
 #: zstd's fastest regular level; on these messages it also compresses best (about 10:1).
 ZSTD_LEVEL = 1
 
-#: A Message record up to its data: opcode, record length, channel id, sequence, log time,
-#: publish time.
-_MESSAGE_HEAD = np.dtype(
-    [
-        ("opcode", "u1"),
-        ("length", "<u8"),
-        ("channel", "<u2"),
-        ("sequence", "<u4"),
-        ("log_time", "<u8"),
-        ("publish_time", "<u8"),
-    ]
-)
+_MESSAGE_HEAD = MESSAGE_HEAD
 _HEAD_SIZE = _MESSAGE_HEAD.itemsize  # 31
 _INDEX_ENTRY = np.dtype([("log_time", "<u8"), ("offset", "<u8")])
 _U64 = np.uint64
@@ -536,7 +525,8 @@ def write_pose_mcap(
     frame_id, child_frame_id : str
         The pose's frame (also the transform's parent) and the transform's child frame.
     profile : str
-        ``foxglove``: JSON ``foxglove.PoseInFrame`` and ``foxglove.FrameTransform``. ``ros2``:
+        ``foxglove``: JSON ``foxglove.PoseInFrame`` and ``foxglove.FrameTransform``;
+        ``protobuf``: the same Protobuf-encoded (:class:`a2b.io.protobuf.ProtobufLayout`). ``ros2``:
         CDR ``geometry_msgs/msg/PoseStamped`` and ``tf2_msgs/msg/TFMessage``, and one
         ``nav_msgs/msg/Path`` of every pose on ``path_topic`` at the first pose's time, in a
         last chunk (:class:`PathLayout`).
@@ -559,7 +549,7 @@ def write_pose_mcap(
     moving = twist_topic is not None
     path = PathLayout(frame_id, 3 + moving, count) if ros2 else None
     layout = CdrLayout(frame_id, child_frame_id, path, twist=moving) if ros2 else None
-    layout = layout or JsonLayout(frame_id, child_frame_id)
+    layout = layout or _layout(profile)(frame_id, child_frame_id)
     topics = [(pose_topic, 10, 2), (tf_topic, 100, 2)] + [(twist_topic, 10, 2)] * moving
     topics += [(path_topic, 1, 1)] * ros2
     channels = _channels(layout, topics)
@@ -577,6 +567,15 @@ def write_pose_mcap(
                 sequence += n
 
     _write_file(stream, layout, library, channels, ((item, []) for item in items()))
+
+
+def _layout(profile: str):
+    """The layout of the JSON (``foxglove``) or ``protobuf`` profile."""
+    if profile == "protobuf":
+        from .protobuf import ProtobufLayout
+
+        return ProtobufLayout
+    return JsonLayout
 
 
 def _channels(layout, topics: list) -> list:
@@ -619,7 +618,7 @@ def write_topic_mcap(
     Channel record is written before its first message, and each topic counts its own
     sequence numbers from 0. Otherwise as :func:`write_pose_mcap` (no ``/tf``, no Path).
     """
-    layout = (CdrLayout if profile == "ros2" else JsonLayout)(frame_id, None)
+    layout = (CdrLayout if profile == "ros2" else _layout(profile))(frame_id, None)
     ids: dict[str, int] = {}  # topic: channel id
     sequences: dict[str, int] = {}  # topic: messages so far
 

@@ -24,7 +24,7 @@ import struct
 
 import numpy as np
 
-from ..errors import InputFileError, ParameterError, listing
+from ..errors import InputFileError, ParameterError, listing, printable, quoted
 from .mcapreader import Messages, cut
 
 __all__ = [
@@ -32,7 +32,9 @@ __all__ = [
     "Cdr",
     "check_frame_id",
     "check_topic",
+    "child_index",
     "decode_poses",
+    "decode_transforms",
     "qos_profiles",
     "schema_name",
     "schema_text",
@@ -393,6 +395,18 @@ _FEW_TRANSFORMS = 8
 
 def _transforms(messages: _Messages, rows, where: str, child_frame: str | None):
     """The stamps and numbers of the transforms to ``child_frame`` in TFMessages, in order."""
+    sec, nanosec, numbers, message, _parents, (codes, names) = _tf_entries(messages, rows, where)
+    mine = codes == child_index([name.decode(errors="replace") for name in names], child_frame,
+                                where)  # fmt: skip
+    if not mine.all():
+        sec, nanosec, numbers, message = (a[mine] for a in (sec, nanosec, numbers, message))
+    return sec, nanosec, numbers, message
+
+
+def _tf_entries(messages: _Messages, rows, where: str):
+    """Every transform of the TFMessages ``rows``, message by message and in order within:
+    ``(sec, nanosec, numbers (N, 7), message, (parent codes, names), (child codes, names))``,
+    the frame names as in :meth:`_Messages.names`."""
     count, at = messages.count(rows, np.zeros(len(rows), np.int64), _TRANSFORM_BYTES,
                                "transforms")  # fmt: skip
     found = []  # per transform: (message, place in it, its CDR offset)
@@ -405,39 +419,58 @@ def _transforms(messages: _Messages, rows, where: str, child_frame: str | None):
         starts = _entry_starts(messages, row, int(at[row]), int(count[row]), 2, where)
         found.append((np.full(len(starts), row), np.arange(len(starts)), starts))
     if not found:
-        return np.empty(0, np.int32), np.empty(0, np.uint32), np.empty((0, 7)), rows[:0]
+        none = (np.empty(0, np.int64), [])
+        return np.empty(0, np.int32), np.empty(0, np.uint32), np.empty((0, 7)), rows[:0], none, none
     message, place, start = (np.concatenate([part[i] for part in found]) for i in range(3))
-    sec, nanosec, after = messages.header(message, start)
-    length, child_end = messages.string(message, after)
-    numbers, _ = messages.read(message, child_end, "<f8", 7)
-    codes, names = messages.names(message, after + 4 + (-after % 4), length)
-    mine = codes == _child_code(names, child_frame, where)
-    if not mine.all():
-        sec, nanosec, numbers, message, place = (
-            a[mine] for a in (sec, nanosec, numbers, message, place)
-        )
     order = np.lexsort((place, message))  # message by message, in order within
     if (np.diff(order) != 1).any():
-        sec, nanosec, numbers, message = (a[order] for a in (sec, nanosec, numbers, message))
-    return sec, nanosec, numbers, message
+        message, start = message[order], start[order]
+    sec, at = messages.read(message, start, "<i4")
+    nanosec, at = messages.read(message, at, "<u4")
+    parent_length, after = messages.string(message, at)
+    child_length, child_end = messages.string(message, after)
+    numbers, _ = messages.read(message, child_end, "<f8", 7)
+    parents = messages.names(message, at + 4, parent_length)
+    children = messages.names(message, after + 4 + (-after % 4), child_length)
+    return sec, nanosec, numbers, message, parents, children
 
 
-def _child_code(names: list, child_frame: str | None, where: str) -> int:
-    """The index in ``names`` of ``child_frame``, or of the one child frame there is."""
-    children = sorted(name.decode(errors="replace") for name in names)
+def decode_transforms(datas, where: str):
+    """Every transform of the CDR ``tf2_msgs/msg/TFMessage`` messages ``datas`` (a list of
+    bytes, or :class:`a2b.io.mcapreader.Messages`), in order: ``(parents, children, times in
+    s, quat_wxyz (N, 4), translations (N, 3), message (N,))``; ``parents`` and ``children``
+    are arrays of the frame names (str), ``message`` the index of the message of each.
+    Checked as :func:`decode_poses` checks."""
+    messages = _Messages(datas, where)
+    sec, nanosec, numbers, message, parents, children = _tf_entries(
+        messages, np.arange(len(datas)), where
+    )
+    frames = [
+        np.array([name.decode(errors="replace") for name in names] + [""], object)[codes]
+        for codes, names in (parents, children)
+    ]
+    numbers = numbers.reshape(-1, 7)
+    times = sec.astype(float) + nanosec.astype(float) * 1e-9
+    return (*frames, times, numbers[:, [6, 3, 4, 5]], numbers[:, :3].copy(), message)
+
+
+def child_index(names: list, child_frame: str | None, where: str) -> int:
+    """The index in ``names`` (the child frames, str) of ``child_frame``, or of the one child
+    frame there is; else a one-line error that lists them."""
+    children = sorted(names)
     if child_frame is None:
         if len(children) != 1:
             raise InputFileError(
-                f"{where}: transforms to {len(children)} child frames ({listing(children)}); "
-                "choose one with --input-child-frame"
+                f"{where}: transforms to {len(children)} child frames "
+                f"({listing(map(printable, children))}); choose one with --input-child-frame"
             )
         child_frame = children[0]
-    if child_frame.encode() not in names:
+    if child_frame not in names:
         raise InputFileError(
-            f"{where}: no transform to the child frame {listing([repr(child_frame)])}; the frames "
-            f"are {listing(children) or 'none'}"
+            f"{where}: no transform to the child frame {quoted(child_frame)}; the frames "
+            f"are {listing(map(printable, children)) or 'none'}"
         )
-    return names.index(child_frame.encode())
+    return names.index(child_frame)
 
 
 def _entry_ends(messages: _Messages, rows, at, strings: int):

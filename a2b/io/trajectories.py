@@ -42,7 +42,7 @@ from ..errors import InputFileError, printable
 from ..formats import BY_NAME, INPUT_NAMES, SUFFIXES, TABLE
 from .csvtable import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER, fmt_from_header
 from .documents import stream_name
-from .mcapposes import mcap_poses
+from .mcapposes import mcap_poses, mcap_tf_poses
 from .mcapreader import MAGIC
 from .textrows import (
     BOM,
@@ -84,6 +84,7 @@ INPUT_OPTIONS = {
     "rate": ("--input-rate", "the times of poses that have none"),
     "topic": ("--topic", "the topic of an MCAP file"),
     "child_frame": ("--input-child-frame", "the frame of an MCAP /tf topic"),
+    "input_frame": ("--input-frame", "the parent frame of a TF chain"),
 }
 #: Bytes read to tell the format before the rest.
 HEAD_BYTES = 1 << 16
@@ -97,6 +98,8 @@ def read_trajectory(
     rate: float | None = None,
     topic: str | None = None,
     child_frame: str | None = None,
+    input_frame: str | None = None,
+    mode: str = "screw",
     orthonormalize: bool = False,
     minimum: int = 1,
 ) -> Trajectory:
@@ -104,8 +107,12 @@ def read_trajectory(
 
     ``rate`` gives KITTI poses the times ``i / rate``; ``topic`` picks the MCAP topic when the
     file has several, and ``child_frame`` the transforms of a ROS 2 ``/tf`` topic when they go
-    to several frames; ``orthonormalize`` repairs rotation blocks that are orthogonal only to a
-    few digits (:func:`a2b.poses.orthonormalize`); ``minimum`` is the fewest poses accepted.
+    to several frames; ``input_frame`` with ``child_frame`` composes the pose of
+    ``child_frame`` in ``input_frame`` through the TF tree of ``/tf`` and ``/tf_static``, each
+    dynamic link interpolated by ``mode`` (:func:`a2b.io.mcapposes.mcap_tf_poses`; the chain
+    is stated in :attr:`Trajectory.notes`); ``orthonormalize`` repairs rotation blocks that
+    are orthogonal only to a few digits (:func:`a2b.poses.orthonormalize`); ``minimum`` is the
+    fewest poses accepted.
 
     Raises
     ------
@@ -115,8 +122,8 @@ def read_trajectory(
     """
     name, data, fmt = opened(stream, name, fmt)
     pieces = list(trajectory_pieces(data, name, fmt, rate=rate, topic=topic,
-                                    child_frame=child_frame,
-                                    orthonormalize=orthonormalize))  # fmt: skip
+                                    child_frame=child_frame, input_frame=input_frame,
+                                    mode=mode, orthonormalize=orthonormalize))  # fmt: skip
     trajectory = joined(pieces, name, fmt)
     if len(trajectory) < minimum:
         raise InputFileError(
@@ -187,6 +194,8 @@ def trajectory_pieces(
     rate: float | None = None,
     topic: str | None = None,
     child_frame: str | None = None,
+    input_frame: str | None = None,
+    mode: str = "screw",
     orthonormalize: bool = False,
     size: int = PIECE_BYTES,
 ) -> Iterator[Trajectory]:
@@ -196,10 +205,19 @@ def trajectory_pieces(
     A reader can start on the first poses while the rest is still text: ``a2b resample``
     computes the first segments while the file is parsed.
     """
-    check_input_options(name, fmt, rate=rate, topic=topic, child_frame=child_frame)
+    check_input_options(name, fmt, rate=rate, topic=topic, child_frame=child_frame,
+                        input_frame=input_frame)  # fmt: skip
     if BY_NAME[fmt].binary:
-        times, quat, trans = mcap_poses(data, name, topic, child_frame)
-        piece = from_quaternions(times, quat, trans, name, fmt, None)
+        notes: tuple = ()
+        if input_frame is not None:
+            if child_frame is None:
+                raise InputFileError(f"{name}: --input-frame needs --input-child-frame")
+            *poses, chain = mcap_tf_poses(data, name, topic, input_frame, child_frame, mode)
+            notes = (chain,)
+        else:
+            poses = mcap_poses(data, name, topic, child_frame)
+        piece = from_quaternions(*poses, name, fmt, None)
+        piece.notes = notes
         check_times(piece.times, name, None)
         yield piece
         return

@@ -37,6 +37,8 @@ class Trajectory:
     fmt: str = ""
     #: With ``orthonormalize``: the largest ``max |R Rᵀ − I|`` repaired.
     repaired: float | None = None
+    #: What the reader chose, for ``-v`` (the TF chain it composed).
+    notes: tuple = ()
     _matrices: np.ndarray | None = None
 
     @property
@@ -79,6 +81,7 @@ def joined(pieces: list, name: str, fmt: str) -> Trajectory:
         name=name,
         fmt=fmt,
         repaired=max(repaired) if repaired else None,
+        notes=sum((p.notes for p in pieces), ()),
         _matrices=joined("_matrices"),
     )
 

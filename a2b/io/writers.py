@@ -350,10 +350,11 @@ def write_batch_mcap(
         ros2: if a job's topic is not a ROS 2 topic name, or ``frame_id`` not a frame id.
     """
     from .. import __version__
+    from ..formats import BY_NAME
     from .mcapwriter import write_topic_mcap
     from .ros2 import check_frame_id, check_topic
 
-    profile = "ros2" if fmt == "ros2" else "foxglove"
+    profile = BY_NAME[fmt].writer_options["profile"]
     if profile == "ros2":
         check_frame_id(frame_id)
 
@@ -392,6 +393,8 @@ def write_mcap(
 
     * ``foxglove``: ``foxglove.PoseInFrame`` and ``foxglove.FrameTransform``, JSON-encoded with
       the JSON schemas shipped in ``a2b/schemas``;
+    * ``protobuf``: the same Protobuf-encoded (:mod:`a2b.io.protobuf`, the extra
+      ``a2b-motions[protobuf]``), as Foxglove's SDK writes them and rerun imports them;
     * ``ros2``: ``geometry_msgs/msg/PoseStamped`` and ``tf2_msgs/msg/TFMessage`` in CDR, and at
       the end one ``nav_msgs/msg/Path`` of every pose on ``/a2b/path`` at the first pose's
       time; the frame ids must be
