@@ -36,7 +36,7 @@ from typing import IO
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import ParameterError, quoted
 from ..formats import BY_NAME
 from ..samples import JobRuns, Samples
 from .floatrepr import BLOCK, format_rows
@@ -360,7 +360,7 @@ def write_batch_mcap(
     def topic(name: str) -> str:
         topic = JOB_TOPIC.format(name=name)
         if profile == "ros2":
-            check_topic(topic, f"job {name!r}: the topic")
+            check_topic(topic, f"job {quoted(name)}: the topic")
         return topic
 
     def samples():
