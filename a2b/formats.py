@@ -75,7 +75,8 @@ class Format:
         :func:`a2b.io.trajectories.read_trajectory`, which takes the format).
     options
         The output options the writer takes (others are refused): ``duration`` and
-        ``start_time`` (times from t), ``frame_id``, ``child_frame_id``.
+        ``start_time`` (times from t), ``frame_id``, ``child_frame_id``, ``storage`` (the
+        storage of a ROS 2 bag: :data:`a2b.output.STORAGES`).
     writer_options
         Fixed keyword arguments of the writer (``ros2``: the MCAP profile); ``count`` (the
         number of samples, if known) is passed where it is a key.
@@ -189,8 +190,8 @@ TABLE = (
         name="ros2", suffixes=(),
         layout="MCAP for ROS 2: PoseStamped on /a2b/pose, TFMessage on /tf, a Path at the end",
         holds=frozenset({"poses", "times", "velocities"}), binary=True,
-        representation="quat_trans", batch="topics", **_MCAP, reader=None, options=_FRAMED,
-        writer_options={"profile": "ros2", "count": None},
+        representation="quat_trans", batch="topics", **_MCAP, reader=None,
+        options=_FRAMED | {"storage"}, writer_options={"profile": "ros2", "count": None},
         limits=Limits(2**32, 2**63 - 1, True, "a2b.io.ros2:split_stamps"), read_as="mcap",
     ),
     Format(

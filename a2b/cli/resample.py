@@ -63,8 +63,8 @@ from . import CONTEXT_SETTINGS, options, writing
 @writing.frame_options
 @options.verbose_option
 def command(trajectory, input_format, topic, input_child_frame, input_rate, orthonormalize,
-            rate, reference, times_file, mode, clip, max_gap, mark, output, fmt, profile, frame_id,
-            child_frame_id, verbose, **parameters):  # fmt: skip
+            rate, reference, times_file, mode, clip, max_gap, mark, output, fmt, profile, storage,
+            frame_id, child_frame_id, verbose, **parameters):  # fmt: skip
     """Sample TRAJECTORY (a file, a ROS 2 bag folder, or - for stdin) at new times.
 
     TRAJECTORY is TUM, KITTI, EuRoC, a2b's csv, matrix or study output, MCAP with
@@ -132,6 +132,7 @@ def command(trajectory, input_format, topic, input_child_frame, input_rate, orth
                                **({"size": len(data) + 1} if mode == "spline" else {}))  # fmt: skip
     run = _Run(name, mode, max_gap, clip, mark, parameters)
     options.state_choices(choices, verbose)
+    frames.update({"storage": storage} if storage is not None else {})
     write_samples(run.samples(pieces, new_times, fmt.representation), output, fmt, **frames)
     _report(run.counts, run.made, run.repaired, new_times.described(), clip, max_gap, verbose)
 

@@ -433,3 +433,86 @@ def write_mcap(
         count=count,
         twist_topic="/a2b/twist" if moving else None,
     )
+
+
+def write_sqlite_bag(
+    folder,
+    chunks: Iterable[Samples],
+    frame_id: str = "world",
+    child_frame_id: str = "a2b",
+    count: int | None = None,
+) -> None:
+    """Write the messages of :func:`write_mcap`'s ``ros2`` profile as a rosbag2 bag of SQLite
+    storage: the folder ``folder`` with ``NAME_0.db3`` and ``metadata.yaml``
+    (:func:`a2b.io.rosbag2.write_sqlite_bag`), which appears only when complete.
+
+    ``geometry_msgs/msg/PoseStamped`` on ``/a2b/pose`` and ``tf2_msgs/msg/TFMessage`` on ``/tf``
+    per sample (``geometry_msgs/msg/TwistStamped`` on ``/a2b/twist`` with velocities), then
+    one ``nav_msgs/msg/Path`` of every pose on ``/a2b/path`` at the first pose's time. The
+    CDR is :mod:`a2b.io.ros2`'s fixed layouts, as in the MCAP file; ``count`` is not needed.
+
+    Raises
+    ------
+    ParameterError
+        If a frame id is not a ROS 2 frame id.
+    OutputFileError
+        If the folder cannot be written, or exists and is no bag.
+    """
+    from .ros2 import check_frame_id, qos_profiles
+    from .rosbag2 import write_sqlite_bag as write_bag
+
+    check_frame_id(frame_id)
+    check_frame_id(child_frame_id, "--child-frame-id")
+    chunks = iter(chunks)
+    first = next(chunks, None)
+    moving = first is not None and first.twist is not None
+    topics = [
+        ("/a2b/pose", "geometry_msgs/msg/PoseStamped", qos_profiles(10)),
+        ("/tf", "tf2_msgs/msg/TFMessage", qos_profiles(100)),
+        *[("/a2b/twist", "geometry_msgs/msg/TwistStamped", qos_profiles(10))] * moving,
+        ("/a2b/path", "nav_msgs/msg/Path", qos_profiles(1, 1)),
+    ]
+    every = chain([first] * (first is not None), chunks)
+    write_bag(folder, topics, _bag_messages(every, frame_id, child_frame_id, moving))
+
+
+def _bag_messages(chunks: Iterable[Samples], frame_id: str, child_frame_id: str, moving: bool):
+    """``(topic index, ns, CDR)`` of each sample's messages, then the Path's."""
+    from . import ros2
+
+    layouts = [ros2.pose_stamped(frame_id), ros2.tf_message(frame_id, child_frame_id)]
+    layouts += [ros2.twist_stamped(frame_id)] * moving
+    entry = ros2.pose_stamped(frame_id, phase=0)
+    entries, first = [], None
+    for chunk in chunks:
+        ns = chunk.nanoseconds()
+        numbers = np.column_stack([chunk.trans, np.asarray(chunk.quat_wxyz)[:, [1, 2, 3, 0]]]
+                                  + ([chunk.twist] if moving else []))  # fmt: skip
+        if not len(ns):
+            continue
+        first = first or (ns[:1], numbers[:1])
+        made = [_cdr_rows(cdr, ns, numbers) for cdr in layouts]
+        for k, stamp in enumerate(ns.tolist()):
+            for index, rows in enumerate(made):
+                yield index, stamp, rows[k].tobytes()
+        entries.append(_cdr_rows(entry, ns, numbers))
+    if first is None:
+        return
+    head, first_entry = ros2.path_message(frame_id, 0, sum(len(e) for e in entries))
+    path = [_cdr_rows(head, *first).tobytes(), _cdr_rows(first_entry, *first).tobytes()]
+    path += [rows.tobytes() for rows in entries]
+    path[2] = entries[0][1:].tobytes()  # the first entry is made again after the head
+    yield len(layouts), int(first[0][0]), b"".join(path)
+
+
+def _cdr_rows(cdr, ns: np.ndarray, numbers: np.ndarray) -> np.ndarray:
+    """The bytes of the messages of layout ``cdr`` (:class:`a2b.io.ros2.Cdr`) for times
+    ``ns`` and ``numbers`` ``x y z qx qy qz qw [vx vy vz wx wy wz]``, one row each."""
+    from .ros2 import stamp_words
+
+    rows = np.tile(np.frombuffer(cdr.template, np.uint8), (len(ns), 1))
+    values = {"stamp": stamp_words(ns), "pose": numbers[:, :7], "twist": numbers[:, 7:13]}
+    for name, (offset, dtype) in cdr.columns.items():
+        column = np.ascontiguousarray(values[name], dtype.base).reshape(len(ns), -1)
+        rows[:, offset : offset + dtype.itemsize] = column.view(np.uint8)
+    return rows
