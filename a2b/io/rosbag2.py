@@ -524,9 +524,16 @@ def _information(file: str, topics, counts, first, last) -> dict:
 
 
 def _yaml(document: dict) -> str:
+    """``document`` as YAML, each repeated value written out again (no ``&id001`` anchors,
+    which ``ros2 bag`` does not write)."""
     import yaml
 
-    return yaml.safe_dump(document, sort_keys=False, default_flow_style=False, width=1 << 16)
+    class Dumper(yaml.SafeDumper):
+        def ignore_aliases(self, data):
+            return True
+
+    return yaml.dump(document, Dumper=Dumper, sort_keys=False, default_flow_style=False,
+                     width=1 << 16)  # fmt: skip
 
 
 #: The files of a bag folder that writing a bag over it may remove.
