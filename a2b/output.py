@@ -28,9 +28,13 @@ __all__ = ["CHUNK_SAMPLES", "check_plan", "check_times", "format_of", "write", "
 
 #: Samples per chunk: about 10 MB of text for ``csv``.
 CHUNK_SAMPLES = 65536
-#: The storages of a ROS 2 bag (``--storage``) and the writer of each that is not the format's
-#: own (``mcap``: the MCAP file of the ``ros2`` writer; ``sqlite3``: a rosbag2 bag folder).
-STORAGES = {"mcap": None, "sqlite3": "a2b.io.writers:write_sqlite_bag"}
+#: The storages of a ROS 2 bag (``--storage``) and, for each that is not the format's own
+#: (``mcap``: the MCAP file of the ``ros2`` writer), its writers of one motion and of a batch
+#: (``sqlite3``: a rosbag2 bag folder).
+STORAGES = {
+    "mcap": None,
+    "sqlite3": ("a2b.io.writers:write_sqlite_bag", "a2b.io.writers:write_batch_sqlite_bag"),
+}
 
 
 def format_of(fmt: str | None, target=None, batch: bool = False) -> tuple[Format, str | None]:
@@ -193,17 +197,7 @@ def write_samples(
     if storage is not None and storage not in STORAGES:
         raise OptionError(f"--storage {storage!r:.40}: expected one of {', '.join(STORAGES)}")
     if STORAGES.get(storage) is not None:
-        if batch or hasattr(target, "write") or _is_stdout(target):
-            raise OptionError(
-                f"--storage {storage} writes a bag folder: give its path with -o FOLDER"
-                + (" (a2b batch writes MCAP storage only)" if batch else "")
-            )
-        stream = _checked(samples, fmt, batch)
-        try:
-            resolve(STORAGES[storage])(target, stream, **keywords)
-        finally:
-            stream.close()
-        return
+        return _write_bag(samples, target, fmt, storage, batch, keywords)
     if batch:
         writer = resolve(fmt.batch_writer)
         keywords = {"fmt": fmt.name, **{k: v for k, v in keywords.items() if k == "frame_id"}}
@@ -220,6 +214,20 @@ def write_samples(
         opened = atomic_directory if batch and fmt.batch == "files" else atomic_output
         with opened(target) as out:
             writer(out, stream, **keywords)
+    finally:
+        stream.close()
+
+
+def _write_bag(samples, target, fmt: Format, storage: str, batch: bool, keywords: dict) -> None:
+    """:func:`write_samples` into a bag folder of ``storage`` (:data:`STORAGES`)."""
+    if hasattr(target, "write") or _is_stdout(target):
+        raise OptionError(f"--storage {storage} writes a bag folder: give its path with -o FOLDER")
+    single, many = STORAGES[storage]
+    if batch:
+        keywords = {k: v for k, v in keywords.items() if k == "frame_id"}
+    stream = _checked(samples, fmt, batch)
+    try:
+        resolve(many if batch else single)(target, stream, **keywords)
     finally:
         stream.close()
 

@@ -132,3 +132,29 @@ def test_evo_reads_the_sqlite_bag_with_a_full_check(tmp_path, clients):
     for check in ("SE(3) conform", "array shapes", "nr. of stamps", "quaternions", "timestamps"):
         line = next(line for line in out.splitlines() if line.strip().startswith(check))
         assert line.split()[-1] in ("yes", "ok"), line
+
+
+def test_a_batch_bag_holds_the_messages_of_the_batch_mcap(tmp_path):
+    pytest.importorskip("rosbags")
+    jobs = SAMPLES / "jobs.yaml"
+    mcap, bag = tmp_path / "jobs.mcap", tmp_path / "jobs"
+    assert run("batch", jobs, "--format", "ros2", "--samples", 5, "-o", mcap).exit_code == 0
+    result = run("batch", jobs, "--format", "ros2", "--storage", "sqlite3", "--samples", 5,
+                 "-o", bag)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    theirs, ours = _bag_messages(bag), _mcap_messages(mcap)
+    names = ("lift", "lift_offset", "lift_cubic", "slide")
+    assert set(theirs) == set(ours) == {f"/a2b/{name}/pose" for name in names}
+    for topic in theirs:
+        assert theirs[topic] == ours[topic], topic
+
+
+def test_a_batch_bag_with_a_job_name_too_long_is_one_error_and_no_folder(tmp_path):
+    pose = "{matrix: [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}"
+    jobs = tmp_path / "jobs.yaml"
+    jobs.write_text(f"- {{name: {'n' * 300}, start: {pose}, end: {pose}}}\n")
+    result = run("batch", jobs, "--format", "ros2", "--storage", "sqlite3", "-o", tmp_path / "b")
+    assert result.exit_code == 1
+    assert "it has 310 characters; ROS 2 allows at most 247" in result.output
+    assert result.output.count("\n") == 1
+    assert sorted(os.listdir(tmp_path)) == ["jobs.yaml"]

@@ -48,10 +48,12 @@ __all__ = [
     "write_batch_csv",
     "write_batch_files",
     "write_batch_mcap",
+    "write_batch_sqlite_bag",
     "write_csv",
     "write_kitti",
     "write_matrix_csv",
     "write_mcap",
+    "write_sqlite_bag",
     "write_study_csv",
     "write_tum",
 ]
@@ -474,6 +476,43 @@ def write_sqlite_bag(
     ]
     every = chain([first] * (first is not None), chunks)
     write_bag(folder, topics, _bag_messages(every, frame_id, child_frame_id, moving))
+
+
+def write_batch_sqlite_bag(
+    folder, chunks: Iterable[Samples], fmt: str = "ros2", frame_id: str = "world"
+) -> None:
+    """Write a batch as a rosbag2 bag of SQLite storage: the messages of
+    :func:`write_batch_mcap` (``geometry_msgs/msg/PoseStamped`` on ``/a2b/NAME/pose`` per
+    job), built as an MCAP file in a temporary file, then stored in the bag's ``.db3`` in the
+    order of their times (:func:`a2b.io.rosbag2.write_sqlite_bag`). The topics of a SQLite bag
+    are listed before its messages, and a batch's are known only at its end: the messages are
+    held in memory once, 70 bytes and a job name a sample.
+
+    Raises
+    ------
+    ParameterError
+        As :func:`write_batch_mcap`: a job name that makes no ROS 2 topic, a frame id.
+    """
+    import tempfile
+
+    from .mcapreader import McapFile
+    from .ros2 import qos_profiles
+    from .rosbag2 import write_sqlite_bag as write_bag
+
+    with tempfile.TemporaryFile() as f:
+        write_batch_mcap(f, chunks, fmt, frame_id)
+        f.seek(0)
+        mcap = McapFile(f.read(), os.fspath(folder))
+    channels = sorted(mcap.channels.values(), key=lambda channel: channel.id)
+    found = mcap.messages([channel.id for channel in channels])
+    parts = [found[channel.id] for channel in channels]
+    times = np.concatenate([np.asarray(p.log_time, np.int64) for p in parts]
+                           + [np.empty(0, np.int64)])  # fmt: skip
+    index = np.repeat(np.arange(len(parts)), [len(p) for p in parts]).tolist()
+    datas = [data for p in parts for data in p.as_bytes()]
+    topics = [(channel.topic, channel.schema_name, qos_profiles(10)) for channel in channels]
+    order = np.argsort(times, kind="stable").tolist()
+    write_bag(folder, topics, ((index[k], int(times[k]), datas[k]) for k in order))
 
 
 def _bag_messages(chunks: Iterable[Samples], frame_id: str, child_frame_id: str, moving: bool):
