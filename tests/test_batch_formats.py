@@ -51,7 +51,7 @@ def alone(job, representation):
 
 
 def names(jobs):
-    return [job.get("name", str(i)) for i, job in enumerate(jobs)]
+    return [job.get("name", f"job{i}") for i, job in enumerate(jobs)]
 
 
 @pytest.fixture
