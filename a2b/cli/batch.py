@@ -65,7 +65,7 @@ def command(
     a file per job (tum, kitti), or into one MCAP file with a topic per job.
 
     JOBS is a YAML or JSON list of jobs, or JSON Lines (one job per line, read as it goes).
-    A job has start and end poses and, optionally, name (default: its index), mode, samples
+    A job has start and end poses and, optionally, name (default: job0, job1, …), mode, samples
     and parameters, as in a poses file. Jobs are read, built and sampled in chunks, the jobs
     of one kind (mode and parameters given) all at once, with the results of building each
     alone; a progress bar shows on stderr when stderr is a terminal. A job that fails stops
