@@ -147,6 +147,7 @@ def _job_blocks(path: str, part: tuple, size: int) -> Iterator:
     whole file would name and locate them."""
     from .io.jobfiles import finish_block, json_line_job
     from .io.jobscan import scan_blocks
+    from .jobs import job_names
 
     start, stop, lines_before, jobs_before = part
 
@@ -163,9 +164,7 @@ def _job_blocks(path: str, part: tuple, size: int) -> Iterator:
         ]  # fmt: skip
         for block in finish_block(scanned):
             first = scanned.records[0][6][3]  # the index of its first job in the file
-            block.names = [
-                str(first + i) if name is None else name for i, name in enumerate(block.names)
-            ]
+            block.names = job_names(block.names, first)
             yield block
 
 

@@ -75,7 +75,8 @@ class Format:
         :func:`a2b.io.trajectories.read_trajectory`, which takes the format).
     options
         The output options the writer takes (others are refused): ``duration`` and
-        ``start_time`` (times from t), ``frame_id``, ``child_frame_id``.
+        ``start_time`` (times from t), ``frame_id``, ``child_frame_id``, ``storage`` (the
+        storage of a ROS 2 bag: :data:`a2b.output.STORAGES`).
     writer_options
         Fixed keyword arguments of the writer (``ros2``: the MCAP profile); ``count`` (the
         number of samples, if known) is passed where it is a key.
@@ -86,10 +87,12 @@ class Format:
     header
         The column names of a text table (tum: after ``# ``).
     trajectory
-        The module that reads the format as a trajectory (``a2b resample``, ``view``, the
-        pose lists of ``spline``): for a text format one with ``layout(data, name, fmt)`` and
+        What reads the format as a trajectory (``a2b resample``, ``view``, the pose lists of
+        ``spline``): for a text format a module with ``layout(data, name, fmt)`` and
         ``trajectory(rows, lines, name, fmt, rate, orthonormalize, row)`` over the rows
-        (:mod:`a2b.io.textrows`); for a binary one :func:`a2b.io.mcapposes.mcap_poses`'s.
+        (:mod:`a2b.io.textrows`); for a binary one a ``"module:function"``, ``(source, name,
+        topic, child_frame)`` → times, quaternions wxyz and translations, where ``source`` is
+        the file's bytes (MCAP) or the path of a bag (rosbag2: a folder or a ``.db3``).
     input_options
         The options of :func:`a2b.io.trajectories.read_trajectory` the format takes (others
         are refused): ``rate`` (times for poses that have none), ``topic``, ``child_frame``,
@@ -182,15 +185,15 @@ TABLE = (
         holds=frozenset({"poses", "times"}), binary=True, representation="quat_trans",
         batch="topics", **_MCAP, reader="a2b.io.mcapposes:read_mcap", options=_FRAMED,
         writer_options={"profile": "foxglove", "count": None}, limits=MCAP_LIMITS,
-        trajectory="a2b.io.mcapposes",
+        trajectory="a2b.io.mcapposes:mcap_poses",
         input_options=frozenset({"topic", "child_frame", "input_frame"}),
     ),
     Format(
         name="ros2", suffixes=(),
         layout="MCAP for ROS 2: PoseStamped on /a2b/pose, TFMessage on /tf, a Path at the end",
         holds=frozenset({"poses", "times", "velocities"}), binary=True,
-        representation="quat_trans", batch="topics", **_MCAP, reader=None, options=_FRAMED,
-        writer_options={"profile": "ros2", "count": None},
+        representation="quat_trans", batch="topics", **_MCAP, reader=None,
+        options=_FRAMED | {"storage"}, writer_options={"profile": "ros2", "count": None},
         limits=Limits(2**32, 2**63 - 1, True, "a2b.io.ros2:split_stamps"), read_as="mcap",
     ),
     Format(
@@ -200,6 +203,13 @@ TABLE = (
         batch="topics", **_MCAP, reader=None, options=_FRAMED,
         writer_options={"profile": "protobuf", "count": None}, limits=MCAP_LIMITS,
         read_as="mcap",
+    ),
+    Format(
+        name="rosbag2", suffixes=(".db3",),
+        layout="a ROS 2 bag: a folder with metadata.yaml and its .db3 or .mcap files, or a .db3 "
+        "(read only)", holds=frozenset({"poses", "times"}), binary=True, representation=None,
+        batch=None, writer=None, batch_writer=None, reader=f"{_READ}:read_trajectory",
+        trajectory="a2b.io.rosbag2:bag_poses", input_options=frozenset({"topic", "child_frame"}),
     ),
 )  # fmt: skip
 
@@ -226,11 +236,7 @@ def from_suffix(path, batch: bool = False) -> tuple[str, str] | None:
 
 def suffix_names(batch: bool = False) -> list[str]:
     """The suffixes that choose an output format (``.tum``), for help texts."""
-    return [
-        s
-        for s, n in SUFFIXES.items()
-        if BY_NAME[n].writer is not None and not (batch and BY_NAME[n].batch == "files")
-    ]
+    return [s for s in SUFFIXES if from_suffix("file" + s, batch)]
 
 
 def resolve(reference: str):

@@ -68,7 +68,7 @@ def sample(
     seen: set = set()
     for block in blocks:
         if unique_names:
-            for i, name in enumerate(_names(block, first)):
+            for i, name in enumerate(job_names(block.names, first)):
                 if name in seen:
                     raise A2bError(
                         f"job {name!r} (job {first + i}): an earlier job has this name; "
@@ -86,14 +86,21 @@ def _kind(mode: str, parameters: dict) -> tuple:
     return (mode, tuple(sorted(parameters)), parameters.get("frame"))
 
 
-def _names(block, first: int) -> list[str]:
-    """The names of the jobs of a block: given, or the index in the file."""
-    return [str(first + i) if name is None else name for i, name in enumerate(block.names)]
+#: The name of a job that has none: ``job`` and its index in the file (``job0``, ``job1``, …),
+#: text that pandas' and polars' ``read_csv`` keep as text beside named jobs.
+DEFAULT_NAME = "job{index}"
+
+
+def job_names(names: list, first: int) -> list[str]:
+    """The names of the jobs ``names`` (``None`` where a job has none) whose first is job
+    ``first`` of the file: given, or :data:`DEFAULT_NAME`."""
+    return [DEFAULT_NAME.format(index=first + i) if name is None else name
+            for i, name in enumerate(names)]  # fmt: skip
 
 
 def _block(block, first, mode, samples, representation, rows, report) -> Iterator[Samples]:
     count = len(block.names)
-    names = _names(block, first)
+    names = job_names(block.names, first)
     modes = [m or mode for m in block.modes]
     counts = [s or samples for s in block.samples]
     kinds: dict = {}

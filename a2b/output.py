@@ -28,6 +28,13 @@ __all__ = ["CHUNK_SAMPLES", "check_plan", "check_times", "format_of", "write", "
 
 #: Samples per chunk: about 10 MB of text for ``csv``.
 CHUNK_SAMPLES = 65536
+#: The storages of a ROS 2 bag (``--storage``) and, for each that is not the format's own
+#: (``mcap``: the MCAP file of the ``ros2`` writer), its writers of one motion and of a batch
+#: (``sqlite3``: a rosbag2 bag folder).
+STORAGES = {
+    "mcap": None,
+    "sqlite3": ("a2b.io.writers:write_sqlite_bag", "a2b.io.writers:write_batch_sqlite_bag"),
+}
 
 
 def format_of(fmt: str | None, target=None, batch: bool = False) -> tuple[Format, str | None]:
@@ -178,13 +185,19 @@ def write_samples(
     atomic_directory`): a failure leaves no partial file and an older one as it was. Each
     block's times are checked against the format's limits as it comes.
 
-    ``options``: ``frame_id``, ``child_frame_id`` (refused for formats without frames) and
-    ``count``, the number of samples if known.
+    ``options``: ``frame_id``, ``child_frame_id`` (refused for formats without frames),
+    ``count``, the number of samples if known, and ``storage`` (``ros2``: ``mcap``, the
+    default, or ``sqlite3``: a rosbag2 bag folder, :data:`STORAGES`).
     """
     from .io.atomic import atomic_directory, atomic_output
 
     count = options.pop("count", None)
-    keywords = _options(fmt, options)
+    storage = options.pop("storage", None)
+    keywords = _options(fmt, {**options, "storage": storage})
+    if storage is not None and storage not in STORAGES:
+        raise OptionError(f"--storage {storage!r:.40}: expected one of {', '.join(STORAGES)}")
+    if STORAGES.get(storage) is not None:
+        return _write_bag(samples, target, fmt, storage, batch, keywords)
     if batch:
         writer = resolve(fmt.batch_writer)
         keywords = {"fmt": fmt.name, **{k: v for k, v in keywords.items() if k == "frame_id"}}
@@ -201,6 +214,20 @@ def write_samples(
         opened = atomic_directory if batch and fmt.batch == "files" else atomic_output
         with opened(target) as out:
             writer(out, stream, **keywords)
+    finally:
+        stream.close()
+
+
+def _write_bag(samples, target, fmt: Format, storage: str, batch: bool, keywords: dict) -> None:
+    """:func:`write_samples` into a bag folder of ``storage`` (:data:`STORAGES`)."""
+    if hasattr(target, "write") or _is_stdout(target):
+        raise OptionError(f"--storage {storage} writes a bag folder: give its path with -o FOLDER")
+    single, many = STORAGES[storage]
+    if batch:
+        keywords = {k: v for k, v in keywords.items() if k == "frame_id"}
+    stream = _checked(samples, fmt, batch)
+    try:
+        resolve(many if batch else single)(target, stream, **keywords)
     finally:
         stream.close()
 
@@ -237,6 +264,7 @@ def write(
     start_time: float | None = None,
     frame_id: str | None = None,
     child_frame_id: str | None = None,
+    storage: str | None = None,
     choices: list | None = None,
 ) -> None:
     """Write a motion, a timed motion or samples to ``target`` in ``format``, checked and whole.
@@ -259,6 +287,9 @@ def write(
         (defaults 1 and 0); a timed motion: ``start_time`` is the time of its start.
     frame_id, child_frame_id : str, optional
         MCAP formats: the fixed and the moving frame (defaults ``world`` and ``a2b``).
+    storage : str, optional
+        ``ros2``: ``mcap`` (the default: one MCAP file) or ``sqlite3`` (a rosbag2 bag folder
+        with a ``.db3`` and ``metadata.yaml``; ``target`` is the folder).
     velocities : bool
         A timed motion into csv, matrix, study or ros2: the twist of its point, per second.
     choices : list, optional
@@ -275,7 +306,7 @@ def write(
     fmt, chosen = format_of(format, target)
     if chosen is not None and choices is not None:
         choices.append(chosen)
-    frames = {"frame_id": frame_id, "child_frame_id": child_frame_id}
+    frames = {"frame_id": frame_id, "child_frame_id": child_frame_id, "storage": storage}
     _options(fmt, frames)
     start = start_time or 0.0
     if isinstance(source, Samples):

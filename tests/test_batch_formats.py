@@ -51,7 +51,7 @@ def alone(job, representation):
 
 
 def names(jobs):
-    return [job.get("name", str(i)) for i, job in enumerate(jobs)]
+    return [job.get("name", f"job{i}") for i, job in enumerate(jobs)]
 
 
 @pytest.fixture
@@ -158,12 +158,12 @@ def test_two_jobs_of_one_name_are_refused(tmp_path, rng, fmt):
 
 def test_the_index_of_a_job_counts_as_its_name(tmp_path, rng):
     jobs = make_jobs(rng, 3)
-    jobs[2]["name"] = "0"  # job 0 has no name: it is called 0
+    jobs[2]["name"] = "job0"  # job 0 has no name: it is called job0
     path = tmp_path / "jobs.json"
     path.write_text(json.dumps(jobs))
     result = run("batch", path, "--format", "kitti", "-o", tmp_path / "out")
     assert result.exit_code == 1
-    assert "job '0' (job 2)" in result.output
+    assert "job 'job0' (job 2)" in result.output
 
 
 @pytest.mark.parametrize("name", ["a/b", "..", "", "x" * 300])
@@ -224,13 +224,13 @@ def test_a_failing_move_into_the_directory_changes_nothing(tmp_path, jobs_file, 
 def test_a_directory_in_the_way_is_refused_before_any_file_moves(tmp_path, jobs_file):
     path, _ = jobs_file
     out = tmp_path / "motions"
-    (out / "1.tum").mkdir(parents=True)
+    (out / "job1.tum").mkdir(parents=True)
     (out / "0.tum").write_text("old")
     result = run("batch", path, "--format", "tum", "-o", out)
     assert result.exit_code == 1
-    assert "'1.tum' already there as a directory" in result.output
+    assert "'job1.tum' already there as a directory" in result.output
     assert (out / "0.tum").read_text() == "old"
-    assert sorted(p.name for p in out.iterdir()) == ["0.tum", "1.tum"]
+    assert sorted(p.name for p in out.iterdir()) == ["0.tum", "job1.tum"]
 
 
 def test_batch_refuses_options_its_format_does_not_take(tmp_path, jobs_file):

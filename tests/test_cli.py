@@ -539,7 +539,7 @@ def _check_batch(jobs, out):
             start, end, job.get("mode", "darboux"), **job.get("parameters", {})
         ).quat_trans(ts)
         n = len(ts)
-        assert names[row : row + n] == [job.get("name", str(i))] * n
+        assert names[row : row + n] == [job.get("name", f"job{i}")] * n
         assert np.array_equal(values[row : row + n, 0], ts)
         # batch builds the jobs together through the one core: the same to 1e-15 of their size
         scale = max(1.0, float(np.abs(trans).max()))
@@ -594,7 +594,7 @@ def test_batch_error_names_the_job_and_leaves_no_file(tmp_path, rng):
     out = tmp_path / "out.csv"
     result = run("batch", path, "--chunk-size", 2, "-o", out)
     assert result.exit_code == 1
-    assert "job 3" in result.output
+    assert "job job3: " in result.output
     assert not out.exists()
     assert [p.name for p in tmp_path.iterdir()] == ["jobs.json"]
 
@@ -794,7 +794,7 @@ def test_batch_splits_a_large_job_into_bounded_chunks(rng):
     pieces = list(sample([JobBlock.from_jobs(jobs)], rows=10))
     assert [len(p.t) for p in pieces] == [3, 10, 10, 5, 4]
     names = [name for p in pieces for name in p.job]
-    assert names == ["0"] * 3 + ["1"] * 25 + ["2"] * 4
+    assert names == ["job0"] * 3 + ["job1"] * 25 + ["job2"] * 4
     t = np.concatenate([p.t for p in pieces])
     assert np.array_equal(t[3:28], np.linspace(0, 1, 25))
 
@@ -1021,7 +1021,7 @@ def test_batch_warnings_name_their_job(tmp_path):
     lines = result.stderr.splitlines()
     assert len(lines) == 2
     assert lines[0].startswith("Warning: job near: the Darboux motion passes close to p(t) = 0")
-    assert lines[1].startswith("Warning: job 1: the Darboux motion passes close to p(t) = 0")
+    assert lines[1].startswith("Warning: job job1: the Darboux motion passes close to p(t) = 0")
 
 
 def test_plot_refuses_more_samples_than_a_figure_shows(tmp_path):

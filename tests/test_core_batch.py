@@ -254,7 +254,7 @@ def test_jobs_of_mixed_kinds_come_out_in_order_as_alone(rng):
     )
     pieces = list(sample([block], mode="cubic", samples=4, rows=64))
     names = [name for p in pieces for name in p.job]
-    expected_names = ["0", "b", "2", "d", "e", "5", "g", "h", "8"]
+    expected_names = ["job0", "b", "job2", "d", "e", "job5", "g", "h", "job8"]
     expected_counts = [3, 5, 4, 5, 5, 2, 3, 70, 4]
     assert names == [m for m, c in zip(expected_names, expected_counts) for _ in range(c)]
     assert max(len(p.t) for p in pieces) <= 64

@@ -265,7 +265,7 @@ def test_failed_run_in_a_real_process_keeps_the_old_file(tmp_path):
         a2b_cmd("batch", jobs, "-o", out), capture_output=True, timeout=120, check=False
     )
     assert result.returncode == 1
-    assert one_error_line(result.stderr).startswith("Error: job 1: ")
+    assert one_error_line(result.stderr).startswith("Error: job job1: ")
     assert out.read_bytes() == PRECIOUS
     assert sorted(p.name for p in tmp_path.iterdir()) == ["jobs.yaml", "out.csv"]
 

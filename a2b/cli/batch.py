@@ -43,6 +43,7 @@ def _progress(total: int | None):
     help="Samples per motion for jobs that do not say  [default: 101]",
 )
 @writing.format_option(batch=True)
+@writing.storage_option
 @click.option(
     "--chunk-size",
     type=options.Count(min=1),
@@ -57,14 +58,14 @@ def _progress(total: int | None):
 @options.verbose_option
 @options.orthonormalize_option
 def command(
-    jobs, mode, samples, fmt, profile, chunk_size, duration, start_time, frame_id, output,
-    verbose, orthonormalize,
+    jobs, mode, samples, fmt, profile, storage, chunk_size, duration, start_time, frame_id,
+    output, verbose, orthonormalize,
 ):  # fmt: skip
     """Sample every job in JOBS: into one CSV whose first column, job, names the motion, into
     a file per job (tum, kitti), or into one MCAP file with a topic per job.
 
     JOBS is a YAML or JSON list of jobs, or JSON Lines (one job per line, read as it goes).
-    A job has start and end poses and, optionally, name (default: its index), mode, samples
+    A job has start and end poses and, optionally, name (default: job0, job1, …), mode, samples
     and parameters, as in a poses file. Jobs are read, built and sampled in chunks, the jobs
     of one kind (mode and parameters given) all at once, with the results of building each
     alone; a progress bar shows on stderr when stderr is a terminal. A job that fails stops
@@ -122,6 +123,6 @@ def command(
                 unique_names=fmt.batch != "rows",
             )
             timed = stamped(pieces, duration, start_time)
-            write_samples(timed, output, fmt, batch=True, **frames)
+            write_samples(timed, output, fmt, batch=True, storage=storage, **frames)
     if verbose and repaired:
         click.echo(f"Repairs a2b made:\n  • {repaired[0]}", err=True)

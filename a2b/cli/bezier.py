@@ -8,7 +8,7 @@ from . import CONTEXT_SETTINGS, options, writing
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
-@click.argument("poses", type=options.INPUT)
+@click.argument("poses", type=options.TRAJECTORY)
 @options.space_option
 @options.m_option(
     "matrix: the vector m of μ_[m], e.g. 1,0,0,0.5  [default: the sum of the control quaternions]"

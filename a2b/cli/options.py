@@ -140,6 +140,21 @@ class InputFile(click.File):
         return super().convert(value, param, ctx)
 
 
+class TrajectoryInput(InputFile):
+    """As :class:`InputFile`, and a folder: a ROS 2 bag, given to the readers as an empty
+    stream named by the folder's path (:func:`a2b.io.trajectories.opened` reads the bag by
+    that name)."""
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, (str, os.PathLike)) and os.path.isdir(value):
+            import io
+
+            folder = io.BytesIO()
+            folder.name = os.fspath(value)
+            return folder
+        return super().convert(value, param, ctx)
+
+
 def _closed(fd: int) -> bool:
     try:
         os.fstat(fd)
@@ -149,6 +164,7 @@ def _closed(fd: int) -> bool:
 
 
 INPUT = InputFile()
+TRAJECTORY = TrajectoryInput()
 FLOAT = FiniteFloat()
 M_VECTOR = Vector(4, "m0, m1, m2, m3")
 ALPHA_VECTOR = Vector(6, "α0 … α5")
@@ -513,16 +529,20 @@ def trajectory_input_options(rate: bool = True):
         click.option(
             "--input-format",
             type=click.Choice(formats.INPUT_NAMES),
-            help="A trajectory's format  [default: from the suffix (.tum, .kitti, .mcap), else "
-            "from the content]",
+            help="A trajectory's format  [default: from the suffix (.tum, .kitti, .mcap, "
+            ".db3), else from the content; a folder is a rosbag2 bag]",
         ),
-        click.option("--topic", help="mcap input: the topic of the poses, if several."),
+        click.option(
+            "--topic",
+            help="mcap and rosbag2 input: the topic of the poses  [default: the only pose "
+            "topic, or /a2b/pose; -v says which]",
+        ),
         click.option(
             "--input-child-frame",
             metavar="FRAME",
-            help="mcap input, a topic of transforms (ROS 2 TFMessage, Foxglove FrameTransform "
-            "or FrameTransforms): the poses are its transforms to FRAME  [default: its only "
-            "child frame]",
+            help="mcap and rosbag2 input, a topic of transforms (ROS 2 TFMessage, Foxglove "
+            "FrameTransform or FrameTransforms): the poses are its transforms to FRAME  [default: "
+            "its only child frame]",
         ),
         click.option(
             "--input-frame",
@@ -628,6 +648,7 @@ def read_pose_list_option(
         input_frame=input_frame,
         orthonormalize=orthonormalize,
         minimum=2,
+        choices=choices,
     )
     choices.extend(path.notes)
     if path.repaired is not None:

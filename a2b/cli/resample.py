@@ -10,7 +10,7 @@ from . import CONTEXT_SETTINGS, options, writing
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
-@click.argument("trajectory", type=options.INPUT)
+@click.argument("trajectory", type=options.TRAJECTORY)
 @options.trajectory_input_options()
 @click.option(
     "--rate",
@@ -21,7 +21,7 @@ from . import CONTEXT_SETTINGS, options, writing
 @click.option(
     "--at",
     "reference",
-    type=options.INPUT,
+    type=options.TRAJECTORY,
     metavar="REFERENCE",
     help="New times: the stamps of another trajectory file (any input format).",
 )
@@ -63,15 +63,14 @@ from . import CONTEXT_SETTINGS, options, writing
 @writing.frame_options
 @options.verbose_option
 def command(trajectory, input_format, topic, input_child_frame, input_frame, input_rate,
-            orthonormalize,
-            rate, reference, times_file, mode, clip, max_gap, mark, output, fmt, profile, frame_id,
-            child_frame_id, verbose, **parameters):  # fmt: skip
-    """Sample TRAJECTORY (a file, or - for stdin) at new times.
+            orthonormalize, rate, reference, times_file, mode, clip, max_gap, mark, output, fmt,
+            profile, storage, frame_id, child_frame_id, verbose, **parameters):  # fmt: skip
+    """Sample TRAJECTORY (a file, a ROS 2 bag folder, or - for stdin) at new times.
 
-    TRAJECTORY is TUM, KITTI, EuRoC, a2b's csv, matrix or study output, or MCAP with
+    TRAJECTORY is TUM, KITTI, EuRoC, a2b's csv, matrix or study output, MCAP with
     foxglove.PoseInFrame or FrameTransform (JSON) or ROS 2 PoseStamped, TFMessage, Odometry
-    or Path (CDR); the format comes from --input-format, the suffix or the content. Its times
-    must increase.
+    or Path (CDR), or a ROS 2 bag of those (a folder with metadata.yaml, or a .db3); the
+    format comes from --input-format, the suffix or the content. Its times must increase.
 
     The new times come from exactly one of --rate, --at and --times. A time in the segment
     between two neighbouring poses is the pose of that segment's motion, at the fraction of
@@ -129,13 +128,14 @@ def command(trajectory, input_format, topic, input_child_frame, input_frame, inp
         check_times(fmt, 0.0, max(float(new_times.times[-1]), 0.0))
     pieces = trajectory_pieces(data, name, in_fmt, rate=input_rate, topic=topic,
                                child_frame=input_child_frame, input_frame=input_frame, mode=mode,
-                               orthonormalize=orthonormalize,
+                               orthonormalize=orthonormalize, choices=choices,
                                **({"size": len(data) + 1} if mode == "spline" else {}))  # fmt: skip
     if input_frame is not None:  # one piece: its TF chain stated with the other choices
         pieces = list(pieces)
         choices.extend(pieces[0].notes)
     run = _Run(name, mode, max_gap, clip, mark, parameters)
     options.state_choices(choices, verbose)
+    frames.update({"storage": storage} if storage is not None else {})
     write_samples(run.samples(pieces, new_times, fmt.representation), output, fmt, **frames)
     _report(run.counts, run.made, run.repaired, new_times.described(), clip, max_gap, verbose)
 
@@ -203,7 +203,7 @@ def _new_times(rate, reference, times_file, choices):
     if reference is not None:
         from ..io.trajectories import read_trajectory
 
-        path = read_trajectory(reference, orthonormalize=True)  # only its stamps are used
+        path = read_trajectory(reference, orthonormalize=True, choices=choices)  # its stamps
         if path.fmt == "kitti":
             raise click.UsageError(
                 "--at needs a reference with time stamps; KITTI files have none (use --rate)"

@@ -9,7 +9,7 @@ from .plot import ModeList, points_option, units_options
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
-@click.argument("poses", type=options.INPUT)
+@click.argument("poses", type=options.TRAJECTORY)
 @click.option(
     "-o",
     "--output",

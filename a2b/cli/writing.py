@@ -106,7 +106,16 @@ def format_option(f=None, *, batch: bool = False):
         return lambda g: format_option(g, batch=batch)
     names = [row.name for row in formats.TABLE if (row.batch_writer if batch else row.writer)]
     option = click.option("--format", "fmt", type=click.Choice(names), help=format_help(batch))
-    return option(profile_option(batch)(f))
+    f = option(profile_option(batch)(f))
+    return f if batch else storage_option(f)
+
+
+storage_option = click.option(
+    "--storage",
+    type=click.Choice(("mcap", "sqlite3")),
+    help="ros2: mcap (one MCAP file, the default) or sqlite3 (a rosbag2 bag folder -o FOLDER "
+    "with FOLDER_0.db3 and metadata.yaml, as ros2 bag record -s sqlite3 writes it).",
+)
 
 
 _start_time_option = click.option(
@@ -164,6 +173,7 @@ TRAJECTORY_OPTIONS = (
     "start_time",
     "frame_id",
     "child_frame_id",
+    "storage",
 )
 
 
@@ -237,7 +247,9 @@ def sample_and_write(motion, samples, from_file, choices: list, verbose: bool, o
     fmt = BY_NAME[format_from(out.pop("fmt"), out["output"], choices, out.pop("profile"))]
     state_choices(choices + list(motion.choices), verbose)
     target = out.pop("output")
+    storage = out.pop("storage")
     frames = refuse_defaults(fmt, out if timed is None else {k: out[k] for k in FRAME_OPTIONS})
+    frames.update({"storage": storage} if storage is not None else {})
     if timed is None:
         write_motion(motion, samples, target, fmt, out["duration"], out["start_time"], **frames)
         return

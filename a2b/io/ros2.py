@@ -28,6 +28,7 @@ from ..errors import InputFileError, ParameterError, listing, printable, quoted
 from .mcapreader import Messages, cut
 
 __all__ = [
+    "MAX_TOPIC_LENGTH",
     "POSE_TYPES",
     "Cdr",
     "check_frame_id",
@@ -90,37 +91,55 @@ def schema_text(type_name: str) -> bytes:
 # -- names ROS 2 accepts --------------------------------------------------------------------------
 
 _TOKEN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*", re.ASCII)
+_TOPIC_CHARACTERS = re.compile(r"[A-Za-z0-9_/]*", re.ASCII)
+#: The longest fully qualified topic name ROS 2 accepts: rmw's ``RMW_TOPIC_MAX_NAME_LENGTH``,
+#: 255 (the DDS implementations' limit) less 8 characters kept for prefixes such as ``rt/``.
+MAX_TOPIC_LENGTH = 255 - 8
 
 
 def check_topic(topic: str, what: str = "topic") -> str:
     """``topic`` if ROS 2 accepts it as a fully qualified topic name, else a ParameterError.
 
-    The rules of ``rmw_validate_full_topic_name``: it starts with ``/``, and each ``/``-separated
-    token is ASCII letters, digits and ``_``, not empty and not starting with a digit.
+    The rules of ``rmw_validate_full_topic_name`` (design.ros2.org, "Topic and Service name
+    mapping to DDS"), checked in its order: not empty; starts with ``/``; does not end with
+    ``/`` (``/`` alone is no topic either); only ASCII letters, digits, ``_`` and ``/``; no
+    ``//``; no ``/``-separated token starts with a digit; at most :data:`MAX_TOPIC_LENGTH`
+    characters. The message names the first rule broken.
     """
     tokens = topic.split("/")[1:]
-    if not topic.startswith("/") or not tokens or not all(map(_TOKEN.fullmatch, tokens)):
-        raise ParameterError(
-            f"{what} {topic!r} is not a ROS 2 topic name: it must start with /, and each part "
-            "between slashes must be letters, digits and _, not empty, not starting with a digit"
-        )
-    return topic
+    if not topic:
+        problem = "it is empty"
+    elif not topic.startswith("/"):
+        problem = "it must start with /"
+    elif topic.endswith("/"):
+        problem = "it must not end with /"
+    elif not _TOPIC_CHARACTERS.fullmatch(topic):
+        bad = next(ch for ch in topic if not _TOPIC_CHARACTERS.fullmatch(ch))
+        problem = f"it holds {quoted(bad)}; only ASCII letters, digits, _ and / are allowed"
+    elif "//" in topic:
+        problem = "it must not hold //"
+    elif not all(map(_TOKEN.fullmatch, tokens)):
+        problem = "a part between slashes starts with a digit"
+    elif len(topic) > MAX_TOPIC_LENGTH:
+        problem = f"it has {len(topic)} characters; ROS 2 allows at most {MAX_TOPIC_LENGTH}"
+    else:
+        return topic
+    raise ParameterError(f"{what} {quoted(topic)} is not a ROS 2 topic name: {problem}")
 
 
 def check_frame_id(frame_id: str, option: str = "--frame-id") -> str:
     """``frame_id`` if tf2 accepts it, else a ParameterError: not empty, no leading ``/`` (tf2
-    drops it with a warning), no whitespace or control characters."""
-    if (
-        not frame_id
-        or frame_id.startswith("/")
-        or not frame_id.isprintable()
-        or any(ch.isspace() for ch in frame_id)
-    ):
-        raise ParameterError(
-            f"{option} {frame_id!r} is not a ROS 2 frame id: it must not be empty, start with /, "
-            "or hold whitespace"
-        )
-    return frame_id
+    drops it with a warning), no whitespace, control or other unprintable characters (a NUL
+    would end the CDR string early)."""
+    if not frame_id:
+        problem = "it is empty"
+    elif frame_id.startswith("/"):
+        problem = "it must not start with / (tf2 drops it)"
+    elif not frame_id.isprintable() or any(ch.isspace() for ch in frame_id):
+        problem = "it must not hold whitespace or unprintable characters"
+    else:
+        return frame_id
+    raise ParameterError(f"{option} {quoted(frame_id)} is not a ROS 2 frame id: {problem}")
 
 
 def qos_profiles(depth: int, durability: int = 2) -> str:

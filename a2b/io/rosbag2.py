@@ -8,10 +8,12 @@ the folder; before, prefixed with the folder's name), ``topics_with_message_coun
 ``offered_qos_profiles``; from version 7 ``type_description_hash``) and the compression.
 
 The storage files are SQLite (:mod:`a2b.io.sqlitebag`: ``.db3``, the default of ROS 2 Humble
-and older) or MCAP (read here with the ``mcap`` package). A ``.db3`` alone, without its
-folder, reads as a bag of one file. Every problem is one :class:`~a2b.errors.InputFileError`
-that starts with the name of the file at fault; a topic is refused, not allocated, when it
-holds more than the caller allows.
+and older) or MCAP (read with a2b's checked reader, :class:`a2b.io.mcapreader.McapFile`). A
+``.db3`` alone, without its folder, reads as a bag of one file. Every problem is one
+:class:`~a2b.errors.InputFileError` that starts with the name of the file at fault; a topic is
+refused, not allocated, when it holds more than the caller allows. :func:`bag_poses` decodes
+a topic's poses by its type (:func:`a2b.io.ros2.decode_poses`) for
+:func:`a2b.io.trajectories.read_trajectory` (the format ``rosbag2``).
 
 Writing (:func:`write_sqlite_bag`) makes what ``ros2 bag record -s sqlite3`` on Iron makes:
 ``NAME/NAME_0.db3`` of schema version 4 and ``NAME/metadata.yaml`` of version 8 (the QoS
@@ -43,6 +45,7 @@ __all__ = [
     "BagTopic",
     "bag_files",
     "bag_messages",
+    "bag_poses",
     "bag_topics",
     "is_bag",
     "write_sqlite_bag",
@@ -55,6 +58,8 @@ LATEST_VERSION, WRITTEN_VERSION = 9, 8
 MAX_METADATA_BYTES = 16 << 20
 #: The default bound on the bytes of one topic that :func:`bag_messages` returns.
 MAX_TOPIC_BYTES = 1 << 30
+#: The message type of ``/tf``: ``--input-child-frame`` picks its transforms.
+TF_TYPE = "tf2_msgs/msg/TFMessage"
 
 
 class BagTopic(NamedTuple):
@@ -350,34 +355,35 @@ def _check_form(form: str, topic: str, where: str) -> None:
 
 
 def _mcap_messages(files: list[str], topic: str, listed: dict, max_bytes: int):
-    """:func:`bag_messages` for MCAP storage, file by file with the ``mcap`` package's reader
-    (record by record, its order within a file)."""
-    from mcap.reader import NonSeekingReader
+    """:func:`bag_messages` for MCAP storage, file by file through a2b's checked MCAP reader
+    (:class:`a2b.io.mcapreader.McapFile`: CRCs, bounded inflation); within a file in the
+    log-time order of the messages, the channels of the topic joined."""
+    from .mcapreader import McapFile
 
     type_name, times, datas, budget = None, [], [], max_bytes
     for file in files:
-        try:
-            with open(file, "rb") as f:
-                for schema, channel, message in NonSeekingReader(f).iter_messages(topics=[topic]):
-                    name = getattr(schema, "name", None) or listed.get(topic, ("?",))[0]
-                    type_name = type_name or name
-                    _same_type(type_name, name, topic, file)
-                    _check_form(channel.message_encoding, topic, file)
-                    budget -= len(message.data) + sqlitebag.MESSAGE_OVERHEAD
-                    if budget < 0:
-                        raise InputFileError(
-                            f"{file}: the topic {shown(topic)} holds more than the "
-                            f"{max_bytes / 2**20:.1f} MiB allowed (max_bytes)"
-                        )
-                    times.append(message.log_time)
-                    datas.append(message.data)
-        except InputFileError:
-            raise
-        except Exception as e:  # noqa: BLE001 - a damaged file, in the words of the mcap package
-            problem = shown(e, 200)
+        with open(file, "rb") as f:
+            mcap = McapFile(f.read(), file)
+        mine = [channel for channel in mcap.channels.values() if channel.topic == topic]
+        for channel in mine:
+            name = channel.schema_name or listed.get(topic, ("?",))[0]
+            type_name = type_name or name
+            _same_type(type_name, name, topic, file)
+            _check_form(channel.message_encoding, topic, file)
+        found = mcap.messages([channel.id for channel in mine])
+        parts = [found[channel.id] for channel in mine]
+        budget -= sum(int(p.length.sum()) + sqlitebag.MESSAGE_OVERHEAD * len(p) for p in parts)
+        if budget < 0:
             raise InputFileError(
-                f"{file}: not a readable MCAP file ({type(e).__name__}: {problem})"
-            ) from None
+                f"{file}: the topic {shown(topic)} holds more than the "
+                f"{max_bytes / 2**20:.1f} MiB allowed (max_bytes)"
+            )
+        logged = np.concatenate([np.asarray(p.log_time, np.int64) for p in parts]
+                                + [np.empty(0, np.int64)])  # fmt: skip
+        here = [data for p in parts for data in p.as_bytes()]
+        order = np.argsort(logged, kind="stable")
+        times.append(logged[order].astype(np.int64))
+        datas.extend(here[k] for k in order.tolist())
     if type_name is None:
         if topic not in listed:
             raise InputFileError(
@@ -385,7 +391,33 @@ def _mcap_messages(files: list[str], topic: str, listed: dict, max_bytes: int):
                 f"{few(list(listed))}"
             )
         type_name = listed[topic][0]
-    return type_name, np.array(times, np.int64), datas
+    return type_name, np.concatenate(times + [np.empty(0, np.int64)]), datas
+
+
+def bag_poses(path: str | os.PathLike, name: str, topic: str, child_frame: str | None = None):
+    """Times (s), quaternions ``(N, 4)`` wxyz and translations ``(N, 3)`` of the poses of
+    ``topic`` in the bag ``path`` (a folder or a ``.db3``), decoded by the topic's own type
+    (:func:`a2b.io.ros2.decode_poses`: ``PoseStamped``, ``Odometry``, ``TFMessage``, ``Path``);
+    ``name`` starts the messages.
+
+    Raises
+    ------
+    InputFileError
+        As :func:`bag_messages`; if the topic's type carries no poses, ``child_frame`` is given
+        for a topic that is no ``TFMessage``, or a pose is not finite.
+    """
+    from .ros2 import decode_poses
+
+    type_name, _log_times, datas = bag_messages(path, topic)
+    where = f"{name}: {shown(topic)}"
+    if child_frame is not None and type_name != TF_TYPE:
+        raise InputFileError(
+            f"{where} carries {shown(type_name)}: --input-child-frame is for {TF_TYPE} topics"
+        )
+    times, quat, trans, _message = decode_poses(type_name, datas, where, child_frame)
+    if not (np.isfinite(quat).all() and np.isfinite(trans).all()):
+        raise InputFileError(f"{where}: a pose is not finite")
+    return times, quat, trans
 
 
 # -- writing -------------------------------------------------------------------------------------
@@ -492,9 +524,16 @@ def _information(file: str, topics, counts, first, last) -> dict:
 
 
 def _yaml(document: dict) -> str:
+    """``document`` as YAML, each repeated value written out again (no ``&id001`` anchors,
+    which ``ros2 bag`` does not write)."""
     import yaml
 
-    return yaml.safe_dump(document, sort_keys=False, default_flow_style=False, width=1 << 16)
+    class Dumper(yaml.SafeDumper):
+        def ignore_aliases(self, data):
+            return True
+
+    return yaml.dump(document, Dumper=Dumper, sort_keys=False, default_flow_style=False,
+                     width=1 << 16)  # fmt: skip
 
 
 #: The files of a bag folder that writing a bag over it may remove.

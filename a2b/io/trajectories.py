@@ -12,15 +12,21 @@ matrix   a2b's ``t,r11,r12,r13,tx,r21,…,tz``                               the
 study    a2b's ``t,p0,p1,p2,p3,q0,q1,q2,q3``                               the ``t`` column
 mcap     ``foxglove.PoseInFrame`` or ``foxglove.FrameTransform`` (JSON);   the message stamps
          ROS 2 ``PoseStamped``, ``TFMessage``, ``Odometry``, ``Path`` (CDR)
+rosbag2  a bag folder (``metadata.yaml``, SQLite or MCAP storage) or a     the message stamps
+         ``.db3``: the ROS 2 messages of ``mcap``, each topic by its type
 =======  ================================================================  ======================
 
 Each text format is a module (:mod:`a2b.io.tum`, :mod:`a2b.io.kitti`, :mod:`a2b.io.euroc`,
 :mod:`a2b.io.csvtable`) with a ``layout`` of its rows and a ``trajectory`` of them; this module
 picks the format and hands the text to it in pieces. The format comes from the caller, else
-the file's suffix (``.tum``, ``.kitti``, ``.mcap``), else the content: an MCAP magic, a header
+the file's suffix (``.tum``, ``.kitti``, ``.mcap``, ``.db3``), else the content: a folder (a
+rosbag2 bag, given as a stream named by its path: :func:`opened`), an MCAP or SQLite magic, a header
 that names the columns of a2b's CSV layouts (in any order), a EuRoC ``#timestamp`` header, or
 lines of 8 (TUM) or 12 (KITTI) numbers. Columns are read by the names a header gives them.
-Every pose is checked as in a pose file; times must increase. A problem is one
+The topic of an MCAP file or a bag is ``--topic``, else the one topic with poses (a2b's own
+``/a2b/pose`` among several; with ``child_frame``, the one ``TFMessage`` topic):
+:func:`chosen_topic`, which says why in words. Every pose is checked as in a pose file; times
+must increase. A problem is one
 :class:`InputFileError` that starts ``FILE:LINE:COLUMN:``; an option that does not apply to
 the format is an error too.
 
@@ -38,12 +44,13 @@ from typing import IO
 
 import numpy as np
 
-from ..errors import InputFileError, printable
-from ..formats import BY_NAME, INPUT_NAMES, SUFFIXES, TABLE
+from ..errors import InputFileError, listing, printable
+from ..formats import BY_NAME, INPUT_NAMES, SUFFIXES, TABLE, resolve
 from .csvtable import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER, fmt_from_header
 from .documents import stream_name
-from .mcapposes import mcap_poses, mcap_tf_poses
-from .mcapreader import MAGIC
+from .mcapposes import DECODERS, mcap_tf_poses
+from .mcapreader import MAGIC, McapFile
+from .sqlitebag import SQLITE_MAGIC
 from .textrows import (
     BOM,
     check_text,
@@ -61,6 +68,7 @@ __all__ = [
     "STUDY_HEADER",
     "TRAJECTORY_FORMATS",
     "Trajectory",
+    "chosen_topic",
     "read_csv",
     "read_kitti",
     "read_matrix_csv",
@@ -82,12 +90,14 @@ TRAJECTORY_FORMATS = INPUT_NAMES
 #: it is for).
 INPUT_OPTIONS = {
     "rate": ("--input-rate", "the times of poses that have none"),
-    "topic": ("--topic", "the topic of an MCAP file"),
-    "child_frame": ("--input-child-frame", "the frame of an MCAP /tf topic"),
+    "topic": ("--topic", "the topic of an MCAP file or a bag"),
+    "child_frame": ("--input-child-frame", "the frame of a /tf topic"),
     "input_frame": ("--input-frame", "the parent frame of a TF chain"),
 }
 #: Bytes read to tell the format before the rest.
 HEAD_BYTES = 1 << 16
+#: The format of ROS 2 bags, read by their path (:func:`opened`).
+BAG = "rosbag2"
 
 
 def read_trajectory(
@@ -102,17 +112,20 @@ def read_trajectory(
     mode: str = "screw",
     orthonormalize: bool = False,
     minimum: int = 1,
+    choices: list | None = None,
 ) -> Trajectory:
-    """Read a trajectory file (see the module's table) from a binary ``stream``.
+    """Read a trajectory file (see the module's table) from a binary ``stream`` (a bag: a
+    stream named by its path, :func:`opened`).
 
-    ``rate`` gives KITTI poses the times ``i / rate``; ``topic`` picks the MCAP topic when the
-    file has several, and ``child_frame`` the transforms of a ROS 2 ``/tf`` topic when they go
-    to several frames; ``input_frame`` with ``child_frame`` composes the pose of
-    ``child_frame`` in ``input_frame`` through the TF tree of ``/tf`` and ``/tf_static``, each
-    dynamic link interpolated by ``mode`` (:func:`a2b.io.mcapposes.mcap_tf_poses`; the chain
-    is stated in :attr:`Trajectory.notes`); ``orthonormalize`` repairs rotation blocks that
-    are orthogonal only to a few digits (:func:`a2b.poses.orthonormalize`); ``minimum`` is the
-    fewest poses accepted.
+    ``rate`` gives KITTI poses the times ``i / rate``; ``topic`` picks the topic of an MCAP
+    file or a bag when it has several, and ``child_frame`` the transforms of a ROS 2 ``/tf``
+    topic when they go to several frames; ``input_frame`` with ``child_frame`` composes the
+    pose of ``child_frame`` in ``input_frame`` through the TF tree of ``/tf`` and
+    ``/tf_static``, each dynamic link interpolated by ``mode``
+    (:func:`a2b.io.mcapposes.mcap_tf_poses`; the chain is stated in :attr:`Trajectory.notes`);
+    ``orthonormalize`` repairs rotation blocks that are orthogonal only to a few digits
+    (:func:`a2b.poses.orthonormalize`); ``minimum`` is the fewest poses accepted.
+    ``choices``: the topic and storage chosen, in words, appended.
 
     Raises
     ------
@@ -123,7 +136,8 @@ def read_trajectory(
     name, data, fmt = opened(stream, name, fmt)
     pieces = list(trajectory_pieces(data, name, fmt, rate=rate, topic=topic,
                                     child_frame=child_frame, input_frame=input_frame,
-                                    mode=mode, orthonormalize=orthonormalize))  # fmt: skip
+                                    mode=mode, orthonormalize=orthonormalize,
+                                    choices=choices))  # fmt: skip
     trajectory = joined(pieces, name, fmt)
     if len(trajectory) < minimum:
         raise InputFileError(
@@ -145,21 +159,35 @@ def check_input_options(name: str, fmt: str, **given) -> None:
 
 
 def opened(stream: IO, name: str | None = None, fmt: str | None = None) -> tuple:
-    """``(name, bytes, format)`` of a trajectory file: its name for messages, its content, and
-    its format (given, else from the suffix or the content: :func:`sniff_format`).
+    """``(name, content, format)`` of a trajectory file: its name for messages, its content
+    (bytes; a rosbag2 bag's path), and its format (given, else from the suffix or the
+    content: :func:`sniff_format`).
 
-    The format is told from the first :data:`HEAD_BYTES`; then the rest is read, a text file's
-    with every NUL byte refused as it arrives and an MCAP file's only after its magic, so
-    that a stream without end (``/dev/zero``) is an error in bounded memory.
+    A bag is read by its path, not through the stream: a folder is given as a stream named
+    by the folder's path (the command line passes an empty one), a ``.db3`` as its file.
+    Else the format is told from the first :data:`HEAD_BYTES`; then the rest is read, a text
+    file's with every NUL byte refused as it arrives and an MCAP file's only after its
+    magic, so that a stream without end (``/dev/zero``) is an error in bounded memory.
     """
+    path = name or getattr(stream, "name", None)
     name = stream_name(stream, name)
-    head = _head(stream)
-    fmt = fmt or sniff_format(head, name)
+    folder = isinstance(path, str) and os.path.isdir(path)
+    if folder and fmt not in (None, BAG):
+        raise InputFileError(f"{name}: a folder; a2b reads folders as {BAG} bags, not as {fmt}")
+    head = b"" if folder or fmt == BAG else _head(stream)
+    fmt = fmt or (BAG if folder else sniff_format(head, name))
     if fmt not in TRAJECTORY_FORMATS:
         raise InputFileError(
             f"{name}: unknown trajectory format '{printable(str(fmt)[:40])}' (expected one of "
             f"{', '.join(TRAJECTORY_FORMATS)})"
         )
+    if fmt == BAG:
+        if not (isinstance(path, str) and os.path.exists(path)):
+            raise InputFileError(
+                f"{name}: a {BAG} bag is read by its path (a folder or a .db3 file), not from "
+                "a stream"
+            )
+        return name, path, fmt
     if not BY_NAME[fmt].binary:
         return name, read_text_bytes(stream, name, head), fmt
     if not head.startswith(MAGIC):
@@ -198,29 +226,125 @@ def trajectory_pieces(
     mode: str = "screw",
     orthonormalize: bool = False,
     size: int = PIECE_BYTES,
+    choices: list | None = None,
 ) -> Iterator[Trajectory]:
-    """The poses of a trajectory file's content, in consecutive pieces of about ``size`` bytes
-    of text (MCAP: one piece), each checked as it is read; times increase across pieces too.
+    """The poses of a trajectory file's content (:func:`opened`), in consecutive pieces of
+    about ``size`` bytes of text (MCAP, a bag: one piece), each checked as it is read; times
+    increase across pieces too.
 
     A reader can start on the first poses while the rest is still text: ``a2b resample``
-    computes the first segments while the file is parsed.
+    computes the first segments while the file is parsed. The options are checked and the
+    topic chosen (and stated in ``choices``) at the call, before the first piece.
     """
     check_input_options(name, fmt, rate=rate, topic=topic, child_frame=child_frame,
                         input_frame=input_frame)  # fmt: skip
-    if BY_NAME[fmt].binary:
-        notes: tuple = ()
-        if input_frame is not None:
-            if child_frame is None:
-                raise InputFileError(f"{name}: --input-frame needs --input-child-frame")
-            *poses, chain = mcap_tf_poses(data, name, topic, input_frame, child_frame, mode)
-            notes = (chain,)
-        else:
-            poses = mcap_poses(data, name, topic, child_frame)
-        piece = from_quaternions(*poses, name, fmt, None)
-        piece.notes = notes
-        check_times(piece.times, name, None)
-        yield piece
-        return
+    if not BY_NAME[fmt].binary:
+        return _text_pieces(data, name, fmt, rate, orthonormalize, size)
+    if fmt == BAG:
+        from .rosbag2 import bag_files
+
+        storage, files = bag_files(data)
+        how = f"{len(files)} file{'s' * (len(files) != 1)} that metadata.yaml lists"
+        _say(choices, f"storage {storage}: " + (how if os.path.isdir(data) else "a .db3 alone"))
+    if input_frame is not None:
+        return _tree_pieces(data, name, fmt, topic, input_frame, child_frame, mode)
+    topic = chosen_topic(data, name, topic, child_frame, choices)
+    return _binary_pieces(data, name, fmt, topic, child_frame)
+
+
+def _tree_pieces(data, name: str, fmt: str, topic, input_frame: str, child_frame, mode: str):
+    """The pose of ``child_frame`` in ``input_frame`` through the TF tree, one piece; the chain
+    in its :attr:`Trajectory.notes`."""
+    if child_frame is None:
+        raise InputFileError(f"{name}: --input-frame needs --input-child-frame")
+    *poses, chain = mcap_tf_poses(data, name, topic, input_frame, child_frame, mode)
+    piece = from_quaternions(*poses, name, fmt, None)
+    piece.notes = (chain,)
+    check_times(piece.times, name, None)
+    yield piece
+
+
+def _binary_pieces(data, name: str, fmt: str, topic, child_frame) -> Iterator[Trajectory]:
+    times, quat, trans = resolve(BY_NAME[fmt].trajectory)(data, name, topic, child_frame)
+    piece = from_quaternions(times, quat, trans, name, fmt, None)
+    check_times(piece.times, name, None)
+    yield piece
+
+
+def _say(choices: list | None, choice: str) -> None:
+    if choices is not None:
+        choices.append(choice)
+
+
+def chosen_topic(
+    data, name: str, topic: str | None, child_frame: str | None, choices: list | None = None
+) -> str | None:
+    """The topic to read from an MCAP file's bytes or a bag's path ``data``: ``topic`` if
+    given, else the one topic whose messages a2b reads poses from (``/a2b/pose`` among
+    several; with ``child_frame``, the one ``TFMessage`` topic). Why, in words, is appended to
+    ``choices``. An MCAP file is opened here only when ``topic`` is not given.
+
+    Raises
+    ------
+    InputFileError
+        If the topic given is not there, or no topic or several qualify.
+    """
+    if topic is not None and isinstance(data, bytes):
+        _say(choices, f"topic {listing([topic], width=80)}: given with --topic")
+        return topic
+    found = _topics(data, name)
+    topics = sorted({topic for topic, _kind, _poses in found})
+    if topic is not None:
+        if topic not in topics:
+            raise InputFileError(
+                f"{name}: no topic {listing([repr(topic)])}; the bag has {listing(topics)}"
+            )
+        _say(choices, f"topic {listing([topic], width=80)}: given with --topic")
+        return topic
+    candidates = sorted({
+        topic for topic, kind, poses in found
+        if poses and (child_frame is None or kind == _TF)
+    })  # fmt: skip
+    what = f"{_TF} topic" if child_frame is not None else "pose topic"
+    if "/a2b/pose" in candidates and child_frame is None and len(candidates) > 1:
+        why = f"a2b's own, of the {what}s {listing(candidates)}"
+        candidates = ["/a2b/pose"]
+    elif len(candidates) == 1:
+        why = f"the only {what}"
+    else:
+        raise InputFileError(
+            f"{name}: {'several' if candidates else 'no'} {what}s "
+            f"({listing(candidates or topics) or 'none'}); choose one with --topic"
+        )
+    _say(choices, f"topic {listing(candidates, width=80)}: {why} (--topic to change)")
+    return candidates[0]
+
+
+_TF = "tf2_msgs/msg/TFMessage"
+
+
+def _topics(data, name: str) -> list[tuple[str, str, bool]]:
+    """``(topic, type or schema, whether a2b reads poses from it)`` of each channel of an MCAP
+    file's bytes, or each topic of a bag's path."""
+    if isinstance(data, bytes):
+        found = []
+        for channel in McapFile(data, name).channels.values():
+            schemas, _decoder = DECODERS.get(channel.message_encoding, ((), None))
+            kind = channel.schema_name or f"schemaless {channel.message_encoding}"
+            found.append((channel.topic, kind, channel.schema_name in schemas))
+        return found
+    from .ros2 import POSE_TYPES
+    from .rosbag2 import bag_topics
+
+    return [
+        (topic.name, topic.type_name,
+         topic.serialization_format == "cdr" and topic.type_name in POSE_TYPES)
+        for topic in bag_topics(data)
+    ]  # fmt: skip
+
+
+def _text_pieces(data: bytes, name: str, fmt: str, rate, orthonormalize, size):
+    """:func:`trajectory_pieces` of a text format."""
     data = check_text(data, name)
     reader = importlib.import_module(BY_NAME[fmt].trajectory)
     layout = reader.layout(data, name, fmt)
@@ -252,6 +376,8 @@ def sniff_format(data: bytes, name: str) -> str:
         return by_suffix
     if data.startswith(MAGIC):
         return "mcap"
+    if data.startswith(SQLITE_MAGIC) or os.path.isdir(name):
+        return BAG
     head = data[:4096].removeprefix(BOM)
     first = first_line(head).strip()
     if first.startswith("#") and "," in first and "timestamp" in first.lower():
@@ -272,7 +398,7 @@ def sniff_format(data: bytes, name: str) -> str:
         hint = " (a pose file? a2b interpolate, bezier and spline read those)"
     raise InputFileError(
         f"{name}: cannot tell the trajectory format (expected TUM, KITTI, EuRoC, a2b's csv, "
-        f"matrix or study, or MCAP); give it with --input-format{hint}"
+        f"matrix or study, MCAP or a ROS 2 bag); give it with --input-format{hint}"
     )
 
 

@@ -36,7 +36,7 @@ from typing import IO
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import ParameterError, quoted
 from ..formats import BY_NAME
 from ..samples import JobRuns, Samples
 from .floatrepr import BLOCK, format_rows
@@ -48,10 +48,12 @@ __all__ = [
     "write_batch_csv",
     "write_batch_files",
     "write_batch_mcap",
+    "write_batch_sqlite_bag",
     "write_csv",
     "write_kitti",
     "write_matrix_csv",
     "write_mcap",
+    "write_sqlite_bag",
     "write_study_csv",
     "write_tum",
 ]
@@ -361,7 +363,7 @@ def write_batch_mcap(
     def topic(name: str) -> str:
         topic = JOB_TOPIC.format(name=name)
         if profile == "ros2":
-            check_topic(topic, f"job {name!r}: the topic")
+            check_topic(topic, f"job {quoted(name)}: the topic")
         return topic
 
     def samples():
@@ -436,3 +438,123 @@ def write_mcap(
         count=count,
         twist_topic="/a2b/twist" if moving else None,
     )
+
+
+def write_sqlite_bag(
+    folder,
+    chunks: Iterable[Samples],
+    frame_id: str = "world",
+    child_frame_id: str = "a2b",
+    count: int | None = None,
+) -> None:
+    """Write the messages of :func:`write_mcap`'s ``ros2`` profile as a rosbag2 bag of SQLite
+    storage: the folder ``folder`` with ``NAME_0.db3`` and ``metadata.yaml``
+    (:func:`a2b.io.rosbag2.write_sqlite_bag`), which appears only when complete.
+
+    ``geometry_msgs/msg/PoseStamped`` on ``/a2b/pose`` and ``tf2_msgs/msg/TFMessage`` on ``/tf``
+    per sample (``geometry_msgs/msg/TwistStamped`` on ``/a2b/twist`` with velocities), then
+    one ``nav_msgs/msg/Path`` of every pose on ``/a2b/path`` at the first pose's time. The
+    CDR is :mod:`a2b.io.ros2`'s fixed layouts, as in the MCAP file; ``count`` is not needed.
+
+    Raises
+    ------
+    ParameterError
+        If a frame id is not a ROS 2 frame id.
+    OutputFileError
+        If the folder cannot be written, or exists and is no bag.
+    """
+    from .ros2 import check_frame_id, qos_profiles
+    from .rosbag2 import write_sqlite_bag as write_bag
+
+    check_frame_id(frame_id)
+    check_frame_id(child_frame_id, "--child-frame-id")
+    chunks = iter(chunks)
+    first = next(chunks, None)
+    moving = first is not None and first.twist is not None
+    topics = [
+        ("/a2b/pose", "geometry_msgs/msg/PoseStamped", qos_profiles(10)),
+        ("/tf", "tf2_msgs/msg/TFMessage", qos_profiles(100)),
+        *[("/a2b/twist", "geometry_msgs/msg/TwistStamped", qos_profiles(10))] * moving,
+        ("/a2b/path", "nav_msgs/msg/Path", qos_profiles(1, 1)),
+    ]
+    every = chain([first] * (first is not None), chunks)
+    write_bag(folder, topics, _bag_messages(every, frame_id, child_frame_id, moving))
+
+
+def write_batch_sqlite_bag(
+    folder, chunks: Iterable[Samples], fmt: str = "ros2", frame_id: str = "world"
+) -> None:
+    """Write a batch as a rosbag2 bag of SQLite storage: the messages of
+    :func:`write_batch_mcap` (``geometry_msgs/msg/PoseStamped`` on ``/a2b/NAME/pose`` per
+    job), built as an MCAP file in a temporary file, then stored in the bag's ``.db3`` in the
+    order of their times (:func:`a2b.io.rosbag2.write_sqlite_bag`). The topics of a SQLite bag
+    are listed before its messages, and a batch's are known only at its end: the messages are
+    held in memory once, 70 bytes and a job name a sample.
+
+    Raises
+    ------
+    ParameterError
+        As :func:`write_batch_mcap`: a job name that makes no ROS 2 topic, a frame id.
+    """
+    import tempfile
+
+    from .mcapreader import McapFile
+    from .ros2 import qos_profiles
+    from .rosbag2 import write_sqlite_bag as write_bag
+
+    with tempfile.TemporaryFile() as f:
+        write_batch_mcap(f, chunks, fmt, frame_id)
+        f.seek(0)
+        mcap = McapFile(f.read(), os.fspath(folder))
+    channels = sorted(mcap.channels.values(), key=lambda channel: channel.id)
+    found = mcap.messages([channel.id for channel in channels])
+    parts = [found[channel.id] for channel in channels]
+    times = np.concatenate([np.asarray(p.log_time, np.int64) for p in parts]
+                           + [np.empty(0, np.int64)])  # fmt: skip
+    index = np.repeat(np.arange(len(parts)), [len(p) for p in parts]).tolist()
+    datas = [data for p in parts for data in p.as_bytes()]
+    topics = [(channel.topic, channel.schema_name, qos_profiles(10)) for channel in channels]
+    order = np.argsort(times, kind="stable").tolist()
+    write_bag(folder, topics, ((index[k], int(times[k]), datas[k]) for k in order))
+
+
+def _bag_messages(chunks: Iterable[Samples], frame_id: str, child_frame_id: str, moving: bool):
+    """``(topic index, ns, CDR)`` of each sample's messages, then the Path's."""
+    from . import ros2
+
+    layouts = [ros2.pose_stamped(frame_id), ros2.tf_message(frame_id, child_frame_id)]
+    layouts += [ros2.twist_stamped(frame_id)] * moving
+    entry = ros2.pose_stamped(frame_id, phase=0)
+    entries, first = [], None
+    for chunk in chunks:
+        ns = chunk.nanoseconds()
+        numbers = np.column_stack([chunk.trans, np.asarray(chunk.quat_wxyz)[:, [1, 2, 3, 0]]]
+                                  + ([chunk.twist] if moving else []))  # fmt: skip
+        if not len(ns):
+            continue
+        first = first or (ns[:1], numbers[:1])
+        made = [_cdr_rows(cdr, ns, numbers) for cdr in layouts]
+        for k, stamp in enumerate(ns.tolist()):
+            for index, rows in enumerate(made):
+                yield index, stamp, rows[k].tobytes()
+        entries.append(_cdr_rows(entry, ns, numbers))
+    if first is None:
+        return
+    head, first_entry = ros2.path_message(frame_id, 0, sum(len(e) for e in entries))
+    path = [_cdr_rows(head, *first).tobytes(), _cdr_rows(first_entry, *first).tobytes()]
+    path += [rows.tobytes() for rows in entries]
+    path[2] = entries[0][1:].tobytes()  # the first entry is made again after the head
+    yield len(layouts), int(first[0][0]), b"".join(path)
+
+
+def _cdr_rows(cdr, ns: np.ndarray, numbers: np.ndarray) -> np.ndarray:
+    """The bytes of the messages of layout ``cdr`` (:class:`a2b.io.ros2.Cdr`) for times
+    ``ns`` and ``numbers`` ``x y z qx qy qz qw [vx vy vz wx wy wz]``, one row each."""
+    from .ros2 import stamp_words
+
+    rows = np.tile(np.frombuffer(cdr.template, np.uint8), (len(ns), 1))
+    values = {"stamp": stamp_words(ns), "pose": numbers[:, :7], "twist": numbers[:, 7:13]}
+    for name, (offset, dtype) in cdr.columns.items():
+        column = np.ascontiguousarray(values[name], dtype.base).reshape(len(ns), -1)
+        rows[:, offset : offset + dtype.itemsize] = column.view(np.uint8)
+    return rows
