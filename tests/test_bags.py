@@ -117,7 +117,7 @@ def test_verbose_states_the_storage_and_the_topic(tmp_path, bags):
     assert result.exit_code == 0, result.output
     assert "  • storage mcap: 1 file that metadata.yaml lists" in result.output
     assert (
-        "  • topic /tf: the only tf2_msgs/msg/TFMessage topic (--topic to change)" in result.output
+        "  • topic /tf: the only transform topic (--topic to change)" in result.output
     )
 
 

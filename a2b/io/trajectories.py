@@ -48,7 +48,7 @@ from ..errors import InputFileError, listing, printable
 from ..formats import BY_NAME, INPUT_NAMES, SUFFIXES, TABLE, resolve
 from .csvtable import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER, fmt_from_header
 from .documents import stream_name
-from .mcapposes import DECODERS, mcap_tf_poses
+from .mcapposes import DECODERS, TRANSFORM_SCHEMAS, mcap_tf_poses
 from .mcapreader import MAGIC, McapFile
 from .sqlitebag import SQLITE_MAGIC
 from .textrows import (
@@ -303,9 +303,9 @@ def chosen_topic(
         return topic
     candidates = sorted({
         topic for topic, kind, poses in found
-        if poses and (child_frame is None or kind == _TF)
+        if poses and (child_frame is None or kind in TRANSFORM_SCHEMAS)
     })  # fmt: skip
-    what = f"{_TF} topic" if child_frame is not None else "pose topic"
+    what = "transform topic" if child_frame is not None else "pose topic"
     if "/a2b/pose" in candidates and child_frame is None and len(candidates) > 1:
         why = f"a2b's own, of the {what}s {listing(candidates)}"
         candidates = ["/a2b/pose"]
@@ -318,9 +318,6 @@ def chosen_topic(
         )
     _say(choices, f"topic {listing(candidates, width=80)}: {why} (--topic to change)")
     return candidates[0]
-
-
-_TF = "tf2_msgs/msg/TFMessage"
 
 
 def _topics(data, name: str) -> list[tuple[str, str, bool]]:
