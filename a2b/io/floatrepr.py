@@ -352,7 +352,6 @@ def _cells(sign, i, c0, g1, g2, g3, g4, count, shown):
     head : ndarray of int64
         Each cell's index into the head tables (sign, exponent, ``c0`` alone).
     """
-    out = np.empty((len(i), 4), _U64)
     w1 = _DIGITS_LO.take(_ix(g1))
     w1 |= _DIGITS_HI.take(_ix(g2))
     w1 &= _KEEP1.take(_ix(shown))
@@ -368,6 +367,7 @@ def _cells(sign, i, c0, g1, g2, g3, g4, count, shown):
     positional = (i - (1 - _E_MIN)).view(_U64) < _U64(15)  # 1 <= e <= 15: "123.456"
     if positional.any():
         _insert_point(np.flatnonzero(positional), i, w1, w2, w3)
+    out = np.empty((len(i), 4), _U64)
     out[:, 0] = w0
     out[:, 1] = w1
     out[:, 2] = w2
