@@ -183,7 +183,8 @@ def _scaled(x: np.ndarray):
         ``None`` if there are none.
     i : ndarray of intp
         ``e − E_MIN``, the index of the decimal exponent ``e = floor(log10 |x|)`` into the
-        tables (one too large where ``|x|`` is just below a power of ten that rounds up).
+        tables; one too large for the double nearest ``10^k`` where that lies below ``10^k``
+        (:func:`_settled` hands these to ``repr``).
     hi : ndarray of float64
         ``10^(16 − e)`` to the nearest double.
     s, r : ndarray of float64
