@@ -164,42 +164,45 @@ def _mask_tables():
 _KEEP1, _KEEP2, _LOW1, _LOW2, _POINT1, _POINT2 = _mask_tables()
 
 
-def number_words(x: np.ndarray, lengths: bool = False):
-    """``repr`` of each entry of ``x`` as a cell of four little-endian words, zero-padded.
+def _scaled(x: np.ndarray):
+    """The decimal exponent of each ``|x|`` and Dekker's product ``X = |x| · 10^(16 − e)``.
 
     Parameters
     ----------
-    x : ndarray, shape (n,)
-        Contiguous float64.
-    lengths : bool
-        Also return the number of characters of each entry.
+    x : ndarray of float64, shape (n,)
+        Contiguous.
 
     Returns
     -------
-    words : ndarray of uint64, shape (n, 4)
-        The characters of ``repr(x[i])`` in order, with zero bytes between them; byte 31
-        (the top byte of the last word) is zero, free for a separator.
-    length : ndarray of int64, shape (n,)
-        Only if ``lengths``.
+    abits : ndarray of uint64
+        The bits of ``|x|``; 1.0 stands in for the numbers outside the fast range.
+    bexp : ndarray of uint64
+        The biased binary exponent of ``|x|`` (1023 for the stand-ins).
+    slow : ndarray of bool, or None
+        The numbers outside the fast range (zeros, subnormals, huge ones, NaN, infinity);
+        ``None`` if there are none.
+    i : ndarray of intp
+        ``e − E_MIN``, the index of the decimal exponent ``e = floor(log10 |x|)`` into the
+        tables; one too large for the double nearest ``10^k`` where that lies below ``10^k``
+        (:func:`_settled` hands these to ``repr``).
+    hi : ndarray of float64
+        ``10^(16 − e)`` to the nearest double.
+    s, r : ndarray of float64
+        ``X = s + r``: ``s`` an integer (``X > 2^53``), ``r`` the rest, ``|r| <= 8``.
     """
-    x = np.ascontiguousarray(x, dtype=np.float64).reshape(-1)
-    n = x.size
-    bits = x.view(_U64)
-    abits = bits & _ABS
+    abits = x.view(_U64) & _ABS
     ax = abits.view(np.float64)
     bexp = abits >> _U64(52)
     fast = (bexp - _U64(_BEXP_LO)) < _U64(_BEXP_HI - _BEXP_LO)  # wraps below the range
-    all_fast = bool(fast.all())
-    if not all_fast:  # zeros, subnormals, huge numbers, NaN, infinity: stand-ins for now
+    slow = None
+    if not fast.all():  # stand-ins for now; ax is a view of abits
         slow = ~fast
         ax[slow] = 1.0
-        abits = ax.view(_U64)
         bexp[slow] = 1023
-    # decimal exponent e, as the index i = e − E_MIN into the tables: from the binary
-    # exponent, then one comparison with the next power of ten
+    # the decimal exponent from the binary one, then one comparison with the next power of ten
     i = _FROM_BINARY.take(_ix(bexp))
     i += ax >= _NEXT_P10.take(_ix(i))
-    # X = s + r = |x| · 10^(16 − e): Dekker's product of |x| = ah + al and hi = hh + hl
+    # Dekker's product of |x| = ah + al and 10^(16 − e) = hi + lo, hi = hh + hl
     hi = _HI.take(_ix(i))
     p = ax * hi
     ah = (abits & _HIGH_26).view(np.float64)
@@ -214,8 +217,29 @@ def number_words(x: np.ndarray, lengths: bool = False):
     err += ax * _LO.take(_ix(i))
     s = p + err
     p -= s
-    p += err
-    r = p  # s is an integer (X > 2^53), r the rest: |r| <= 8
+    p += err  # now the rest r
+    return abits, bexp, slow, i, hi, s, p
+
+
+def _rounded(abits: np.ndarray, bexp: np.ndarray, hi: np.ndarray, s: np.ndarray, r: np.ndarray):
+    """The shortest digits that read back: the 15-, 16- or 17-digit rounding of ``X = s + r``.
+
+    Parameters
+    ----------
+    abits, bexp, hi, s, r : ndarray
+        As :func:`_scaled` returns them; ``s`` and ``r`` are overwritten.
+
+    Returns
+    -------
+    high : ndarray of float64
+        ``c0 … c8`` as an integer, in ``[1e8, 1e9]`` (``1e9``: rounded up to ``10^(e + 1)``;
+        below ``1e8``: ``e`` came out one too large).
+    low : ndarray of float64
+        ``c9 … c16`` as an integer in ``[0, 1e8)``, trailing zeros where fewer digits suffice.
+    unsure : ndarray of bool
+        The numbers within the margin of a decision, at a tie, or powers of two whose
+        digits do not end exactly: :func:`number_words` hands these to ``repr``.
+    """
     high = np.floor(s * 1e-8)  # c0 … c8, or one less
     s -= high * 1e8  # in [0, 2e8)
     step = np.rint(r)
@@ -247,9 +271,19 @@ def number_words(x: np.ndarray, lengths: bool = False):
     carry = np.floor(low / 1e8)  # -1, 0, 1 or 2: low is within [-8, 2e8]; exact division
     high += carry
     low -= carry * 1e8
-    bad = unsure
+    return high, low, unsure
+
+
+def _settled(x, slow, i, high, low, bad) -> bool:
+    """Settle the edge cases in place, and say whether any number is left to ``repr``.
+
+    Zeros get ``c0 = 0``; a rounding up to ``10^(e + 1)`` moves ``i`` up one; the numbers
+    outside the fast range and those ``e`` came out too large for join ``bad``, and their
+    digits become ``1`` followed by zeros, harmless stand-ins for :func:`number_words` to
+    overwrite.
+    """
     bad |= high < 1e8  # |x| = 10^k rounded down: e came out one too large
-    if not all_fast:
+    if slow is not None:
         zero = x == 0.0
         bad |= slow & ~zero
         high[zero] = 0.0  # "0.0" comes out of the positional layout with c0 = 0
@@ -261,6 +295,31 @@ def number_words(x: np.ndarray, lengths: bool = False):
     if any_bad:
         high[bad] = 1e8
         low[bad] = 0.0
+    return any_bad
+
+
+def _groups(high: np.ndarray, low: np.ndarray, i: np.ndarray):
+    """The digits in groups of four, and how many of them ``repr`` shows.
+
+    Parameters
+    ----------
+    high, low : ndarray of float64
+        ``c0 … c8`` and ``c9 … c16`` as integers, settled by :func:`_settled`.
+    i : ndarray of intp
+        The index of the decimal exponent.
+
+    Returns
+    -------
+    c0 : ndarray of int64
+        The first digit.
+    g1, g2, g3, g4 : ndarray of int64
+        ``c1 … c4``, ``c5 … c8``, ``c9 … c12``, ``c13 … c16``, each in ``[0, 10^4)``.
+    count : ndarray of int8
+        The significant digits up to the last non-zero one (0: ``c0`` alone).
+    shown : ndarray of intp
+        The digits shown: ``count``, and if positional at least the digits before the point
+        and one after it, ``1 + e + 1``.
+    """
     high_i = high.astype(np.int64)  # c0 … c8
     g4 = low.astype(np.int64)  # c9 … c16
     c0 = high_i // 100_000_000
@@ -270,20 +329,37 @@ def number_words(x: np.ndarray, lengths: bool = False):
     g2 -= g1 * 10_000
     g3 = g4 // 10_000
     g4 -= g3 * 10_000
-    # significant digits (0: c0 alone), and the digits shown: c0, and if positional at least
-    # the digits before the point and one after it, 1 + e + 1
     count = np.maximum(_COUNT1.take(_ix(g1)), _COUNT2.take(_ix(g2)))
     np.maximum(count, _COUNT3.take(_ix(g3)), out=count)
     np.maximum(count, _COUNT4.take(_ix(g4)), out=count)
     shown = np.maximum(count, _KEEP.take(_ix(i))).astype(np.intp)
-    out = np.empty((n, 4), _U64)
+    return c0, g1, g2, g3, g4, count, shown
+
+
+def _cells(sign, i, c0, g1, g2, g3, g4, count, shown):
+    """The four words of each cell: head, digits ``c1 … c8``, ``c9 … c16``, tail.
+
+    Parameters
+    ----------
+    sign : ndarray of uint64
+        The bits of ``x`` (only the sign bit is read).
+    i, c0, g1, g2, g3, g4, count, shown : ndarray
+        As :func:`_groups` returns them (and ``i`` as settled).
+
+    Returns
+    -------
+    out : ndarray of uint64, shape (n, 4)
+        The cells as :func:`number_words` describes them.
+    head : ndarray of int64
+        Each cell's index into the head tables (sign, exponent, ``c0`` alone).
+    """
     w1 = _DIGITS_LO.take(_ix(g1))
     w1 |= _DIGITS_HI.take(_ix(g2))
     w1 &= _KEEP1.take(_ix(shown))
     w2 = _DIGITS_LO.take(_ix(g3))
     w2 |= _DIGITS_HI.take(_ix(g4))
     w2 &= _KEEP2.take(_ix(shown))
-    head = ((bits >> _U64(53)) & _U64(1024)).view(np.int64)  # the sign, as 1024
+    head = ((sign >> _U64(53)) & _U64(1024)).view(np.int64)  # the sign, as 1024
     head |= i
     head |= _ALONE.take(_ix(count))
     w0 = _HEAD.take(_ix(head))
@@ -291,21 +367,62 @@ def number_words(x: np.ndarray, lengths: bool = False):
     w3 = _SUFFIX.take(_ix(i))
     positional = (i - (1 - _E_MIN)).view(_U64) < _U64(15)  # 1 <= e <= 15: "123.456"
     if positional.any():
-        at = np.flatnonzero(positional)
-        e = i.take(_ix(at)) + _E_MIN
-        a = w1.take(_ix(at))
-        b = w2.take(_ix(at))
-        la = a & _LOW1.take(_ix(e))
-        a ^= la
-        lb = b & _LOW2.take(_ix(e))
-        b ^= lb
-        w1[at] = la | (a << _U64(8)) | _POINT1.take(_ix(e))
-        w2[at] = lb | (b << _U64(8)) | (a >> _U64(56)) | _POINT2.take(_ix(e))
-        w3[at] = b >> _U64(56)
+        _insert_point(np.flatnonzero(positional), i, w1, w2, w3)
+    out = np.empty((len(i), 4), _U64)
     out[:, 0] = w0
     out[:, 1] = w1
     out[:, 2] = w2
     out[:, 3] = w3
+    return out, head
+
+
+def _insert_point(at, i, w1, w2, w3) -> None:
+    """Put the point after ``c_e`` in the cells ``at`` (``1 <= e <= 15``), in place.
+
+    ``c1 … c_e`` stay; the digits after them move up one byte in ``w1`` and ``w2``, the
+    last byte of ``w1`` into ``w2`` and the last of ``w2`` into ``w3``.
+    """
+    e = i.take(_ix(at)) + _E_MIN
+    a = w1.take(_ix(at))
+    b = w2.take(_ix(at))
+    la = a & _LOW1.take(_ix(e))
+    a ^= la
+    lb = b & _LOW2.take(_ix(e))
+    b ^= lb
+    w1[at] = la | (a << _U64(8)) | _POINT1.take(_ix(e))
+    w2[at] = lb | (b << _U64(8)) | (a >> _U64(56)) | _POINT2.take(_ix(e))
+    w3[at] = b >> _U64(56)
+
+
+def number_words(x: np.ndarray, lengths: bool = False):
+    """``repr`` of each entry of ``x`` as a cell of four little-endian words, zero-padded.
+
+    The stages: :func:`_scaled` (decimal exponent and Dekker's product), :func:`_rounded`
+    (the shortest rounding and the unsure cases), :func:`_settled` (zeros, carries, the
+    numbers left to ``repr``), :func:`_groups` (digit groups and counts) and :func:`_cells`
+    (the four words).
+
+    Parameters
+    ----------
+    x : ndarray, shape (n,)
+        Contiguous float64.
+    lengths : bool
+        Also return the number of characters of each entry.
+
+    Returns
+    -------
+    words : ndarray of uint64, shape (n, 4)
+        The characters of ``repr(x[i])`` in order, with zero bytes between them; byte 31
+        (the top byte of the last word) is zero, free for a separator.
+    length : ndarray of int64, shape (n,)
+        Only if ``lengths``.
+    """
+    x = np.ascontiguousarray(x, dtype=np.float64).reshape(-1)
+    abits, bexp, slow, i, hi, s, r = _scaled(x)
+    high, low, bad = _rounded(abits, bexp, hi, s, r)
+    any_bad = _settled(x, slow, i, high, low, bad)
+    c0, g1, g2, g3, g4, count, shown = _groups(high, low, i)
+    out, head = _cells(x.view(_U64), i, c0, g1, g2, g3, g4, count, shown)
     if lengths:
         length = _HEAD_LEN.take(_ix(head))
         length += shown
