@@ -175,6 +175,14 @@ TABLE = (
         writer_options={"profile": "ros2", "count": None},
         limits=Limits(2**32, 2**63 - 1, True, "a2b.io.ros2:split_stamps"), read_as="mcap",
     ),
+    Format(
+        name="parquet", suffixes=(".parquet",),
+        layout="columns t, time (t · duration + start_time), tx,ty,tz,qw,qx,qy,qz as in csv, "
+        "vx … wz with --velocities, original with --mark (needs a2b-motions[parquet])",
+        holds=_TABLE_ROWS, binary=True, representation="quat_trans", batch="rows",
+        writer="a2b.io.parquet:write_parquet", batch_writer="a2b.io.parquet:write_batch_parquet",
+        reader=None, options=_STAMPED, extra="parquet",
+    ),
 )  # fmt: skip
 
 BY_NAME = {row.name: row for row in TABLE}
