@@ -25,7 +25,6 @@ from a2b.io.parquet import (  # noqa: E402
     read_parquet,
     write_parquet,
 )
-from a2b.io.poseschema import read_poses  # noqa: E402
 from a2b.output import stamped  # noqa: E402
 from a2b.samples import JobRuns, Samples  # noqa: E402
 from a2b.table import chunks_of_blocks  # noqa: E402
@@ -168,8 +167,7 @@ def test_without_pyarrow_one_line_names_the_extra(tmp_path):
     )
     assert done.returncode == 1
     assert done.stderr == (
-        "Error: Parquet needs pyarrow, which is not installed: "
-        "pip install 'a2b-motions[parquet]'\n"
+        "Error: Parquet needs pyarrow, which is not installed: pip install 'a2b-motions[parquet]'\n"
     )
     assert list(tmp_path.iterdir()) == []
 

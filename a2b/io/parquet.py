@@ -45,6 +45,8 @@ __all__ = [
     "ROW_GROUP_ROWS",
     "TWIST_COLUMNS",
     "file_metadata",
+    "layout_for",
+    "layout_of",
     "read_parquet",
     "record_batch",
     "schema",
@@ -141,6 +143,11 @@ def layout_of(samples: Samples) -> str:
         if all(getattr(samples, name) is not None for name in FIELDS[representation]):
             return layout
     raise ValueError("samples without poses")
+
+
+def layout_for(representation: str) -> str:
+    """The layout (a key of :data:`LAYOUTS`) whose pose columns hold ``representation``."""
+    return next(name for name, held in REPRESENTATIONS.items() if held == representation)
 
 
 def _pose_columns(layout: str, samples: Samples) -> list[np.ndarray]:
