@@ -354,3 +354,40 @@ def test_runs_in_the_job_column_read_back(tmp_path):
     samples, _, _ = read_parquet(path)
     assert (samples.job.names, samples.job.counts) == (["a", "b", "a"], [2, 1, 2])
     json.dumps(file_metadata(pq.read_schema(path)))  # plain data
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--workers", "2", "-o", "out/"], "--scheduler and --workers write a Parquet dataset"),
+        (
+            [
+                "--format",
+                "parquet",
+                "--workers",
+                "2",
+                "--scheduler",
+                "tcp://127.0.0.1:1",
+                "-o",
+                "out/",
+            ],
+            "give --scheduler or --workers, not both",
+        ),  # fmt: skip
+        (["--format", "parquet", "--workers", "2"], "give JOBS as a file and -o DIR/"),
+        (
+            ["--format", "parquet", "--workers", "2", "--orthonormalize", "-o", "out/"],
+            "--orthonormalize: not on a cluster",
+        ),  # fmt: skip
+    ],
+)
+def test_a_dataset_needs_parquet_a_file_and_a_directory(tmp_path, monkeypatch, args, message):
+    from click.testing import CliRunner
+
+    from a2b.cli import cli
+
+    monkeypatch.chdir(tmp_path)
+    jobs = str(SAMPLES / "jobs.jsonl")
+    result = CliRunner().invoke(cli, ["batch", jobs, *args])
+    assert result.exit_code == 2
+    assert message in " ".join(result.output.split())
+    assert list(tmp_path.iterdir()) == []
