@@ -87,7 +87,8 @@ def command(
     ros2 keep each job under its name, so names must differ (and, for tum and kitti, be file
     names); the files of a directory are moved into it only when every job is written,
     replacing files of the same name and leaving others alone. A dataset appears in DIR
-    only when every partition is written; its rows are those of one Parquet file.
+    only when every partition is written; its rows are those of one Parquet file
+    (a2b batch jobs.jsonl --format parquet --workers 2 -o dataset/).
     -v states every choice a2b makes, job by job.
 
     \b
@@ -96,7 +97,7 @@ def command(
       a2b batch samples/jobs.jsonl --samples 101 --format matrix -o motions.csv
       a2b batch samples/jobs.yaml --format tum --duration 2 -o motions/
       a2b batch samples/jobs.yaml -o motions.mcap
-      a2b batch samples/jobs.jsonl --format parquet --workers 2 -o dataset/
+      a2b batch samples/jobs.jsonl -o motions.parquet
     """
     from ..errors import printable
     from ..formats import BY_NAME
