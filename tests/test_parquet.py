@@ -391,3 +391,22 @@ def test_a_dataset_needs_parquet_a_file_and_a_directory(tmp_path, monkeypatch, a
     assert result.exit_code == 2
     assert message in " ".join(result.output.split())
     assert list(tmp_path.iterdir()) == []
+
+
+def test_without_dask_a_cluster_run_names_the_extra(tmp_path):
+    code = (
+        "import sys; sys.modules['distributed'] = None\n"
+        "from a2b.cli import cli\n"
+        "cli(['batch', 'samples/jobs.jsonl', '--format', 'parquet', '--workers', '1', '-o',"
+        " sys.argv[1]])\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(tmp_path / "out")], cwd=ROOT, capture_output=True,
+        text=True,
+    )  # fmt: skip
+    assert done.returncode == 1
+    assert done.stderr == (
+        "Error: a Dask cluster needs distributed, which is not installed: "
+        "pip install 'a2b-motions[dask]'\n"
+    )
+    assert list(tmp_path.iterdir()) == []
