@@ -25,7 +25,7 @@ from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from functools import partial
 
-from .errors import A2bError, InputFileError
+from .errors import A2bError, InputFileError, MissingDependencyError
 
 __all__ = [
     "BLOCKSIZE",
@@ -40,6 +40,19 @@ __all__ = [
 
 #: Bytes of a jobs file per partition: about 10^4 jobs, 10^6 samples at 101 each.
 BLOCKSIZE = 1 << 21
+
+
+def _require() -> None:
+    """Dask, distributed and pyarrow, or a one-line error that names the extra."""
+    try:
+        import dask.dataframe  # noqa: F401
+        import distributed  # noqa: F401
+        import pyarrow  # noqa: F401
+    except ImportError as e:
+        raise MissingDependencyError(
+            f"a Dask cluster needs {e.name or 'dask'}, which is not installed: "
+            "pip install 'a2b-motions[dask]'"
+        ) from e
 
 
 def _meta(layout: str, duration: float | None):
@@ -355,10 +368,18 @@ def batch(
     samples: int = 101,
     duration: float | None = None,
     start_time: float = 0.0,
+    block_jobs: int | None = None,
 ) -> list[str]:
-    """``a2b batch JOBS --format parquet -o DIR/`` on the current Dask scheduler: the samples
-    of the JSON Lines file ``jobs`` (:func:`jsonl_samples`) as a dataset in ``output``
-    (:func:`write_dataset`). Returns the files written."""
+    """``a2b batch JOBS --format parquet -o DIR/ --workers N`` on the current Dask scheduler:
+    the samples of the JSON Lines file ``jobs`` (:func:`jsonl_samples`) as a dataset in
+    ``output`` (:func:`write_dataset`). Returns the files written.
+
+    Raises
+    ------
+    MissingDependencyError
+        Without dask, distributed or pyarrow (the extra ``a2b-motions[dask]``).
+    """
+    _require()
     frame = jsonl_samples(
         jobs,
         blocksize=blocksize,
@@ -367,6 +388,7 @@ def batch(
         layout=layout,
         duration=duration,
         start_time=start_time,
+        block_jobs=block_jobs,
     )
     motion = {"mode": mode, "samples": samples, "jobs": os.path.basename(os.fspath(jobs))}
     if duration is not None:
@@ -383,7 +405,10 @@ def client(scheduler: str | None = None, workers: int | None = None) -> Iterator
     ------
     A2bError
         If both or neither are given, or the scheduler cannot be reached.
+    MissingDependencyError
+        Without dask, distributed or pyarrow (the extra ``a2b-motions[dask]``).
     """
+    _require()
     from distributed import Client, LocalCluster
 
     if (scheduler is None) == (workers is None):

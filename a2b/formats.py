@@ -211,6 +211,14 @@ TABLE = (
         batch=None, writer=None, batch_writer=None, reader=f"{_READ}:read_trajectory",
         trajectory="a2b.io.rosbag2:bag_poses", input_options=frozenset({"topic", "child_frame"}),
     ),
+    Format(
+        name="parquet", suffixes=(".parquet",),
+        layout="columns t, time (t · duration + start_time), tx,ty,tz,qw,qx,qy,qz as in csv, "
+        "vx … wz with --velocities, original with --mark (needs a2b-motions[parquet])",
+        holds=_TABLE_ROWS, binary=True, representation="quat_trans", batch="rows",
+        writer="a2b.io.parquet:write_parquet", batch_writer="a2b.io.parquet:write_batch_parquet",
+        reader=None, options=_STAMPED, extra="parquet",
+    ),
 )  # fmt: skip
 
 BY_NAME = {row.name: row for row in TABLE}

@@ -109,7 +109,7 @@ def samples(
 
 
 def chunks(jobs, *, mode: str = "darboux", samples: int = 101, layout: str = "csv"):
-    """The samples of a jobs table as :class:`a2b.io.writers.Chunk` s, block by block, for a
+    """The samples of a jobs table as :class:`a2b.samples.Samples`, block by block, for a
     writer such as :func:`a2b.io.parquet.write_parquet` (memory bounded by the block)."""
     return chunks_of_blocks(job_blocks(jobs), mode=mode, samples=samples, layout=layout)
 
@@ -118,23 +118,29 @@ def chunks_of_blocks(
     blocks: Iterable, *, mode: str = "darboux", samples: int = 101, layout: str = "csv"
 ) -> Iterator:
     """The samples of :class:`a2b.io.jobfiles.JobBlock` s (from a table or a jobs file) as
-    :class:`a2b.io.writers.Chunk` s in ``layout``, through :func:`a2b.jobs.sample`."""
-    from .io.writers import REPRESENTATION, Chunk, JobRuns
+    :class:`a2b.samples.Samples` in ``layout`` (a key of :data:`a2b.io.parquet.LAYOUTS`),
+    through :func:`a2b.jobs.sample`."""
+    from .io.parquet import LAYOUTS, REPRESENTATIONS
     from .jobs import sample
 
-    for piece in sample(blocks, mode=mode, samples=samples, representation=REPRESENTATION[layout]):
-        yield Chunk(piece.t, job=JobRuns(piece.names, piece.counts), **piece.fields)
+    if layout not in LAYOUTS:
+        raise A2bError(f"unknown layout {layout!r}; expected one of {', '.join(LAYOUTS)}")
+    return sample(blocks, mode=mode, samples=samples, representation=REPRESENTATIONS[layout])
 
 
 def samples_table(
     chunks: Iterable, layout: str = "csv", *, duration: float | None = None, start_time=0.0
 ):
-    """Chunks of samples as one pyarrow Table with the columns of :mod:`a2b.io.parquet`."""
+    """Samples as one pyarrow Table with the columns of :mod:`a2b.io.parquet`; with
+    ``duration``, a ``time`` column ``t · duration + start_time`` (:func:`a2b.output.stamped`)."""
     import pyarrow as pa
 
     from .io.parquet import record_batch, schema
+    from .output import stamped
 
-    batches = [record_batch(c, layout, duration=duration, start_time=start_time) for c in chunks]
+    if duration is not None:
+        chunks = stamped(chunks, duration, start_time)
+    batches = [record_batch(c) for c in chunks]
     if not batches:
         return schema(layout, time=duration is not None).empty_table()
     return pa.Table.from_batches(batches).unify_dictionaries()

@@ -41,6 +41,11 @@ repeats interleaved, so that a busy machine slows both sides alike; figures are 
     rows per second against the ``csv`` section's single-motion command (``a2b interpolate
     --samples N -o out.csv``, same poses), timed interleaved with it in this section, so the
     ratio does not need the ``csv`` section to run; at least 7 rounds.
+``datasets``
+    ``a2b batch`` of 2 × ``--jobs`` jobs × 101 samples to Parquet against CSV (rows/s, whole
+    processes), and on a local Dask cluster of 1 and 2 workers against the single process at
+    the same work (benchmarks/bench_datasets.py; skipped, with the reason, without pyarrow and
+    dask: ``pip install ".[dask]"``).
 
 The peers are optional (``pip install ".[bench]"``); a missing one is reported as "not
 installed". The OPENBLAS_* variables of some machines select an older BLAS kernel; unsetting
@@ -75,6 +80,7 @@ from bench_common import (
     test_poses,
     text_table,
 )
+from bench_datasets import datasets_section
 from bench_processes import (
     BATCH_MIN_ROUNDS,
     batch_section,
@@ -98,6 +104,7 @@ SECTIONS = (
     "ros2",
     "startup",
     "batch",
+    "datasets",
 )
 A2B_MODES = [
     ("darboux", "darboux", {}),
@@ -706,6 +713,9 @@ def main(argv: list[str] | None = None) -> int:
                 continue
             if section == "timing":
                 rows += timing_section(10 * args.jobs, max(1, args.repeats // 2))
+                continue
+            if section == "datasets":
+                rows += datasets_section(2 * args.jobs, args.process_repeats, work, exe)
                 continue
             if section == "resample":
                 rows += resample_section(args.samples, args.process_repeats, work, exe)

@@ -116,9 +116,7 @@ def test_verbose_states_the_storage_and_the_topic(tmp_path, bags):
                  "-o", tmp_path / "o.csv")  # fmt: skip
     assert result.exit_code == 0, result.output
     assert "  • storage mcap: 1 file that metadata.yaml lists" in result.output
-    assert (
-        "  • topic /tf: the only transform topic (--topic to change)" in result.output
-    )
+    assert "  • topic /tf: the only transform topic (--topic to change)" in result.output
 
 
 def test_several_pose_topics_ask_for_one(bags):

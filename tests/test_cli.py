@@ -16,12 +16,17 @@ from click.testing import CliRunner
 
 import a2b
 from a2b.cli import COMMANDS, cli
+from a2b.formats import suffix_names
 from a2b.io import csvtable, documents, mcapposes, poseschema, trajectories
 from a2b.poses import matrices_from_quat_trans, quat_trans_from_matrices
 
 from .conftest import random_pose
 
 SAMPLES = Path(__file__).resolve().parent.parent / "samples"
+
+#: The suffixes that choose a format, as -v names them (from the table of formats).
+SUFFIXES = ", ".join(suffix_names())
+BATCH_SUFFIXES = ", ".join(suffix_names(batch=True))
 
 
 def run(*args, input=None):
@@ -661,7 +666,7 @@ def test_verbose_states_every_choice_on_stderr(tmp_path):
     assert lines[:3] == [
         "Choices a2b made:",
         "  • mode darboux: the default (--mode or the file to change)",
-        "  • format csv: the default (--format or an -o suffix .tum, .kitti, .mcap to change)",
+        f"  • format csv: the default (--format or an -o suffix {SUFFIXES} to change)",
     ]
     # the core's words for the half turn and the amplitude's branch, one line each
     assert len(lines) == 5 and lines[3].startswith("  • φ = π") and "d > 0" in lines[3]
@@ -717,7 +722,7 @@ def test_verbose_batch_names_the_job_of_each_choice():
     assert result.exit_code == 0
     assert result.stderr.splitlines() == [
         "Choices a2b made:",
-        "  • format csv: the default (--format or an -o suffix .mcap to change)",
+        f"  • format csv: the default (--format or an -o suffix {BATCH_SUFFIXES} to change)",
         "  • job lift_cubic: m defaults to pA + pB in canonical coordinates, so both weights are "
         "equal",
         "  • job slide: pure translation (φ = 0): the axis is the line through A's origin along "

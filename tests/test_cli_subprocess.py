@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import a2b
+from a2b.formats import OUTPUT_NAMES
 from a2b.io import mcapposes, poseschema
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -205,9 +206,7 @@ def test_shell_completion_of_commands_and_formats():
     assert result.stdout.split() == ["plain,interpolate"]
     env.update(COMP_WORDS="a2b interpolate x --format ", COMP_CWORD="4")
     result = subprocess.run(A2B, capture_output=True, text=True, env=env, timeout=60, check=False)
-    assert result.stdout.split() == [
-        f"plain,{f}" for f in ("csv", "matrix", "study", "tum", "kitti", "mcap", "ros2", "protobuf")
-    ]
+    assert result.stdout.split() == [f"plain,{f}" for f in OUTPUT_NAMES]
 
 
 def _job_line(i, quaternion="[1, 0, 0, 0]"):

@@ -25,8 +25,8 @@ from a2b.io.parquet import (  # noqa: E402
     read_parquet,
     write_parquet,
 )
-from a2b.io.poseschema import read_poses  # noqa: E402
-from a2b.io.writers import Chunk, JobRuns, sample_chunks  # noqa: E402
+from a2b.output import stamped  # noqa: E402
+from a2b.samples import JobRuns, Samples  # noqa: E402
 from a2b.table import chunks_of_blocks  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -49,14 +49,16 @@ def a2b_csv(*args: str) -> tuple[list[str], np.ndarray]:
     return header, rows
 
 
-def batch_parquet(tmp_path, jobs: str, layout: str, **options) -> Path:
+def batch_parquet(tmp_path, jobs: str, layout: str, duration=None, start_time=0.0) -> Path:
     """The jobs file as Parquet, through the library (the table's code path)."""
     with open(SAMPLES / jobs, "rb") as stream:
         blocks = read_jobs(stream, str(SAMPLES / jobs)).blocks(1024)
         chunks = chunks_of_blocks(blocks, layout=layout)
+        if duration is not None:
+            chunks = stamped(chunks, duration, start_time)
         target = tmp_path / f"{jobs}.{layout}.parquet"
         with atomic_output(target) as out:
-            write_parquet(out, chunks, layout, motion={"mode": "darboux"}, **options)
+            write_parquet(out, chunks, motion={"mode": "darboux"})
     return target
 
 
@@ -72,23 +74,102 @@ def test_batch_numbers_equal_the_csv_bit_for_bit(tmp_path, layout):
     assert got.tobytes() == expected.tobytes()
 
 
-def test_interpolate_numbers_equal_the_csv_bit_for_bit(tmp_path):
-    import a2b
+#: One command line of each command that writes samples, and the columns of its output.
+COMMANDS = {
+    "interpolate": ["interpolate", "samples/quarter-turn.yaml", "--samples", "33"],
+    "bezier": ["bezier", "samples/planar-bezier.yaml", "--samples", "17"],
+    "spline": ["spline", "samples/spline.yaml", "--samples", "41"],
+    "resample": ["resample", "samples/reference.tum", "--rate", "100", "--mark"],
+    "timed": ["interpolate", "samples/quarter-turn.yaml", "--max-speed", "1", "--max-accel",
+              "2", "--rate", "50", "--velocities"],
+    "batch": ["batch", "samples/jobs.jsonl", "--samples", "11"],
+}  # fmt: skip
 
-    header, rows = a2b_csv("interpolate", "samples/quarter-turn.yaml")
-    with open(SAMPLES / "quarter-turn.yaml", "rb") as stream:
-        job = read_poses(stream)
-    motion = a2b.motion(job.start, job.end)
-    ts = np.linspace(0.0, 1.0, 101)
+
+def a2b_parquet(tmp_path, *args: str) -> Path:
+    """Run ``a2b ... --format parquet -o FILE`` and return the file."""
+    target = tmp_path / "out.parquet"
+    subprocess.run(
+        [sys.executable, "-m", "a2b", *args, "--format", "parquet", "-o", str(target)],
+        cwd=ROOT, capture_output=True, check=True,
+    )  # fmt: skip
+    return target
+
+
+@pytest.mark.parametrize("command", list(COMMANDS))
+def test_every_command_writes_the_csv_numbers_in_pandas_polars_and_duckdb(tmp_path, command):
+    """Parquet of each command holds the numbers of its CSV output bit for bit, and pandas,
+    polars and DuckDB read them with the declared dtypes: job categorical (DuckDB: text),
+    the numbers doubles, ``original`` boolean."""
+    pd = pytest.importorskip("pandas")
+    pl = pytest.importorskip("polars")
+    duckdb = pytest.importorskip("duckdb")
+    header, rows = a2b_csv(*COMMANDS[command])
+    path = a2b_parquet(tmp_path, *COMMANDS[command])
+    table = pq.read_table(path)
+    names = table.schema.names
+    timed = "time" in names
+    assert [n for n in names if n != "time"] == header
+    assert timed == (command in ("interpolate", "bezier", "spline", "batch"))
+    numbers = [n for n in header if n not in ("job", "original")]
+    expected = {n: np.array([float(row[header.index(n)]) for row in rows]) for n in numbers}
+    if timed:
+        expected["time"] = expected["t"]  # duration 1, start time 0
+    jobs = [row[0] for row in rows] if "job" in header else None
+    marks = [row[-1] == "1" for row in rows] if "original" in header else None
+
+    frame = pd.read_parquet(path)
+    polars = pl.read_parquet(path)
+    connection = duckdb.connect()
+    types = dict(connection.execute(f"DESCRIBE SELECT * FROM '{path}'").fetchall()[i][:2]
+                 for i in range(len(names)))  # fmt: skip
+    duck = connection.execute(f"SELECT * FROM '{path}'").fetchnumpy()
+    for name, values in expected.items():
+        assert frame[name].dtype == np.float64 and polars.schema[name] == pl.Float64
+        assert types[name] == "DOUBLE"
+        for got in (table.column(name).to_numpy(), frame[name].to_numpy(),
+                    polars[name].to_numpy(), np.asarray(duck[name])):  # fmt: skip
+            assert got.tobytes() == values.tobytes(), name
+    if jobs is not None:
+        assert isinstance(frame["job"].dtype, pd.CategoricalDtype)
+        assert polars.schema["job"] == pl.Categorical and types["job"] == "VARCHAR"
+        assert frame["job"].astype(str).tolist() == jobs == list(duck["job"])
+        assert polars["job"].cast(pl.String).to_list() == jobs
+    if marks is not None:
+        assert frame["original"].dtype == bool and polars.schema["original"] == pl.Boolean
+        assert types["original"] == "BOOLEAN"
+        assert frame["original"].tolist() == marks == polars["original"].to_list()
+        assert list(duck["original"]) == marks
+
+
+def test_the_suffix_names_parquet_and_a_terminal_is_refused(tmp_path):
+    from click.testing import CliRunner
+
+    from a2b.cli import cli
+
     target = tmp_path / "turn.parquet"
-    with atomic_output(target) as out:
-        write_parquet(out, sample_chunks(motion, ts, "quat_trans", size=40), "csv")
-    table = pq.read_table(target)
-    assert table.schema.names == header  # no job column for one motion
-    expected = np.array([[float(x) for x in row] for row in rows])
-    got = np.column_stack([table.column(name).to_numpy() for name in header])
-    assert got.tobytes() == expected.tobytes()
-    assert pq.ParquetFile(target).metadata.num_row_groups == 1  # 3 blocks, one row group
+    result = CliRunner().invoke(cli, ["interpolate", "samples/quarter-turn.yaml", "-o",
+                                      str(target), "-v"])  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert "format parquet: from the -o suffix .parquet" in result.output
+    assert pq.read_table(target).num_rows == 101
+
+
+def test_without_pyarrow_one_line_names_the_extra(tmp_path):
+    code = (
+        "import sys; sys.modules['pyarrow'] = None\n"
+        "from a2b.cli import cli\n"
+        "cli(['interpolate', 'samples/quarter-turn.yaml', '-o', sys.argv[1]])\n"
+    )
+    target = tmp_path / "turn.parquet"
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(target)], cwd=ROOT, capture_output=True, text=True
+    )
+    assert done.returncode == 1
+    assert done.stderr == (
+        "Error: Parquet needs pyarrow, which is not installed: pip install 'a2b-motions[parquet]'\n"
+    )
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_pandas_polars_and_duckdb_read_the_same_numbers_and_dtypes(tmp_path):
@@ -147,7 +228,7 @@ def chunks_of(rng, n: int, names: list, size: int, layout: str, twist=False, ori
     out = []
     for lo in range(0, n, size):
         part = slice(lo, lo + size)
-        chunk = Chunk(np.linspace(0, 1, n)[part], job=runs[part])
+        chunk = Samples(np.linspace(0, 1, n)[part], job=runs[part])
         if layout == "csv":
             chunk.quat_wxyz, chunk.trans = quat[part], trans[part]
         elif layout == "matrix":
@@ -167,7 +248,7 @@ def test_round_trip_through_the_reader(tmp_path, rng, layout):
     chunks = chunks_of(rng, 600, ["a", "b,c", "ü\n"], 128, layout, twist=True, original=True)
     path = tmp_path / "x.parquet"
     with open(path, "wb") as out:
-        rows = write_parquet(out, chunks, layout, row_group_rows=250, motion={"m": np.ones(4)})
+        rows = write_parquet(out, chunks, row_group_rows=250, motion={"m": np.ones(4)})
     assert rows == 600
     samples, time, metadata = read_parquet(path)
     assert time is None
@@ -192,18 +273,18 @@ def test_row_groups_keep_memory_bounded(tmp_path):
     code = """if True:
         import resource, sys, numpy as np
         from a2b.io.parquet import write_parquet
-        from a2b.io.writers import Chunk, JobRuns
+        from a2b.samples import JobRuns, Samples
         n = 1 << 16
         rng = np.random.default_rng(1)
-        block = Chunk(np.linspace(0, 1, n), quat_wxyz=rng.normal(size=(n, 4)),
+        block = Samples(np.linspace(0, 1, n), quat_wxyz=rng.normal(size=(n, 4)),
                       trans=rng.normal(size=(n, 3)), job=JobRuns(["a", "b"], [n // 2, n // 2]))
         def peak():
             return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss << 10
         with open(sys.argv[1], "wb") as out:  # warm up: the libraries' first allocations
-            write_parquet(out, [block] * 4, "csv")
+            write_parquet(out, [block] * 4)
         before = peak()
         with open(sys.argv[1], "wb") as out:
-            rows = write_parquet(out, (block for _ in range(32)), "csv")
+            rows = write_parquet(out, (block for _ in range(32)))
         print(rows, peak() - before)
     """
     done = subprocess.run(
@@ -226,7 +307,7 @@ def test_a_failure_leaves_no_file_and_the_old_one_untouched(tmp_path, rng):
         raise RuntimeError("stop")
 
     with pytest.raises(RuntimeError, match="stop"), atomic_output(path) as out:
-        write_parquet(out, failing(), "csv")
+        write_parquet(out, failing())
     assert path.read_bytes() == b"old"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["x.parquet"]
 
@@ -234,19 +315,19 @@ def test_a_failure_leaves_no_file_and_the_old_one_untouched(tmp_path, rng):
 def test_no_chunks_write_an_empty_file_with_its_columns(tmp_path):
     path = tmp_path / "empty.parquet"
     with open(path, "wb") as out:
-        assert write_parquet(out, [], "study", duration=1.0) == 0
+        assert write_parquet(out, []) == 0
     table = pq.read_table(path)
     assert table.num_rows == 0
-    assert table.schema.names == ["t", "time", *LAYOUTS["study"]]
+    assert table.schema.names == ["t", *LAYOUTS["csv"]]
 
 
 def test_a_pipe_takes_parquet(tmp_path):
     code = (
         "import sys, numpy as np\n"
         "from a2b.io.parquet import write_parquet\n"
-        "from a2b.io.writers import Chunk\n"
-        "c = Chunk(np.array([0.0, 1.0]), study=np.eye(8)[:2], job=['a', 'b'])\n"
-        "write_parquet(sys.stdout.buffer, [c], 'study')\n"
+        "from a2b.samples import Samples\n"
+        "c = Samples(np.array([0.0, 1.0]), study=np.eye(8)[:2], job=['a', 'b'])\n"
+        "write_parquet(sys.stdout.buffer, [c])\n"
     )
     done = subprocess.run(
         [sys.executable, "-c", code], cwd=ROOT, stdout=subprocess.PIPE, check=True
@@ -260,16 +341,72 @@ def test_blocks_must_carry_the_columns_of_the_first(rng):
     first, second = chunks_of(rng, 256, ["a"], 128, "csv")
     second.job = None
     with pytest.raises(ValueError, match="columns"):
-        write_parquet(io.BytesIO(), [first, second], "csv")
+        write_parquet(io.BytesIO(), [first, second])
 
 
 def test_runs_in_the_job_column_read_back(tmp_path):
-    chunk = Chunk(
+    chunk = Samples(
         np.zeros(5), study=np.tile(np.eye(8)[0], (5, 1)), job=JobRuns(["a", "b", "a"], [2, 1, 2])
     )
     path = tmp_path / "runs.parquet"
     with open(path, "wb") as out:
-        write_parquet(out, [chunk], "study")
+        write_parquet(out, [chunk])
     samples, _, _ = read_parquet(path)
     assert (samples.job.names, samples.job.counts) == (["a", "b", "a"], [2, 1, 2])
     json.dumps(file_metadata(pq.read_schema(path)))  # plain data
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--workers", "2", "-o", "out/"], "--scheduler and --workers write a Parquet dataset"),
+        (
+            [
+                "--format",
+                "parquet",
+                "--workers",
+                "2",
+                "--scheduler",
+                "tcp://127.0.0.1:1",
+                "-o",
+                "out/",
+            ],
+            "give --scheduler or --workers, not both",
+        ),  # fmt: skip
+        (["--format", "parquet", "--workers", "2"], "give JOBS as a file and -o DIR/"),
+        (
+            ["--format", "parquet", "--workers", "2", "--orthonormalize", "-o", "out/"],
+            "--orthonormalize: not on a cluster",
+        ),  # fmt: skip
+    ],
+)
+def test_a_dataset_needs_parquet_a_file_and_a_directory(tmp_path, monkeypatch, args, message):
+    from click.testing import CliRunner
+
+    from a2b.cli import cli
+
+    monkeypatch.chdir(tmp_path)
+    jobs = str(SAMPLES / "jobs.jsonl")
+    result = CliRunner().invoke(cli, ["batch", jobs, *args])
+    assert result.exit_code == 2
+    assert message in " ".join(result.output.split())
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_without_dask_a_cluster_run_names_the_extra(tmp_path):
+    code = (
+        "import sys; sys.modules['distributed'] = None\n"
+        "from a2b.cli import cli\n"
+        "cli(['batch', 'samples/jobs.jsonl', '--format', 'parquet', '--workers', '1', '-o',"
+        " sys.argv[1]])\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(tmp_path / "out")], cwd=ROOT, capture_output=True,
+        text=True,
+    )  # fmt: skip
+    assert done.returncode == 1
+    assert done.stderr == (
+        "Error: a Dask cluster needs distributed, which is not installed: "
+        "pip install 'a2b-motions[dask]'\n"
+    )
+    assert list(tmp_path.iterdir()) == []

@@ -63,7 +63,7 @@ def format_help(batch: bool = False) -> str:
         default = f"[default: from the -o suffix ({suffixes}), else csv]"
         return f"Output format. {'; '.join(entries)}  {default}"
     layouts = {
-        "rows": "one CSV, the job column first (layouts as for a2b interpolate)",
+        "rows": "one file, the job column first (layouts as for a2b interpolate)",
         "files": "a file per job, DIR/NAME.SUFFIX, in the directory -o DIR",
         "topics": "one file, the poses of job NAME on topic /a2b/NAME/pose",
     }
@@ -118,19 +118,22 @@ storage_option = click.option(
 )
 
 
+#: The formats that write times (``--duration``, ``--start-time``), from the table.
+_TIMED = ", ".join(row.name for row in formats.TABLE if row.timed)
+
 _start_time_option = click.option(
     "--start-time",
     type=FLOAT,
     default=0.0,
     show_default=True,
-    help="tum, mcap, ros2: the time of t = 0, in seconds (e.g. a Unix time).",
+    help=f"{_TIMED}: the time of t = 0, in seconds (e.g. a Unix time).",
 )
 _duration_option = click.option(
     "--duration",
     type=PositiveFloat(),
     default=1.0,
     show_default=True,
-    help="tum, mcap, ros2: seconds from t = 0 to t = 1; time = t · duration + start_time.",
+    help=f"{_TIMED}: seconds from t = 0 to t = 1; time = t · duration + start_time.",
 )
 
 

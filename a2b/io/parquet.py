@@ -4,10 +4,12 @@
 column     type and meaning
 =========  ================================================================================
 job        ``dictionary<values=string, indices=int32>``: the job's name (batches only)
-t          ``double``: the motion parameter in [0, 1] (of the samples as given)
-time       ``double``: seconds, ``t · duration + start_time`` (only where the output is timed)
-pose       ``double`` each, named as a2b's CSV headers: ``tx,ty,tz,qw,qx,qy,qz`` (layout
-           ``csv``), ``r11,r12,r13,tx,…,tz`` (``matrix``), ``p0,…,p3,q0,…,q3`` (``study``)
+t          ``double``: the first column of the CSV output (the motion parameter t in [0, 1],
+           or the time in seconds where the output has no ``time`` column and is timed)
+time       ``double``: seconds, ``t · duration + start_time`` (where the samples carry times)
+pose       ``double`` each, named as a2b's CSV headers, from the representation the samples
+           hold: ``tx,ty,tz,qw,qx,qy,qz`` (layout ``csv``, what ``--format parquet`` writes),
+           ``r11,r12,r13,tx,…,tz`` (``matrix``), ``p0,…,p3,q0,…,q3`` (``study``)
 twist      ``double`` each, ``vx,vy,vz,wx,wy,wz`` (when the samples carry velocities)
 original   ``bool``: the row is a pose of a resampled trajectory (when the samples say)
 =========  ================================================================================
@@ -18,45 +20,45 @@ shortest round-trip text). The file's key-value metadata holds, as JSON: ``a2b.l
 ``rad/s``, ``length/s``, ``""`` for none) and ``a2b.motion`` (what the caller states about the
 motion: its mode, parameters, sample count, duration …); ``a2b.version`` names the writer.
 
-:func:`write_parquet` streams: each row group holds at most :data:`ROW_GROUP_ROWS` rows, so
-memory stays bounded for any count. It writes into a binary stream (a pipe works); for a file
-that appears whole or not at all, give it the stream of :func:`a2b.io.atomic.atomic_output`.
-:func:`read_parquet` reads a file back into the samples it was written from.
-
-The samples come as an iterable of column blocks with the attributes of
-:class:`a2b.io.writers.Chunk`: ``t (n,)``; the pose in the layout's representation
-(``quat_wxyz (n, 4)`` and ``trans (n, 3)``, or ``matrices (n, 4, 4)``, or ``study (n, 8)``);
-optionally ``job`` (a list of names or :class:`a2b.io.writers.JobRuns`), ``time (n,)``,
-``twist (n, 6)`` and ``original (n,)``. What the first block carries decides the columns.
+:func:`write_parquet` and :func:`write_batch_parquet` are the writers of the ``parquet`` row of
+:mod:`a2b.formats`: they take a binary stream and :class:`a2b.samples.Samples` as every writer
+does, and stream: each row group holds at most :data:`ROW_GROUP_ROWS` rows, so memory stays
+bounded for any count. :func:`a2b.output.write` gives them a file that appears whole or not at
+all. :func:`read_parquet` reads a file back into the samples it was written from. The layouts
+are those of the table's CSV formats (:data:`LAYOUTS`), so a CSV layout added there is one here.
 """
 
 from __future__ import annotations
 
 import json
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from typing import IO
 
 import numpy as np
 
-from .trajectories import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER
-from .writers import Chunk, JobRuns
+from ..formats import TABLE
+from ..samples import FIELDS, JobRuns, Samples
 
 __all__ = [
     "LAYOUTS",
+    "REPRESENTATIONS",
     "ROW_GROUP_ROWS",
     "TWIST_COLUMNS",
     "file_metadata",
+    "layout_for",
+    "layout_of",
     "read_parquet",
     "record_batch",
     "schema",
+    "write_batch_parquet",
     "write_parquet",
 ]
 
-#: Layout -> the names of the pose columns, those of a2b's CSV headers.
-LAYOUTS = {
-    layout: tuple(header.split(",")[1:])
-    for layout, header in (("csv", CSV_HEADER), ("matrix", MATRIX_HEADER), ("study", STUDY_HEADER))
-}
+#: The CSV formats of the table: layout name -> its header's pose columns, and the
+#: representation of its samples.
+_CSV_ROWS = [row for row in TABLE if row.batch == "rows" and (row.header or "").startswith("t,")]
+LAYOUTS = {row.name: tuple(row.header.split(",")[1:]) for row in _CSV_ROWS}
+REPRESENTATIONS = {row.name: row.representation for row in _CSV_ROWS}
 #: The velocity columns, as in the CSV layouts.
 TWIST_COLUMNS = ("vx", "vy", "vz", "wx", "wy", "wz")
 #: The most rows in one row group: about 10 MB of numbers in the matrix layout.
@@ -73,12 +75,16 @@ _UNITS = {
 
 
 def _pyarrow():
+    """pyarrow, or a one-line error that names the extra."""
     try:
         import pyarrow as pa
-    except ImportError:  # pragma: no cover - the extra is missing
-        from ..errors import A2bError
+        import pyarrow.parquet  # noqa: F401
+    except ImportError as e:
+        from ..errors import MissingDependencyError
 
-        raise A2bError("Parquet needs pyarrow: pip install 'a2b-motions[parquet]'") from None
+        raise MissingDependencyError(
+            "Parquet needs pyarrow, which is not installed: pip install 'a2b-motions[parquet]'"
+        ) from e
     return pa
 
 
@@ -91,9 +97,8 @@ def schema(
     original: bool = False,
     motion: Mapping | None = None,
 ):
-    """The Arrow schema of samples in ``layout`` (``csv``, ``matrix``, ``study``), with the
-    columns and the key-value metadata of the module's table; ``motion`` goes into
-    ``a2b.motion``."""
+    """The Arrow schema of samples in ``layout`` (a key of :data:`LAYOUTS`), with the columns
+    and the key-value metadata of the module's table; ``motion`` goes into ``a2b.motion``."""
     pa = _pyarrow()
     from .. import __version__
 
@@ -132,13 +137,27 @@ def file_metadata(schema) -> dict:
     }
 
 
-def _pose_columns(layout: str, chunk) -> list[np.ndarray]:
-    """The pose of ``chunk`` as the columns of ``layout``, in the order of its header."""
-    if layout == "csv":
-        return [*chunk.trans.T, *chunk.quat_wxyz.T]
-    if layout == "matrix":
-        return list(chunk.matrices[:, :3, :].reshape(len(chunk.t), 12).T)
-    return list(chunk.study.T)
+def layout_of(samples: Samples) -> str:
+    """The layout of the representation ``samples`` hold (its pose fields that are filled)."""
+    for layout, representation in REPRESENTATIONS.items():
+        if all(getattr(samples, name) is not None for name in FIELDS[representation]):
+            return layout
+    raise ValueError("samples without poses")
+
+
+def layout_for(representation: str) -> str:
+    """The layout (a key of :data:`LAYOUTS`) whose pose columns hold ``representation``."""
+    return next(name for name, held in REPRESENTATIONS.items() if held == representation)
+
+
+def _pose_columns(layout: str, samples: Samples) -> list[np.ndarray]:
+    """The pose of ``samples`` as the columns of ``layout``, in the order of its header."""
+    representation = REPRESENTATIONS[layout]
+    if representation == "quat_trans":
+        return [*samples.trans.T, *samples.quat_wxyz.T]
+    if representation == "matrices":
+        return list(samples.matrices[:, :3, :].reshape(len(samples.t), 12).T)
+    return list(samples.study.T)
 
 
 def _job_column(job, rows: int):
@@ -152,23 +171,19 @@ def _job_column(job, rows: int):
     return pa.DictionaryArray.from_arrays(pa.array(indices), encoded.dictionary)
 
 
-def record_batch(
-    chunk, layout: str = "csv", *, duration: float | None = None, start_time: float = 0.0
-):
-    """One block of samples (see the module) as an Arrow record batch of :func:`schema`'s
-    columns. ``duration``: add ``time = t · duration + start_time`` if the block has none."""
+def record_batch(samples: Samples):
+    """One block of :class:`a2b.samples.Samples` as an Arrow record batch of :func:`schema`'s
+    columns: ``time`` (:meth:`~a2b.samples.Samples.seconds`) where the block has times, the
+    pose in the layout of its representation (:func:`layout_of`)."""
     pa = _pyarrow()
-    n = len(chunk.t)
-    time = getattr(chunk, "time", None)
-    if time is None and duration is not None:
-        time = chunk.t * duration + start_time
-    job, twist = getattr(chunk, "job", None), getattr(chunk, "twist", None)
-    original = getattr(chunk, "original", None)
-    columns = [chunk.t] + [time] * (time is not None) + _pose_columns(layout, chunk)
+    layout = layout_of(samples)
+    time = None if samples.time is None else samples.seconds()
+    job, twist, original = samples.job, samples.twist, samples.original
+    columns = [samples.t] + [time] * (time is not None) + _pose_columns(layout, samples)
     columns += list(twist.T) if twist is not None else []
     arrays = [pa.array(np.ascontiguousarray(c, dtype=float)) for c in columns]
     if job is not None:
-        arrays.insert(0, _job_column(job, n))
+        arrays.insert(0, _job_column(job, len(samples.t)))
     if original is not None:
         arrays.append(pa.array(np.asarray(original, dtype=bool)))
     kinds = {"job": job, "time": time, "twist": twist, "original": original}
@@ -178,12 +193,9 @@ def record_batch(
 
 def write_parquet(
     stream: IO[bytes],
-    chunks: Iterable,
-    layout: str = "csv",
+    samples: Iterable[Samples],
     *,
     motion: Mapping | None = None,
-    duration: float | None = None,
-    start_time: float = 0.0,
     row_group_rows: int = ROW_GROUP_ROWS,
 ) -> int:
     """Write samples into ``stream`` as one Parquet file; return the number of rows.
@@ -192,32 +204,33 @@ def write_parquet(
     ----------
     stream : binary stream
         Written from start to end (no seek), not closed.
-    chunks : iterable of column blocks
-        As the module describes; the first decides the columns, and every later one must
-        carry the same.
-    layout : {"csv", "matrix", "study"}
-        The pose columns (the representation each block must hold).
+    samples : iterable of Samples
+        The first decides the columns (the layout of its representation, ``job``, ``time``,
+        ``twist``, ``original``), and every later one must carry the same. No samples: an
+        empty file of the ``csv`` layout.
     motion : mapping, optional
         What to state about the motion in the metadata ``a2b.motion``: mode, parameters,
         samples, duration, … (numbers, strings, lists, numpy arrays).
-    duration, start_time : float
-        With ``duration``, a ``time`` column ``t · duration + start_time`` in seconds.
     row_group_rows : int
         The most rows in one row group (and in memory at once, besides one block).
+
+    Raises
+    ------
+    MissingDependencyError
+        Without pyarrow.
     """
+    pa = _pyarrow()
     import pyarrow.parquet as pq
 
-    pa = _pyarrow()
-    chunks = iter(chunks)
-    first = next(chunks, None)
+    blocks = _coalesced(samples, min(row_group_rows, BATCH_ROWS))
+    first = next(blocks, None)
     if first is None:
-        shape = schema(layout, job=False, time=duration is not None, motion=motion)
-        pq.write_table(shape.empty_table(), stream)
+        pq.write_table(schema(job=False, motion=motion).empty_table(), stream)
         return 0
-    batch = record_batch(first, layout, duration=duration, start_time=start_time)
+    batch = record_batch(first)
     names = batch.schema.names
     flags = {k: k in names for k in ("job", "time", "original")} | {"twist": "vx" in names}
-    shape = schema(layout, **flags, motion=motion)
+    shape = schema(layout_of(first), **flags, motion=motion)
     pending: list = []  # batches of fewer than row_group_rows rows in all
     held = rows = 0
     with pq.ParquetWriter(stream, shape) as writer:
@@ -231,22 +244,79 @@ def write_parquet(
                 whole = held - held % row_group_rows
                 writer.write_table(table.slice(0, whole), row_group_size=row_group_rows)
                 pending, held, rows = table.slice(whole).to_batches(), held - whole, rows + whole
-            chunk = next(chunks, None)
-            batch = None
-            if chunk is not None:
-                batch = record_batch(chunk, layout, duration=duration, start_time=start_time)
+            block = next(blocks, None)
+            batch = None if block is None else record_batch(block)
         if held:
             writer.write_table(pa.Table.from_batches(pending, shape), row_group_size=held)
             rows += held
     return rows
 
 
-def read_parquet(source) -> tuple[Chunk, np.ndarray | None, dict]:
+#: Rows of samples joined into one record batch: a batch's jobs come in pieces of a few
+#: hundred rows, and an Arrow batch costs about 0.4 ms whatever its size.
+BATCH_ROWS = 1 << 16
+
+_COLUMNS = ("t", "time", "quat_wxyz", "trans", "matrices", "study", "twist", "original")
+
+
+def _coalesced(samples: Iterable[Samples], rows: int) -> Iterator[Samples]:
+    """``samples`` joined into blocks of at least ``rows`` rows (the last may have fewer);
+    blocks that carry different columns are not joined."""
+    held: list[Samples] = []
+    count = 0
+    for block in samples:
+        if held and _kinds(block) != _kinds(held[0]):
+            yield _joined(held)
+            held, count = [], 0
+        held.append(block)
+        count += len(block.t)
+        if count >= rows:
+            yield _joined(held)
+            held, count = [], 0
+    if held:
+        yield _joined(held)
+
+
+def _kinds(block: Samples) -> tuple:
+    return (block.job is None, block.origin_ns, block.stamps_ns is None) + tuple(
+        getattr(block, name) is None for name in _COLUMNS
+    )
+
+
+def _joined(blocks: list[Samples]) -> Samples:
+    """Consecutive blocks of samples with the same columns as one."""
+    if len(blocks) == 1:
+        return blocks[0]
+    first = blocks[0]
+    fields = {
+        name: np.concatenate([getattr(b, name) for b in blocks])
+        for name in (*_COLUMNS, "stamps_ns")
+        if getattr(first, name) is not None
+    }
+    job = None if first.job is None else JobRuns.join(JobRuns.of(b.job) for b in blocks)
+    return Samples(**fields, job=job, origin_ns=first.origin_ns)
+
+
+def write_batch_parquet(stream: IO[bytes], samples: Iterable[Samples], fmt: str = "") -> int:
+    """Many motions into one Parquet file, the ``job`` column first (``a2b batch``): as
+    :func:`write_parquet`; every block names the job of each row. ``fmt``: the table's name
+    of the format, which a batch writer is given (one layout here: that of the samples)."""
+
+    def named():
+        for block in samples:
+            if block.job is None:
+                raise ValueError("a batch block without a job column")
+            yield block
+
+    return write_parquet(stream, named())
+
+
+def read_parquet(source) -> tuple[Samples, np.ndarray | None, dict]:
     """Read a Parquet file of samples (a path or a binary stream) back.
 
     Returns
     -------
-    samples : Chunk
+    samples : Samples
         ``t``, the pose in the file's layout (``quat_wxyz`` and ``trans``, ``matrices`` or
         ``study``), ``job`` as :class:`JobRuns` (if the file has the column), ``twist`` and
         ``original`` (if it has them).
@@ -255,6 +325,7 @@ def read_parquet(source) -> tuple[Chunk, np.ndarray | None, dict]:
     metadata : dict
         :func:`file_metadata` of the file.
     """
+    _pyarrow()
     import pyarrow.parquet as pq
 
     from ..errors import InputFileError
@@ -266,10 +337,11 @@ def read_parquet(source) -> tuple[Chunk, np.ndarray | None, dict]:
         raise InputFileError(f"{_name(source)}: not a Parquet file of a2b samples (no layout)")
     columns = {name: _numbers(table, name) for name in table.schema.names if name != "job"}
     pose = np.column_stack([columns[name] for name in LAYOUTS[layout]])
-    samples = Chunk(columns["t"])
-    if layout == "csv":
+    samples = Samples(columns["t"])
+    representation = REPRESENTATIONS[layout]
+    if representation == "quat_trans":
         samples.trans, samples.quat_wxyz = pose[:, :3].copy(), pose[:, 3:].copy()
-    elif layout == "matrix":
+    elif representation == "matrices":
         samples.matrices = np.zeros((len(pose), 4, 4))
         samples.matrices[:, :3, :] = pose.reshape(-1, 3, 4)
         samples.matrices[:, 3, 3] = 1.0
