@@ -418,16 +418,37 @@ class Motion(Kinematic):
         """Unit quaternions ``S + (N, 4)`` (w, x, y, z) and translations ``S + (N, 3)``.
 
         The quaternions come from the motion's own ``p(t)`` and are therefore continuous in
-        ``t`` (no sign jumps), starting at the sign of A's quaternion with ``w ≥ 0``.
+        ``t`` (no sign jumps), starting at the sign of A's quaternion with ``w ≥ 0``. At
+        ``t = 0`` and ``t = 1`` they are A's and B's quaternions exactly as the motion was
+        built from them (:attr:`end_quaternions`), at the sign of ``p(t)`` there.
         """
         arr = self._prepare(ts)
         quat = self._quats(arr)
         quat /= np.sqrt(np.einsum("...i,...i->...", quat, quat))[..., None]
+        self._pin_ends(arr, quat)
         with np.errstate(over="ignore", invalid="ignore"):  # far extrapolation: checked below
             trans = evaluate_translations(self._basis(arr), self.table)
         if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
             self._check_finite(arr, trans)
         return quat, trans
+
+    @property
+    def end_quaternions(self) -> np.ndarray:
+        """The unit quaternions ``S + (2, 4)`` (w, x, y, z) of A and B the motion was built
+        from (the screw frame's ``p_start`` and ``p_end``: as given, where the poses were given
+        as quaternions, :func:`a2b.api.motion`), B's at the sign of the short way."""
+        return np.stack([self.frame.p_start, self.frame.p_end], axis=-2)
+
+    def _pin_ends(self, ts: np.ndarray, quat: np.ndarray) -> None:
+        """Put :attr:`end_quaternions` into the rows of ``quat`` (``S + (N, 4)``) at ``ts`` 0
+        and 1, each at the sign that the computed row has."""
+        for k, t in enumerate((0.0, 1.0)):
+            at = np.broadcast_to(ts == t, quat.shape[:-1])
+            if not at.any():
+                continue
+            end = np.broadcast_to(self.end_quaternions[..., k, None, :], quat.shape)
+            sign = np.where(np.einsum("...i,...i->...", quat, end) < 0.0, -1.0, 1.0)
+            quat[at] = (sign[..., None] * end)[at] + 0.0  # and −0.0 written as 0.0
 
     def study(self, ts) -> np.ndarray:
         """Unit Study parameters ``S + (N, 8)`` of the samples (``|p| = 1``, ``q = −½ t p``)."""
