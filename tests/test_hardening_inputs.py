@@ -87,3 +87,52 @@ def test_times_are_read_by_the_one_reader_of_times(tmp_path):
     assert result.exit_code == 1
     expected = f"Error: {path}:2:1: the time 1700000000.5 repeats the previous one"
     assert result.output.startswith(expected)
+
+
+# -- options that the input cannot use are refused ------------------------------------------
+
+
+def _invoke(*args):
+    from click.testing import CliRunner
+
+    from a2b.cli import cli
+
+    return CliRunner().invoke(cli, [str(a) for a in args])
+
+
+@pytest.fixture(scope="module")
+def mcap_poses(tmp_path_factory):
+    path = tmp_path_factory.mktemp("mcap") / "turn.mcap"
+    assert _invoke("interpolate", "samples/quarter-turn.yaml", "--format", "mcap", "-o", path)
+    return path
+
+
+@pytest.mark.parametrize(
+    ("command", "rest"),
+    [("resample", ["--rate", 10]), ("view", ["-o", "x.html"]), ("spline", [])],
+)
+def test_topic_on_a_tum_file_is_refused(tmp_path, command, rest):
+    out = [tmp_path / "x.html" if r == "x.html" else r for r in rest]
+    result = _invoke(command, "samples/reference.tum", "--topic", "/x", *out)
+    assert result.exit_code == 1
+    assert result.output == (
+        "Error: samples/reference.tum: --topic does not apply to tum input; it gives the topic "
+        "of an MCAP file (mcap only)\n"
+    )
+    assert not (tmp_path / "x.html").exists()
+
+
+@pytest.mark.parametrize("command", ["resample", "view"])
+def test_input_rate_on_mcap_is_refused(tmp_path, mcap_poses, command):
+    rest = ["--rate", 10] if command == "resample" else ["-o", tmp_path / "x.html"]
+    result = _invoke(command, mcap_poses, "--input-rate", 5, *rest)
+    assert result.exit_code == 1
+    assert "--input-rate does not apply to mcap input" in result.output
+
+
+@pytest.mark.parametrize("option", [["--samples", 5], ["--delta", 0.1], ["--mode", "screw"]])
+def test_view_refuses_options_of_poses_files_for_a_trajectory(tmp_path, option):
+    out = tmp_path / "x.html"
+    result = _invoke("view", "samples/reference.tum", *option, "-o", out)
+    assert result.exit_code == 2 and not out.exists()
+    assert f"Error: {option[0]} is for poses files; this is a trajectory" in result.output

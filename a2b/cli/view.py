@@ -80,10 +80,13 @@ def command(poses, output, open_, mode, space, compare, points, angle_unit, leng
     name, data, fmt = options.read_input(poses, input_format, choices)
     style = {"points": points, "angle_unit": angle_unit, "length_unit": length_unit}
     if fmt is not None:  # a trajectory: its poses in order
-        given = {"--mode": mode, "--compare": compare, "--space": space, **parameters}
+        given = {"--mode": mode, "--compare": compare, "--space": space, "--samples": samples,
+                 **{"--" + k.replace("_", "-"): v for k, v in parameters.items()}}  # fmt: skip
         named = [k for k, v in given.items() if v not in (None, False, ())]
         if named:
-            raise click.UsageError(f"{named[0]} is for poses files; this is a trajectory")
+            raise click.UsageError(
+                f"{named[0]} is for poses files; this is a trajectory, whose poses are drawn"
+            )
         path = read_trajectory(data, name, fmt, rate=input_rate, topic=topic,
                                child_frame=input_child_frame, orthonormalize=orthonormalize,
                                minimum=2)  # fmt: skip
