@@ -57,16 +57,22 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
         a, b = check_matrices(np.stack([a, b]))  # both in one pass: the same checks
     else:
         a, b = check_matrices(a), check_matrices(b)
-    quaternions = given_quaternions((start, end), (a, b))
-    return checked_motion(a, b, mode, quaternions=quaternions, **parameters)
+    result = checked_motion(a, b, mode, **parameters)
+    given = given_quaternions((start, end), (a, b))
+    if given is not None and given[0].shape == result.shape + (4,):
+        result.given_ends = np.stack(given, axis=-2)
+    return result
 
 
 def given_quaternions(poses: tuple, matrices: tuple) -> tuple | None:
-    """The unit quaternions of A and B for :func:`a2b.frames.screw_frame` where a pose was
-    given as a tuple ``(quat_wxyz, translation)``: the quaternion as given (divided by its
-    norm only if that differs from 1 by more than 4 ulp, so a unit quaternion keeps its
-    bits), at the sign of the one its matrix gives; the other pose's from its matrix.
-    ``None`` if neither was given so, or the shapes differ."""
+    """The unit quaternions of A and B where a pose was given as a tuple
+    ``(quat_wxyz, translation)``, for :attr:`a2b.motions.base.Motion.given_ends`: the
+    quaternion as given (divided by its norm only if that differs from 1 by more than 4 ulp,
+    so a unit quaternion keeps its bits), at the sign of the one its matrix gives; the other
+    pose's from its matrix. ``None`` if neither was given so, or the shapes differ.
+
+    The motion itself is built from the matrices, as for matrices given (its quaternions
+    agree with these to a few ulp); only its samples at t = 0 and 1 take these."""
     from .poses import quaternions_from_rotations
 
     given = [pose[0] if isinstance(pose, tuple) and len(pose) == 2 else None for pose in poses]

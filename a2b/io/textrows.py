@@ -151,7 +151,8 @@ class _Replayed(io.RawIOBase):
             count = min(len(buffer), len(self.head))
             part, self.head = bytes(self.head[:count]), self.head[count:]
         else:
-            part = self.stream.read(len(buffer))
+            read = getattr(self.stream, "read1", self.stream.read)  # what has arrived: a pipe
+            part = read(len(buffer))  # left open is not waited for
             part = part.encode() if isinstance(part, str) else part
         if self.text:
             at = part.find(b"\0")

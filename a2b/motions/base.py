@@ -220,6 +220,9 @@ class Motion(Kinematic):
     what: str = "motion"
     table: np.ndarray
     quat_ends: np.ndarray
+    #: ``S + (2, 4)``: the quaternions of A and B as given (:func:`a2b.api.motion` of
+    #: ``(quat_wxyz, translation)`` poses), or ``None``: see :attr:`end_quaternions`.
+    given_ends: np.ndarray | None = None
 
     def __init__(self, start: np.ndarray, end: np.ndarray, frame: ScrewFrame):
         self.start = start
@@ -434,9 +437,11 @@ class Motion(Kinematic):
 
     @property
     def end_quaternions(self) -> np.ndarray:
-        """The unit quaternions ``S + (2, 4)`` (w, x, y, z) of A and B the motion was built
-        from (the screw frame's ``p_start`` and ``p_end``: as given, where the poses were given
-        as quaternions, :func:`a2b.api.motion`), B's at the sign of the short way."""
+        """The unit quaternions ``S + (2, 4)`` (w, x, y, z) of A and B: as given, where the
+        poses were given as quaternions (:attr:`given_ends`), else those the motion was built
+        from (the screw frame's ``p_start`` and ``p_end``)."""
+        if self.given_ends is not None:
+            return self.given_ends
         return np.stack([self.frame.p_start, self.frame.p_end], axis=-2)
 
     def _pin_ends(self, ts: np.ndarray, quat: np.ndarray) -> None:
