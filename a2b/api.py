@@ -57,7 +57,39 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
         a, b = check_matrices(np.stack([a, b]))  # both in one pass: the same checks
     else:
         a, b = check_matrices(a), check_matrices(b)
-    return checked_motion(a, b, mode, **parameters)
+    result = checked_motion(a, b, mode, **parameters)
+    given = given_quaternions((start, end), (a, b))
+    if given is not None and given[0].shape == result.shape + (4,):
+        result.given_ends = np.stack(given, axis=-2)
+    return result
+
+
+def given_quaternions(poses: tuple, matrices: tuple) -> tuple | None:
+    """The unit quaternions of A and B where a pose was given as a tuple
+    ``(quat_wxyz, translation)``, for :attr:`a2b.motions.base.Motion.given_ends`: the
+    quaternion as given (divided by its norm only if that differs from 1 by more than 4 ulp,
+    so a unit quaternion keeps its bits), at the sign of the one its matrix gives; the other
+    pose's from its matrix. ``None`` if neither was given so, or the shapes differ.
+
+    The motion itself is built from the matrices, as for matrices given (its quaternions
+    agree with these to a few ulp); only its samples at t = 0 and 1 take these."""
+    from .poses import quaternions_from_rotations
+
+    given = [pose[0] if isinstance(pose, tuple) and len(pose) == 2 else None for pose in poses]
+    if all(q is None for q in given) or matrices[0].shape != matrices[1].shape:
+        return None
+    out = []
+    for q, m in zip(given, matrices):
+        made = quaternions_from_rotations(m[..., :3, :3])
+        if q is None or np.shape(q) != made.shape:
+            out.append(made)
+            continue
+        q = np.asarray(q, dtype=float)
+        norm = np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
+        q = np.where(np.abs(norm - 1.0) > 4 * np.finfo(float).eps, q / norm, q)
+        sign = np.where(np.einsum("...i,...i->...", q, made) < 0.0, -1.0, 1.0)
+        out.append(sign[..., None] * q + 0.0)
+    return tuple(out)
 
 
 def checked_motion(a, b, mode: str = "darboux", /, quaternions=None, **parameters) -> Motion:
@@ -126,7 +158,39 @@ def interpolate(start, end, ts, mode: str = "darboux", **parameters) -> np.ndarr
     >>> a2b.interpolate(np.eye(4), b, [0.0, 0.5, 1.0], mode="darboux").shape
     (3, 4, 4)
     """
-    return motion(start, end, mode, **parameters).matrices(ts)
+    result = motion(start, end, mode, **parameters)
+    return pin_ends(result, ts, {"matrices": result.matrices(ts)})["matrices"]
+
+
+def pin_ends(motion, ts, poses: dict) -> dict:
+    """``poses`` of ``motion`` at ``ts`` (fields of :class:`a2b.samples.Samples`, each
+    ``S + (N, ...)``) with the rows at t = 0 and t = 1 holding the end poses as the motion
+    holds them (``motion.start``, ``motion.end``), not as its formula rounds them: the
+    translations, the matrices whole, and the Study parameters' dual part from the
+    translation. (The quaternions, and the Study parameters' primal part, are those the
+    motion was built from already: :meth:`a2b.motions.base.Motion.quat_trans`.) Anything
+    without end poses of its shape (a segment table) is returned as it is."""
+    from .poses import study_from_quat_trans
+
+    start, end = getattr(motion, "start", None), getattr(motion, "end", None)
+    shape = tuple(getattr(motion, "shape", (None,)))
+    if start is None or end is None or np.shape(start) != shape + (4, 4):
+        return poses
+    ts = np.asarray(ts, dtype=float)
+    for t, pose in ((0.0, start), (1.0, end)):
+        at = ts == t
+        if not at.any():
+            continue
+        lead = next(iter(poses.values())).shape[: len(shape) + 1]
+        at = np.broadcast_to(at, lead)
+        pose = np.broadcast_to(np.asarray(pose)[..., None, :, :], lead + (4, 4))[at]
+        if poses.get("trans") is not None:
+            poses["trans"][at] = pose[:, :3, 3]
+        if poses.get("matrices") is not None:
+            poses["matrices"][at] = pose
+        if poses.get("study") is not None:
+            poses["study"][at] = study_from_quat_trans(poses["study"][at][:, :4], pose[:, :3, 3])
+    return poses
 
 
 def describe(start, end, mode: str = "darboux", **parameters) -> dict:

@@ -107,25 +107,6 @@ def _is_stdout(target) -> bool:
     return target is None or str(target) == "-" or target is getattr(sys.stdout, "buffer", None)
 
 
-def pinned(motion, samples: Samples, ts: np.ndarray | None = None) -> Samples:
-    """``samples`` of ``motion`` with the rows at t = 0 and t = 1 holding its end poses as the
-    motion holds them (``motion.start``, ``motion.end``: robotics matrices), not as its formula
-    rounds them: the translations, and the matrices whole. (Quaternions and Study parameters
-    stay the motion's: the matrices do not keep a quaternion as given, and one computed from
-    them may differ from it in the last bit.) ``ts``: the motion's t of the rows, if not
-    ``samples.t`` (a timed motion's rows are times)."""
-    start, end = getattr(motion, "start", None), getattr(motion, "end", None)
-    if start is None or end is None or np.shape(start) != (4, 4):
-        return samples
-    for t, pose in ((0.0, start), (1.0, end)):
-        rows = np.flatnonzero((samples.t if ts is None else ts) == t)
-        if samples.trans is not None:
-            samples.trans[rows] = pose[:3, 3]
-        if samples.matrices is not None:
-            samples.matrices[rows] = pose
-    return samples
-
-
 def motion_samples(
     motion, count: int, representation: str, duration: float = 1.0, start_time: float = 0.0
 ) -> Iterator[Samples]:
@@ -135,7 +116,7 @@ def motion_samples(
 
     for ts in evenly_spaced(count, CHUNK_SAMPLES):
         samples = Samples(ts, **poses_of(motion, ts, representation))
-        yield from stamped([pinned(motion, samples)], duration, start_time)
+        yield from stamped([samples], duration, start_time)
 
 
 def stamped(samples: Iterable[Samples], duration: float, start_time: float) -> Iterator[Samples]:
@@ -150,7 +131,7 @@ def timed_samples(
 ) -> Iterator[Samples]:
     """The timed motion ``timed`` at ``times`` (seconds from its start), a chunk at a time:
     ``t`` and the time are ``start_time + time``; with ``velocities`` the twist of the law's
-    point; the rows at its start and end are A and B (:func:`pinned`).
+    point; the rows at its start and end are A and B (:func:`a2b.samples.poses_of`).
 
     ``times`` is an array, or an iterable of arrays (blocks of a time grid, such as
     :meth:`a2b.timelaw.grid.TimeGrid.blocks` gives): they are taken as they come.
@@ -164,7 +145,7 @@ def timed_samples(
         ts, twists = timed.sample(block, velocities)
         stamped = block + start_time
         samples = Samples(stamped, twist=twists, **poses_of(timed.motion, ts, representation))
-        yield pinned(timed.motion, samples, ts)
+        yield samples
 
 
 def _options(fmt: Format, options: dict) -> dict:

@@ -122,13 +122,16 @@ class Samples:
 def poses_of(motion, ts: np.ndarray, representation: str) -> dict:
     """The poses of ``motion`` at ``ts`` in ``representation`` (a key of :data:`FIELDS`), as
     the pose fields of :class:`Samples`. ``motion`` is anything with the methods
-    ``quat_trans``, ``matrices`` and ``study`` of ``ts`` (a motion, a segment table)."""
+    ``quat_trans``, ``matrices`` and ``study`` of ``ts`` (a motion, a segment table). The
+    rows at t = 0 and 1 are a motion's end poses as it holds them (:func:`a2b.api.pin_ends`)."""
     if representation not in FIELDS:
         raise ValueError(f"unknown representation {representation!r}")
+    from .api import pin_ends
+
     values = getattr(motion, representation)(ts)
     if not isinstance(values, tuple):
         values = (values,)
-    return dict(zip(FIELDS[representation], values))
+    return pin_ends(motion, ts, dict(zip(FIELDS[representation], values)))
 
 
 def check_finite(samples: Samples, column: str = "t") -> None:

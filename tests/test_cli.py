@@ -42,12 +42,13 @@ def pose_json(matrix):
 
 
 def write_poses(path, start, end, **extra):
-    """A poses file with repr-exact numbers; returns the matrices a2b reads from it."""
+    """A poses file with repr-exact numbers; returns its poses as a2b reads them, for
+    :func:`a2b.motion` (``(quat_wxyz, translation)`` where the file gives a quaternion)."""
     data = {"start": pose_json(start), "end": pose_json(end), **extra}
     path.write_text(json.dumps(data))
     with open(path, "rb") as f:
         job = poseschema.read_poses(f)
-    return job.start, job.end
+    return job.poses()
 
 
 @pytest.fixture
@@ -98,6 +99,7 @@ def test_unknown_command_and_option_are_usage_errors(poses):
 def _as_given(a, b, trans=None, mats=None):
     """Samples at t = 0 and t = 1 as written: A and B as given (their translations and, for
     matrices, the whole poses), not as the motion's formula rounds them."""
+    a, b = (a2b.poses.pose_matrices(pose) for pose in (a, b))
     if trans is not None:
         trans[[0, -1]] = a[:3, 3], b[:3, 3]
         return trans
@@ -160,7 +162,8 @@ def test_study_round_trip(poses, tmp_path):
     )
     with open(out, "rb") as f:
         t, study = trajectories.read_study_csv(f)
-    assert np.array_equal(study, a2b.motion(a, b, delta=0.3).study(t))
+    want = a2b.api.pin_ends(motion := a2b.motion(a, b, delta=0.3), t, {"study": motion.study(t)})
+    assert np.array_equal(study, want["study"])
 
 
 def test_tum_round_trip(poses, tmp_path):

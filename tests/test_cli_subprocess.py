@@ -61,7 +61,7 @@ def test_mcap_into_a_pipe(tmp_path):
     with open(QUARTER, "rb") as f:
         job = poseschema.read_poses(f)
     ts = np.linspace(0, 1, 50)
-    want_quat, want_trans = a2b.motion(job.start, job.end).quat_trans(ts)
+    want_quat, want_trans = a2b.motion(*job.poses()).quat_trans(ts)
     with open(out, "rb") as f:
         time_, quat, trans = mcapposes.read_mcap(f)
     assert np.allclose(time_, ts, atol=1e-9, rtol=0)

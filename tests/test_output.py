@@ -50,7 +50,7 @@ def test_write_writes_the_bytes_of_the_command(tmp_path, fmt):
         job = read_poses(f)
     library = tmp_path / "library.out"
     times = {"duration": 2.0, "start_time": 7.0} if timing else {}
-    a2b.write(a2b.motion(job.start, job.end), library, fmt, samples=9, **times)
+    a2b.write(a2b.motion(*job.poses()), library, fmt, samples=9, **times)
     assert library.read_bytes() == command.read_bytes()
 
 

@@ -326,7 +326,7 @@ def test_resample_refusals_are_one_line_with_the_fix(tmp_path):
     stamps.write_text("1700000001.0\n1700000001.0\n")
     cases = [
         (["--rate", "10", "--at", SAMPLES / "reference.tum"], "exactly one of --rate"),
-        (["--times", stamps], "stamps.txt:2:1: the time 1700000001.0 does not come after"),
+        (["--times", stamps], "stamps.txt:2:1: the time 1700000001.0 repeats the previous one"),
         (["--at", SAMPLES / "walk.kitti"], "KITTI files have none"),
         (["--rate", "10", "--mark", "--format", "tum"], "--mark adds a column to csv"),
     ]

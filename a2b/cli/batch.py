@@ -132,7 +132,7 @@ def command(
 
     repaired: list[str] = []
     with options.repairing(orthonormalize, repaired):  # the jobs are read as they are sampled
-        job_list = read_jobs(jobs)
+        job_list = read_jobs(*options.read_text_input(jobs))
         with _progress(job_list.count) as progress:
             task = progress.add_task("jobs", total=job_list.count) if progress else None
             pieces = sample(

@@ -166,7 +166,7 @@ def command(poses, mode, space, as_json, orthonormalize, duration, compare, **pa
 
     defaults: list[str] = []
     with options.repairing(orthonormalize, defaults):
-        job = read_motion_file(poses)
+        job = read_motion_file(*options.read_pose_file(poses))
         if not isinstance(job, PoseList):
             parameters = options.merge_parameters(job.parameters, parameters, mode)
     if isinstance(job, PoseList):

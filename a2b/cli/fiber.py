@@ -108,7 +108,7 @@ def command(pose, kind, offsets, m, alphas, basis, as_json, orthonormalize):
     from ..fibers import fiber
 
     with options.repairing(orthonormalize, []):
-        pose = read_pose(pose)
+        pose = read_pose(*options.read_pose_file(pose))
     result = fiber(pose, kind, s=offsets, m=m, alphas=alphas, basis=basis)
     options.check_finite(result, "fiber")
     if as_json:

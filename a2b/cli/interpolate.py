@@ -43,8 +43,8 @@ def command(poses, mode, samples, verbose, orthonormalize, **parameters):
     out.update(options.pop_time_law(parameters))
     choices: list[str] = []
     with options.repairing(orthonormalize, choices):
-        job = read_poses(poses)
+        job = read_poses(*options.read_pose_file(poses))
         parameters = options.merge_parameters(job.parameters, parameters, mode)
     mode = options.pick("mode", mode, job.mode, "darboux", choices, "--mode")
-    motion = a2b.motion(job.start, job.end, mode, **parameters)
+    motion = a2b.motion(*job.poses(), mode, **parameters)
     writing.sample_and_write(motion, samples, job.samples, choices, verbose, out)

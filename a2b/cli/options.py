@@ -7,6 +7,7 @@ functions that need them, so ``a2b --help`` stays fast.
 from __future__ import annotations
 
 import contextlib
+import io
 import math
 import os
 import re
@@ -405,7 +406,7 @@ def merge_parameters(from_file: dict, from_command_line: dict, mode: str | None 
         if key == "through":
             from ..io.poseschema import read_pose
 
-            value = read_pose(value)
+            value = read_pose(*read_pose_file(value))
         merged[key] = value
     return merged
 
@@ -603,6 +604,55 @@ def repaired(count: int, residual: float, what: str) -> str:
     )
 
 
+#: The largest pose file (a pose, a poses file, a pose list) read: a larger one is refused
+#: before it is read whole. (Trajectories have no such bound: their memory is that of the poses.)
+POSE_FILE_BYTES = 64 << 20
+
+
+def read_pose_file(stream) -> tuple[io.BytesIO, str]:
+    """``(content, name)`` of a pose file, the arguments of a pose-file reader, read in bounded
+    memory: a NUL byte (``/dev/zero``) and more than :data:`POSE_FILE_BYTES` are errors as soon
+    as they arrive (:func:`a2b.io.textrows.read_text_bytes`)."""
+    from ..io.documents import stream_name
+    from ..io.textrows import read_text_bytes
+
+    name = stream_name(stream, None)
+    return io.BytesIO(read_text_bytes(stream, name, limit=POSE_FILE_BYTES)), name
+
+
+def read_text_input(stream) -> tuple:
+    """``(stream, name)`` of a text file read as it is consumed, a NUL byte (``/dev/zero``)
+    an error as soon as it arrives (:func:`a2b.io.textrows.replayed`): a jobs file."""
+    from ..io.documents import stream_name
+    from ..io.textrows import replayed
+
+    name = stream_name(stream, None)
+    return replayed(stream, name), name
+
+
+def read_input(stream, fmt: str | None, choices: list) -> tuple:
+    """``(name, stream, format)`` of a file that is a trajectory (``format`` given, or told by
+    the suffix or the first bytes: :func:`a2b.io.trajectories.sniff_format`) or else a pose
+    file (``format`` ``None``, its content read as by :func:`read_pose_file`). A trajectory's
+    ``stream`` gives its bytes from the start, for :func:`a2b.io.trajectories.read_trajectory`,
+    which reads them in bounded memory."""
+    from ..errors import InputFileError
+    from ..io.documents import stream_name
+    from ..io.textrows import read_text_bytes, replayed
+    from ..io.trajectories import _head, sniff_format
+
+    name = stream_name(stream, None)
+    head = _head(stream)
+    if fmt is None:
+        try:
+            fmt = sniff_format(head, name)
+        except InputFileError:
+            data = read_text_bytes(stream, name, head, limit=POSE_FILE_BYTES)
+            return name, io.BytesIO(data), None  # not a trajectory: a pose file
+        choices.append(f"input format {fmt}: a trajectory file (--input-format to change)")
+    return name, replayed(stream, name, head, text=False), fmt
+
+
 def read_pose_list_option(
     stream,
     key: str,
@@ -614,23 +664,12 @@ def read_pose_list_option(
     input_frame: str | None = None,
 ):
     """The poses of a pose-list file (``controls`` or ``poses``), or of a trajectory file: one
-    given ``--input-format``, with a trajectory suffix, or whose content is a trajectory's."""
-    import io
-
-    from ..errors import InputFileError
-    from ..io.documents import stream_name
+    given ``--input-format``, with a trajectory suffix, or whose content is a trajectory's
+    (:func:`read_input`)."""
     from ..io.poseschema import PoseList, read_pose_list
-    from ..io.trajectories import read_trajectory, sniff_format
+    from ..io.trajectories import read_trajectory
 
-    name = stream_name(stream, None)
-    data = stream.read()
-    if fmt is None:
-        try:
-            fmt = sniff_format(data, name)
-        except InputFileError:
-            fmt = None  # not a trajectory: a pose list
-        else:
-            choices.append(f"input format {fmt}: a trajectory file (--input-format to change)")
+    name, data, fmt = read_input(stream, fmt, choices)
     if fmt is None:
         if topic or child_frame or input_frame:
             given = (
@@ -638,9 +677,9 @@ def read_pose_list_option(
             )
             raise click.UsageError(f"{given} is for trajectory files")
         with repairing(orthonormalize, choices):
-            return read_pose_list(io.BytesIO(data), key, name)
+            return read_pose_list(data, key, name)
     path = read_trajectory(
-        io.BytesIO(data),
+        data,
         name,
         fmt,
         topic=topic,

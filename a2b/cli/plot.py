@@ -206,7 +206,7 @@ def command(
     elif family or family_of or points:
         raise click.UsageError("--family, --family-of and --points are not for --speeds")
     with options.repairing(orthonormalize, choices):
-        job = read_motion_file(poses)
+        job = read_motion_file(*options.read_pose_file(poses))
     if speeds:
         figure = _speeds_figure(
             job, mode, compare, space, parameters, law, duration, samples, length_unit, choices

@@ -212,41 +212,12 @@ def _new_times(rate, reference, times_file, choices):
         if not len(times):
             raise InputFileError(f"{path.name}: the reference has no poses")
     else:
-        times = _read_times(times_file)
+        from ..io.textrows import read_times
+
+        times = read_times(times_file)
     from ..io.documents import stream_name
 
     return NewTimes(times=times, source=stream_name(reference or times_file, None))
-
-
-def _read_times(stream):
-    """One finite time per line, increasing; ``#`` starts a comment."""
-    import numpy as np
-
-    from ..errors import InputFileError
-    from ..io.documents import stream_name
-
-    name = stream_name(stream, None)
-    times, lines = [], []
-    for number, raw in enumerate(stream.read().decode("utf-8", "replace").splitlines(), 1):
-        text = raw.split("#", 1)[0].strip()
-        if not text:
-            continue
-        try:
-            value = float(text)
-        except ValueError:
-            value = float("nan")
-        if not np.isfinite(value) or not options.DECIMAL.fullmatch(text):
-            raise InputFileError(f"{name}:{number}:1: expected one time in seconds, got {text!r}")
-        if times and not value > times[-1]:
-            raise InputFileError(
-                f"{name}:{number}:1: the time {value!r} does not come after the previous one, "
-                f"{times[-1]!r}; the new times must increase"
-            )
-        times.append(value)
-        lines.append(number)
-    if not times:
-        raise InputFileError(f"{name}: no times")
-    return np.array(times)
 
 
 def _report(counts, made, repaired, times, clip, max_gap, verbose) -> None:

@@ -59,16 +59,13 @@ def command(poses, output, open_, mode, space, compare, points, angle_unit, leng
       a2b view samples/spline.yaml --space study -o spline.html
       a2b view samples/reference.tum -o reference.html
     """
-    import io
     import os
     import sys
     import tempfile
 
-    from ..errors import InputFileError
     from ..io.atomic import atomic_output
-    from ..io.documents import stream_name
     from ..io.poseschema import read_motion_file
-    from ..io.trajectories import read_trajectory, sniff_format
+    from ..io.trajectories import read_trajectory
     from ..view import MAX_FRAMES, MAX_LINE_POINTS, animation_steps, require_plotly, view_page
 
     require_plotly()
@@ -81,21 +78,17 @@ def command(poses, output, open_, mode, space, compare, points, angle_unit, leng
     if compare and mode:
         raise click.UsageError("give --mode or --compare, not both")
     choices: list[str] = []
-    name = stream_name(poses, None)
-    data = poses.read()
-    fmt = input_format
-    if fmt is None:
-        try:
-            fmt = sniff_format(data, name)
-        except InputFileError:
-            fmt = None  # a poses file or a pose list
+    name, data, fmt = options.read_input(poses, input_format, choices)
     style = {"points": points, "angle_unit": angle_unit, "length_unit": length_unit}
     if fmt is not None:  # a trajectory: its poses in order
-        given = {"--mode": mode, "--compare": compare, "--space": space, **parameters}
+        given = {"--mode": mode, "--compare": compare, "--space": space, "--samples": samples,
+                 **{"--" + k.replace("_", "-"): v for k, v in parameters.items()}}  # fmt: skip
         named = [k for k, v in given.items() if v not in (None, False, ())]
         if named:
-            raise click.UsageError(f"{named[0]} is for poses files; this is a trajectory")
-        path = read_trajectory(io.BytesIO(data), name, fmt, rate=input_rate, topic=topic,
+            raise click.UsageError(
+                f"{named[0]} is for poses files; this is a trajectory, whose poses are drawn"
+            )
+        path = read_trajectory(data, name, fmt, rate=input_rate, topic=topic,
                                child_frame=input_child_frame, input_frame=input_frame,
                                orthonormalize=orthonormalize, minimum=2)  # fmt: skip
         choices.extend(path.notes)
@@ -109,7 +102,7 @@ def command(poses, output, open_, mode, space, compare, points, angle_unit, leng
             raise click.UsageError("--topic, --input-child-frame, --input-frame and --input-rate "
                                    "are for trajectory files")  # fmt: skip
         with options.repairing(orthonormalize, choices):
-            job = read_motion_file(io.BytesIO(data), name)
+            job = read_motion_file(data, name)
         samples = options.pick("samples", samples, job.samples, 101, choices, "--samples")
         start, end, motions, marks = options.figure_motions(
             job, mode, compare, space, parameters, choices

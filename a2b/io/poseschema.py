@@ -86,6 +86,18 @@ class Job:
     samples: int | None = None
     parameters: dict = field(default_factory=dict)
     name: str | None = None
+    #: The quaternions (w, x, y, z) of ``start`` and ``end`` as the file writes them, where it
+    #: gives the pose as a quaternion (else ``None``): see :meth:`poses`.
+    quaternions: tuple = (None, None)
+
+    def poses(self) -> tuple:
+        """``start`` and ``end`` for :func:`a2b.motion`: ``(quat_wxyz, translation)`` where the
+        file gives a quaternion, so that the samples at t = 0 and 1 hold it bit for bit (a
+        matrix does not keep it: :func:`a2b.api.given_quaternions`), else the matrix."""
+        return tuple(
+            pose if q is None else (q, pose[:3, 3])
+            for pose, q in zip((self.start, self.end), self.quaternions)
+        )
 
 
 def _is_number(v) -> bool:
@@ -492,7 +504,18 @@ def job_from_node(doc: Document, path: Path, v, allowed: tuple) -> Job:
         samples=samples,
         parameters=_parameters(doc, path + ("parameters",), job.get("parameters") or {}),
         name=None if name is None else str(name),
+        quaternions=tuple(_given_quaternion(doc, path + (k,), job[k]) for k in ("start", "end")),
     )
+
+
+def _given_quaternion(doc: Document, path: Path, pose: dict) -> np.ndarray | None:
+    """The quaternion (w, x, y, z) of a pose that :func:`pose_from_node` validated, as the
+    file writes it, if the pose is given as a quaternion; else ``None``."""
+    forms = [POSE_FORMS[k] for k in POSE_FORMS if k in pose]
+    if forms[0].read is not _quaternion_pose:
+        return None
+    form = forms[0]
+    return np.array(numbers_from_node(doc, path + (form.key,), pose[form.key], form.numbers))
 
 
 def _check_name(doc: Document, path: Path, name: str) -> None:

@@ -39,6 +39,7 @@ __all__ = [
     "read_rows",
     "read_text_bytes",
     "read_times",
+    "replayed",
     "whole_file",
     "written_times",
 ]
@@ -64,17 +65,19 @@ def _few(items: list) -> str:
     return shown + (f" and {more} more" if more > 0 else "")
 
 
-def read_text_bytes(stream: IO, name: str, head: bytes = b"") -> bytes:
+def read_text_bytes(stream: IO, name: str, head: bytes = b"", limit: int | None = None) -> bytes:
     """The text of a stream whose first bytes, ``head``, were read already. A NUL byte (no
     text has one: ``/dev/zero``, a binary file) is an error: in a regular file, whose bytes
     are all there, after reading it at once; in any other stream as soon as its piece
-    arrives."""
-    whole = whole_file(stream, head)
+    arrives. With ``limit``, more bytes than ``limit`` are an error: a regular file's before
+    any is read, any other stream's as soon as they arrive."""
+    whole = whole_file(stream, head, limit, name)
     if whole is not None:
         _refuse_nul(whole, name, 0, b"")
         return whole
     parts, size = [head], len(head)
     _refuse_nul(head, name, 0, head)
+    _refuse_size(size, limit, name)
     while True:
         part = stream.read(READ_BYTES)
         if not part:
@@ -84,22 +87,37 @@ def read_text_bytes(stream: IO, name: str, head: bytes = b"") -> bytes:
         _refuse_nul(part, name, size, parts)
         parts.append(part)
         size += len(part)
+        _refuse_size(size, limit, name)
     return b"".join(parts)
 
 
-def whole_file(stream: IO, head: bytes) -> bytes | None:
+def whole_file(
+    stream: IO, head: bytes, limit: int | None = None, name: str = "the file"
+) -> bytes | None:
     """All bytes of a regular file from where ``head`` started, read at once (without a copy
-    of ``head`` joined to the rest), else ``None``."""
+    of ``head`` joined to the rest), else ``None``; a file larger than ``limit`` bytes is an
+    error before it is read."""
     if isinstance(stream, io.TextIOBase):  # its positions are no byte counts
         return None
     try:
-        if not stat.S_ISREG(os.fstat(stream.fileno()).st_mode):
+        status = os.fstat(stream.fileno())
+        if not stat.S_ISREG(status.st_mode):
             return None
-        stream.seek(stream.tell() - len(head))
+        start = stream.tell() - len(head)
+        stream.seek(start)
     except (AttributeError, OSError, ValueError, io.UnsupportedOperation):
         return None
+    _refuse_size(status.st_size - start, limit, name)
     data = stream.read()
     return data.encode() if isinstance(data, str) else data
+
+
+def _refuse_size(size: int, limit: int | None, name: str) -> None:
+    if limit is not None and size > limit:
+        raise InputFileError(
+            f"{name}: more than {limit // (1 << 20)} MiB, more than a2b reads from a file of "
+            "this kind"
+        )
 
 
 def _refuse_nul(part: bytes, name: str, offset: int, before) -> None:
@@ -111,6 +129,43 @@ def _refuse_nul(part: bytes, name: str, offset: int, before) -> None:
     raise InputFileError(
         f"{name}:{line}: a NUL byte at byte {offset + at}, so this is no text file"
     )
+
+
+def replayed(stream: IO, name: str, head: bytes = b"", text: bool = True) -> io.BufferedReader:
+    """A binary stream of the bytes of ``stream`` from the start, when its first bytes,
+    ``head``, were read already. With ``text``, a NUL byte is an error as soon as its piece
+    arrives (as in :func:`read_text_bytes`): a reader of lines meets no endless line."""
+    return io.BufferedReader(_Replayed(stream, name, head, text))
+
+
+class _Replayed(io.RawIOBase):
+    def __init__(self, stream: IO, name: str, head: bytes, text: bool):
+        self.stream, self.name, self.head, self.text = stream, name, memoryview(head), text
+        self.offset = self.lines = 0
+
+    def readable(self) -> bool:
+        return True
+
+    def readinto(self, buffer) -> int:
+        if len(self.head):
+            count = min(len(buffer), len(self.head))
+            part, self.head = bytes(self.head[:count]), self.head[count:]
+        else:
+            read = getattr(self.stream, "read1", self.stream.read)  # what has arrived: a pipe
+            part = read(len(buffer))  # left open is not waited for
+            part = part.encode() if isinstance(part, str) else part
+        if self.text:
+            at = part.find(b"\0")
+            if at >= 0:
+                line = self.lines + part.count(b"\n", 0, at) + 1
+                raise InputFileError(
+                    f"{self.name}:{line}: a NUL byte at byte {self.offset + at}, so this is no "
+                    "text file"
+                )
+            self.lines += part.count(b"\n")
+        self.offset += len(part)
+        buffer[: len(part)] = part
+        return len(part)
 
 
 def check_text(data: bytes, name: str) -> bytes:

@@ -220,6 +220,9 @@ class Motion(Kinematic):
     what: str = "motion"
     table: np.ndarray
     quat_ends: np.ndarray
+    #: ``S + (2, 4)``: the quaternions of A and B as given (:func:`a2b.api.motion` of
+    #: ``(quat_wxyz, translation)`` poses), or ``None``: see :attr:`end_quaternions`.
+    given_ends: np.ndarray | None = None
 
     def __init__(self, start: np.ndarray, end: np.ndarray, frame: ScrewFrame):
         self.start = start
@@ -418,16 +421,39 @@ class Motion(Kinematic):
         """Unit quaternions ``S + (N, 4)`` (w, x, y, z) and translations ``S + (N, 3)``.
 
         The quaternions come from the motion's own ``p(t)`` and are therefore continuous in
-        ``t`` (no sign jumps), starting at the sign of A's quaternion with ``w ≥ 0``.
+        ``t`` (no sign jumps), starting at the sign of A's quaternion with ``w ≥ 0``. At
+        ``t = 0`` and ``t = 1`` they are A's and B's quaternions exactly as the motion was
+        built from them (:attr:`end_quaternions`), at the sign of ``p(t)`` there.
         """
         arr = self._prepare(ts)
         quat = self._quats(arr)
         quat /= np.sqrt(np.einsum("...i,...i->...", quat, quat))[..., None]
+        self._pin_ends(arr, quat)
         with np.errstate(over="ignore", invalid="ignore"):  # far extrapolation: checked below
             trans = evaluate_translations(self._basis(arr), self.table)
         if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
             self._check_finite(arr, trans)
         return quat, trans
+
+    @property
+    def end_quaternions(self) -> np.ndarray:
+        """The unit quaternions ``S + (2, 4)`` (w, x, y, z) of A and B: as given, where the
+        poses were given as quaternions (:attr:`given_ends`), else those the motion was built
+        from (the screw frame's ``p_start`` and ``p_end``)."""
+        if self.given_ends is not None:
+            return self.given_ends
+        return np.stack([self.frame.p_start, self.frame.p_end], axis=-2)
+
+    def _pin_ends(self, ts: np.ndarray, quat: np.ndarray) -> None:
+        """Put :attr:`end_quaternions` into the rows of ``quat`` (``S + (N, 4)``) at ``ts`` 0
+        and 1, each at the sign that the computed row has."""
+        for k, t in enumerate((0.0, 1.0)):
+            at = np.broadcast_to(ts == t, quat.shape[:-1])
+            if not at.any():
+                continue
+            end = np.broadcast_to(self.end_quaternions[..., k, None, :], quat.shape)
+            sign = np.where(np.einsum("...i,...i->...", quat, end) < 0.0, -1.0, 1.0)
+            quat[at] = (sign[..., None] * end)[at] + 0.0  # and −0.0 written as 0.0
 
     def study(self, ts) -> np.ndarray:
         """Unit Study parameters ``S + (N, 8)`` of the samples (``|p| = 1``, ``q = −½ t p``)."""
