@@ -90,7 +90,8 @@ def command(poses, output, open_, mode, space, compare, points, angle_unit, leng
             )
         path = read_trajectory(data, name, fmt, rate=input_rate, topic=topic,
                                child_frame=input_child_frame, input_frame=input_frame,
-                               orthonormalize=orthonormalize, minimum=2)  # fmt: skip
+                               orthonormalize=orthonormalize, minimum=2,
+                               choices=choices)  # fmt: skip
         choices.extend(path.notes)
         mats = path.matrices
         samples = len(mats)
