@@ -23,6 +23,7 @@ from .errors import PoseError
 from .study import (
     STUDY_TOL,
     check_study,
+    dots,
     kappa,
     quat_mul,
     rotation_numerators,
@@ -341,7 +342,7 @@ def canonical_sign(p: np.ndarray) -> np.ndarray:
 def rotations_from_quaternions(quat_wxyz: np.ndarray) -> np.ndarray:
     """Rotation matrices ``(..., 3, 3)`` of quaternions ``(..., 4)`` (eq. 4 divided by ``Δ``)."""
     p = np.asarray(quat_wxyz, dtype=float)
-    delta = np.sum(p * p, axis=-1)
+    delta = dots(p, p)
     return (rotation_numerators(p) / delta[..., None]).reshape(p.shape[:-1] + (3, 3))
 
 

@@ -110,6 +110,24 @@ def _contract(form: Structure, outer: np.ndarray) -> np.ndarray:
     return np.add.reduce(terms, axis=1)
 
 
+def dots(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Dot products ``a·b`` of vectors ``(..., n)`` (broadcast), summed term by term in order:
+    ``((a0 b0 + a1 b1) + a2 b2) + …``.
+
+    The order does not depend on the arrays' shapes or memory layouts, so an element of a
+    batch is bit for bit the element computed alone. ``numpy.sum(a * b, axis=-1)`` and
+    ``einsum`` are not: they sum a contiguous last axis in another order (pairwise, or in
+    vector registers) than a strided one, and a batch's arrays are often laid out otherwise
+    than one element's.
+    """
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    out = a[..., 0] * b[..., 0]
+    for k in range(1, a.shape[-1]):
+        out += a[..., k] * b[..., k]
+    return out
+
+
 def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Hamilton product ``a b`` of quaternions ``(..., 4)``, scalar first."""
     a = np.asarray(a, dtype=float)
@@ -290,7 +308,7 @@ def kappa(h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """
     h = np.asarray(h, dtype=float)
     p, q = h[..., :4], h[..., 4:]
-    delta = np.sum(p * p, axis=-1)
+    delta = dots(p, p)
     rot = rotation_numerators(p) / delta[..., None]
     trans = translation_numerators(p, q) / delta[..., None]
     return rot.reshape(h.shape[:-1] + (3, 3)), trans

@@ -373,3 +373,25 @@ def test_every_mode_reaches_its_end_poses_to_the_tolerance(rng):
             scale = max(1.0, np.linalg.norm(a[:3, 3]), np.linalg.norm(b[:3, 3]))
             assert np.abs(ends[0] - a).max() <= END_TOL * scale
             assert np.abs(ends[1] - b).max() <= END_TOL * scale
+
+
+@pytest.mark.parametrize("mode", ["darboux", "cubic", "screw"])
+@pytest.mark.parametrize("count", [2, 7, 1000, 5000])
+def test_every_sample_of_a_batch_is_bit_for_bit_the_sample_alone(rng, mode, count):
+    """Quaternions, matrices and Study parameters of a batch of any size (below and above the
+    build's chunk of pairs) are those of each pair built alone, to the last bit: no result may
+    depend on an element's place in the batch or on the memory layout of its arrays."""
+    start = np.stack([random_pose(rng, 2.0) for _ in range(count)])
+    end = np.stack([random_pose(rng, 2.0) for _ in range(count)])
+    batch = a2b.motion(start, end, mode)
+    quat, trans = batch.quat_trans(TS)
+    mats, study = batch.matrices(TS), batch.study(TS)
+    picked = {0, 1, count - 1, count // 2} | set(rng.choice(count, min(count, 40), replace=False))
+    picked |= {i for i in (4095, 4096) if i < count}  # both sides of a chunk boundary
+    for i in sorted(picked):
+        single = a2b.motion(start[i], end[i], mode)
+        q, t = single.quat_trans(TS)
+        assert np.array_equal(quat[i], q), (mode, i)
+        assert np.array_equal(trans[i], t), (mode, i)
+        assert np.array_equal(mats[i], single.matrices(TS)), (mode, i)
+        assert np.array_equal(study[i], single.study(TS)), (mode, i)

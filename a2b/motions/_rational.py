@@ -295,27 +295,35 @@ def evaluate_table(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
     Each entry ``x_j`` is within about ``k + 2`` units in the last place of the exact value of
     the table, relative to the size ``(Σ_i |b_i c_ij| + |x_j| Σ_i |b_i d_i|) / |d|`` of its
     terms (``Σ_i |b_i c_ij| / |d| + |x_j|`` for ``t ∈ [0, 1]``, where no terms of ``d`` cancel).
+
+    Each job takes the path that its own denominators call for (:func:`_kinds`), so that an
+    element of a batch is bit for bit the element alone: a product over more rows of the
+    extended table rounds differently, even where the extra rows are zeros.
     """
     columns, tables, shape = _flatten(basis, table)
+    out = np.empty((len(tables), columns.shape[-1], 4, 4))
+    kinds = _kinds(columns, tables[:, :, 12], tables[:, :, 13])
+    _by_kind(kinds, columns, tables, out, _table_rows)
+    return out.reshape(shape + out.shape[1:])
+
+
+def _table_rows(kind: int, columns: np.ndarray, tables: np.ndarray, out: np.ndarray) -> None:
+    """:func:`evaluate_table` of jobs of one kind: ``kind`` denominators (0, 1 or 2)."""
     jobs, k, _ = tables.shape
-    n = columns.shape[-1]
-    out = np.empty((jobs, n, 4, 4))
-    shared = bool(np.array_equal(tables[:, :, 12], tables[:, :, 13]))
-    if shared and _denominator_is_one(columns, tables[:, :, 12]):
+    rows = out.reshape(jobs, out.shape[1], 16)
+    if kind == 0:
         extended = _Extended(tables, k, [(slice(0, k), slice(0, 12))], (0, 15))
-        _rows(columns, None, extended, out.reshape(jobs, n, 16), False)
-        return out.reshape(shape + (n, 4, 4))
-    dens = 1 if shared else 2
-    if shared:
+        _rows(columns, None, extended, rows, False)
+        return
+    if kind == 1:
         blocks = [(slice(0, k), slice(0, 12))]
     else:
         blocks = [(slice(0, k), list(ROT_COLS)), (slice(k, 2 * k), list(TRANS_COLS))]
-    extended = _Extended(tables, dens * k + 1, blocks, (-1, 15))
-    if not _rows(columns, tables[:, :, 12 : 12 + dens], extended, out.reshape(jobs, n, 16), True):
+    extended = _Extended(tables, kind * k + 1, blocks, (-1, 15))
+    if not _rows(columns, tables[:, :, 12 : 12 + kind], extended, rows, True):
         # 0 · ∞ spread NaN into the bottom row of samples with a vanishing denominator
         out[:, :, 3, :3] = 0.0
         out[:, :, 3, 3] = 1.0
-    return out.reshape(shape + (n, 4, 4))
 
 
 class _Extended:
@@ -352,15 +360,16 @@ def evaluate_translations(basis: np.ndarray, table: np.ndarray) -> np.ndarray:
     into the output.
     """
     columns, tables, shape = _flatten(basis, table)
-    jobs = tables.shape[0]
-    n = columns.shape[-1]
-    out = np.empty((jobs, n, 3))
+    out = np.empty((len(tables), columns.shape[-1], 3))
+    kinds = _kinds(columns, tables[:, :, 13])
+    _by_kind(kinds, columns, tables, out, _translation_rows)
+    return out.reshape(shape + out.shape[1:])
+
+
+def _translation_rows(kind: int, columns: np.ndarray, tables: np.ndarray, out: np.ndarray):
+    """:func:`evaluate_translations` of jobs of one kind: ``kind`` denominators (0 or 1)."""
     coefficients = np.ascontiguousarray(tables[:, :, TRANS_COLS])
-    if _denominator_is_one(columns, tables[:, :, 13]):
-        _rows(columns, None, coefficients, out, False)
-    else:
-        _rows(columns, tables[:, :, 13:14], coefficients, out, False)
-    return out.reshape(shape + (n, 3))
+    _rows(columns, tables[:, :, 13:14] if kind else None, coefficients, out, False)
 
 
 def _flatten(basis, table) -> tuple[np.ndarray, np.ndarray, tuple]:
@@ -375,14 +384,39 @@ def _flatten(basis, table) -> tuple[np.ndarray, np.ndarray, tuple]:
     return columns, table.reshape(jobs, k, 14), shape
 
 
-def _denominator_is_one(columns: np.ndarray, denominators: np.ndarray) -> bool:
-    """Whether ``basis @ denominator`` is exactly 1: ``(1, 0, …, 0)`` on a first row of 1s."""
-    return bool(
-        (denominators[:, 0] == 1.0).all()
-        and not denominators[:, 1:].any()
-        and columns.shape[-1]
-        and (columns[:, 0] == 1.0).all()
-    )
+def _kinds(columns: np.ndarray, rot_den: np.ndarray, trans_den=None) -> np.ndarray:
+    """How many denominators each job's samples divide by, ``(J,)``: 0 where ``basis @
+    denominator`` is exactly 1 (``(1, 0, …, 0)`` on a first basis row of 1s, as for the screw
+    motion), 1 where the rotation and the translation share one (or only ``rot_den`` is
+    given), 2 else. ``columns`` is the basis ``(1 or J, k, N)``, the denominators ``(J, k)``."""
+    jobs, k = rot_den.shape
+    same = np.ones(jobs, dtype=bool)
+    for i in range(0 if trans_den is None else k):  # column by column: 3x faster than all()
+        same &= rot_den[:, i] == trans_den[:, i]
+    kinds = np.where(same, 1, 2)
+    unit = (columns[:, 0] == 1.0).all(axis=-1)  # False for a Bernstein basis beyond t = 0
+    if unit.any():
+        unit = unit & same & (rot_den[:, 0] == 1.0)
+        for i in range(1, k):
+            unit &= rot_den[:, i] == 0.0
+        kinds[unit] = 0
+    return kinds
+
+
+def _by_kind(kinds: np.ndarray, columns, tables: np.ndarray, out: np.ndarray, evaluate) -> None:
+    """``evaluate(kind, columns, tables, out)`` with each job's own kind (:func:`_kinds`): the
+    most common kind on every job in place, then the jobs of each other kind gathered, again,
+    and put in their place (a mixed batch costs the few others twice, not a copy of all)."""
+    counts = np.bincount(kinds, minlength=3)
+    main = int(np.argmax(counts))
+    evaluate(main, columns, tables, out)
+    for kind in np.flatnonzero(counts):
+        if kind == main:
+            continue
+        mine = np.flatnonzero(kinds == kind)
+        part = np.empty((len(mine),) + out.shape[1:])
+        evaluate(int(kind), columns if len(columns) == 1 else columns[mine], tables[mine], part)
+        out[mine] = part
 
 
 def blocked_product(basis: np.ndarray, coefficients: np.ndarray) -> np.ndarray:

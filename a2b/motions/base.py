@@ -17,6 +17,7 @@ from ..errors import ParameterError, SingularMotionError
 from ..frames import ScrewFrame
 from ..kinematics import Kinematic, check_point
 from ..poses import rotations_from_quaternions, study_from_quat_trans
+from ..study import dots
 from ._rational import (
     EPS,
     FRAGILE_TOL,
@@ -427,7 +428,7 @@ class Motion(Kinematic):
         """
         arr = self._prepare(ts)
         quat = self._quats(arr)
-        quat /= np.sqrt(np.einsum("...i,...i->...", quat, quat))[..., None]
+        quat /= np.sqrt(dots(quat, quat))[..., None]
         self._pin_ends(arr, quat)
         with np.errstate(over="ignore", invalid="ignore"):  # far extrapolation: checked below
             trans = evaluate_translations(self._basis(arr), self.table)
