@@ -104,6 +104,9 @@ def clients() -> Path:
 #: addopts), `.ci/run` runs them as a second step, and `pytest -m ""` runs everything.
 #: A test that uses one of these fixtures carries the marker without saying so.
 HEAVY_FIXTURES = {"clients": "clients", "chromium": "browser"}
+#: Files named ``test_fuzz_*.py`` carry the ``fuzz`` marker (10 000 generated inputs, minutes),
+#: except these quick ones (a few hundred cases, seconds), which the default suite runs.
+QUICK_FUZZ_FILES = {"test_fuzz_trajectories.py"}
 
 
 def pytest_collection_modifyitems(config, items):
@@ -111,5 +114,18 @@ def pytest_collection_modifyitems(config, items):
         for fixture, marker in HEAVY_FIXTURES.items():
             if fixture in getattr(item, "fixturenames", ()):
                 item.add_marker(marker)
-        if item.path.name == "test_fuzz.py":
+        name = item.path.name
+        if name.startswith("test_fuzz_") and name not in QUICK_FUZZ_FILES:
             item.add_marker("fuzz")
+
+
+@pytest.fixture
+def poses(tmp_path, rng):
+    """A poses file of two seeded random poses: its path and the matrices a2b reads from it (the
+    tests of the command line, tests/test_cli_*.py)."""
+    from .clirun import write_poses
+
+    start, end = random_pose(rng), random_pose(rng)
+    path = tmp_path / "poses.json"
+    a, b = write_poses(path, start, end)
+    return path, a, b

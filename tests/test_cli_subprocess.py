@@ -105,6 +105,7 @@ def _interrupt(tmp_path, sig):
     return proc.returncode, err, sorted(p.name for p in tmp_path.iterdir())
 
 
+@pytest.mark.slow
 def test_ctrl_c_leaves_no_file(tmp_path):
     code, err, left = _interrupt(tmp_path, signal.SIGINT)
     assert code == 1 and b"Aborted" in err and b"Traceback" not in err

@@ -235,6 +235,7 @@ INTERRUPTED_RUNS = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 @pytest.mark.parametrize("name, args", INTERRUPTED_RUNS, ids=[n for n, _ in INTERRUPTED_RUNS])
 def test_interrupted_run_keeps_the_old_file(tmp_path, name, args, sig):
@@ -310,6 +311,7 @@ def _stream_through_head(args, nbytes: int):
     return first, to_first, peak, received, producer.returncode, err
 
 
+@pytest.mark.slow
 @linux_only
 @pytest.mark.parametrize("fmt", ["csv", "mcap"])
 def test_a_billion_samples_stream_in_bounded_memory(fmt):
@@ -326,6 +328,7 @@ def test_a_billion_samples_stream_in_bounded_memory(fmt):
     assert code == 0 and err == b""
 
 
+@pytest.mark.slow
 @linux_only
 def test_a_billion_sample_job_streams_in_bounded_memory(tmp_path):
     first, to_first, peak, _, code, err = _stream_through_head(
@@ -372,6 +375,7 @@ def _peak_of_command(argv) -> tuple[float, subprocess.CompletedProcess]:
     return peak_kb / 1024, done
 
 
+@pytest.mark.slow
 @linux_only
 def test_a_100_kb_job_name_keeps_batch_memory_bounded(tmp_path):
     """One job named with 100 kB among 300: memory stays bounded by the chunk size."""
@@ -500,6 +504,7 @@ def _jobs_with_a_long_name(path: Path) -> Path:
     return path
 
 
+@pytest.mark.slow
 @linux_only
 @pytest.mark.parametrize("fmt", ["csv", "mcap"])
 def test_a_1_mb_job_name_stays_under_the_memory_cap(tmp_path, fmt):
@@ -528,6 +533,7 @@ a2b.write(motion, sys.argv[1], "mcap", samples=1_000, frame_id="w" * 1_000_000,
 """  # fmt: skip
 
 
+@pytest.mark.slow
 @linux_only
 @pytest.mark.parametrize("option", ["--frame-id", "--child-frame-id"])
 def test_the_longest_frame_id_a_shell_passes_stays_under_the_memory_cap(tmp_path, option):
@@ -542,6 +548,7 @@ def test_the_longest_frame_id_a_shell_passes_stays_under_the_memory_cap(tmp_path
         assert make_reader(f).get_summary().statistics.message_count == 20_000
 
 
+@pytest.mark.slow
 @linux_only
 def test_a_1_mb_frame_id_stays_under_the_memory_cap(tmp_path):
     from mcap.reader import make_reader
@@ -557,6 +564,7 @@ def test_a_1_mb_frame_id_stays_under_the_memory_cap(tmp_path):
         assert json.loads(message.data)["frame_id"] == "w" * 1_000_000
 
 
+@pytest.mark.slow
 @linux_only
 def test_200_bezier_controls_stay_under_the_memory_cap(tmp_path):
     rng = np.random.default_rng(7)

@@ -171,6 +171,7 @@ def read(data: bytes, **options):
 # -- decompression bombs -------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @linux_only
 @pytest.mark.parametrize("compression", ["zstd", "lz4"])
 def test_a_chunk_that_inflates_to_a_gibibyte_is_refused_before_inflating(tmp_path, compression):
@@ -370,6 +371,7 @@ def test_transforms_of_many_per_message_are_placed_message_by_message():
     assert list(zip(tr.times, tr.translations[:, 0], tr.translations[:, 1])) == want
 
 
+@pytest.mark.slow
 @linux_only
 def test_300_000_transforms_in_a_4_kb_file_take_seconds(tmp_path):
     message = Mcap.message(1, 1, tf_message(1, [b"c"] * 300_000))

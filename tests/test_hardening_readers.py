@@ -70,6 +70,7 @@ def test_dev_zero_as_input_is_refused_in_bounded_memory(tmp_path, fmt):
     assert out.read_bytes() == PRECIOUS
 
 
+@pytest.mark.slow
 @linux_only
 @pytest.mark.parametrize("line", [" ".join(["1.5"] * 2_000_000), "a" * 8_000_000])
 def test_an_8_mb_line_stays_in_bounded_memory(tmp_path, line):

@@ -70,7 +70,15 @@ def test_every_help_shows_an_example(name):
     assert all(line.startswith(("a2b ", "cat ")) for line in examples), examples
 
 
-@pytest.mark.parametrize("name, line", EXAMPLES, ids=[line for _, line in EXAMPLES])
+#: The examples that draw a figure with matplotlib (`a2b plot`, several seconds each in a process
+#: of their own) are `slow`: README's `pytest` leaves them out, `.ci/run` runs them.
+RUNS = [
+    pytest.param(name, line, id=line, marks=[pytest.mark.slow] if " plot " in f" {line} " else [])
+    for name, line in EXAMPLES
+]
+
+
+@pytest.mark.parametrize("name, line", RUNS)
 def test_help_example_runs(name, line, tmp_path):
     if " plot " in f" {line} ":
         pytest.importorskip("matplotlib")

@@ -159,6 +159,7 @@ def test_trapezoid_equals_its_closed_form():
     assert np.allclose(got, want, rtol=1e-13, atol=0)
 
 
+@pytest.mark.slow  # a sweep of random limit sets: 10 s or more a profile
 @pytest.mark.parametrize("profile", ["trapezoid", "jerk-limited", "quintic"])
 def test_every_limit_holds_and_one_is_reached(profile):
     rng = np.random.default_rng(11)
