@@ -12,8 +12,9 @@ The jobs table
 =====================  ===============================================================
 column                 meaning (a missing value, null or NaN, means "not given")
 =====================  ===============================================================
-``name``               text; default: the row's index label (pandas) or its position
-                       (Arrow), as text: ``"0"``, ``"1"``, … as in a jobs file
+``name``               text; default: the row's index label (pandas, an index of its own),
+                       else ``job`` and its position, ``"job0"``, ``"job1"``, … as in a
+                       jobs file
 ``start_qw`` … ``_qz`` the start rotation, a quaternion w, x, y, z of any non-zero scale
 ``start_tx`` … ``_tz`` the start translation (all three, or none for zero)
 ``start``              instead: the 16 numbers of the 4x4 robotics matrix, row by row
@@ -42,6 +43,7 @@ from collections.abc import Iterable, Iterator
 import numpy as np
 
 from .errors import A2bError, ParameterError, PoseError
+from .jobs import job_names
 from .names import FRAMES, MAX_SAMPLES, MIN_SAMPLES
 from .parameters import TABLE
 
@@ -155,11 +157,15 @@ class _Columns:
     with NaN where missing, anything else as a list with ``None`` where missing."""
 
     def __init__(self, table):
-        if _is_pandas(table):
+        self.pandas = _is_pandas(table)
+        if self.pandas:
             self.names = [str(c) for c in table.columns]
             self.size = len(table)
             self._get = lambda name: table[name]
-            self.labels = [str(label) for label in table.index]
+            import pandas as pd
+
+            default = table.index.equals(pd.RangeIndex(len(table)))
+            self.labels = None if default else [str(label) for label in table.index]
         elif hasattr(table, "schema") and hasattr(table, "column"):
             self.names = list(table.schema.names)
             self.size = table.num_rows
@@ -181,9 +187,9 @@ class _Columns:
         """A column of numbers as floats, NaN where missing; ``None`` if it holds anything
         else (a caller then finds the row)."""
         column = self._get(name)
-        if self.labels is not None and column.dtype.kind in "iuf":
+        if self.pandas and column.dtype.kind in "iuf":
             return column.to_numpy(dtype=float, na_value=np.nan)
-        if self.labels is None:
+        if not self.pandas:
             import pyarrow as pa
             import pyarrow.compute as pc
 
@@ -242,7 +248,7 @@ def job_blocks(jobs, size: int = BLOCK_JOBS) -> Iterator:
 
 
 def _names(columns: _Columns) -> list[str]:
-    labels = columns.labels or [str(i) for i in range(columns.size)]
+    labels = columns.labels or job_names([None] * columns.size, 0)
     if "name" not in columns.names:
         return labels
     given = columns.values("name")

@@ -117,7 +117,7 @@ def test_topic_on_a_tum_file_is_refused(tmp_path, command, rest):
     assert result.exit_code == 1
     assert result.output == (
         "Error: samples/reference.tum: --topic does not apply to tum input; it gives the topic "
-        "of an MCAP file (mcap only)\n"
+        "of an MCAP file or a bag (mcap, rosbag2 only)\n"
     )
     assert not (tmp_path / "x.html").exists()
 

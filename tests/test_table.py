@@ -141,7 +141,7 @@ def test_default_names_are_the_index_labels_or_positions():
     assert out["job"].astype(str).tolist() == ["10", "10", "20", "20"]
     assert out["tx"].tolist() == [0.0, 1.0, 0.0, 2.0]
     arrow = table.samples(pa.Table.from_pandas(jobs, preserve_index=False), samples=2)
-    assert arrow.column("job").to_pylist() == ["0", "0", "1", "1"]
+    assert arrow.column("job").to_pylist() == ["job0", "job0", "job1", "job1"]
 
 
 def test_time_column_and_layouts():
@@ -179,7 +179,7 @@ def test_parameters_of_every_kind_reach_the_motion():
     ]
     for i, (mode, parameters) in enumerate(zip(jobs["mode"], cases)):
         expected = a2b.interpolate(a, b, np.linspace(0, 1, 5), mode, **parameters)
-        rows = out[out["job"] == str(i)]
+        rows = out[out["job"] == f"job{i}"]
         got = rows[list(LAYOUTS["matrix"])].to_numpy()
         np.testing.assert_array_equal(got, expected[:, :3, :].reshape(5, 12))
 
@@ -233,7 +233,7 @@ def one_job(**columns) -> pd.DataFrame:
             {"mode": ["darboux", "screw"], "delta": [None, 0.5]},
             r"^job bad: mode screw does not take delta",
         ),
-        ({"name": ["j0", 7]}, r"^job 1: name: expected text, got 7"),
+        ({"name": ["j0", 7]}, r"^job job1: name: expected text, got 7"),
     ],
 )
 def test_errors_are_one_line_that_names_the_job(columns, message):
