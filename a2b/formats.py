@@ -209,7 +209,8 @@ TABLE = (
         layout="a ROS 2 bag: a folder with metadata.yaml and its .db3 or .mcap files, or a .db3 "
         "(read only)", holds=frozenset({"poses", "times"}), binary=True, representation=None,
         batch=None, writer=None, batch_writer=None, reader=f"{_READ}:read_trajectory",
-        trajectory="a2b.io.rosbag2:bag_poses", input_options=frozenset({"topic", "child_frame"}),
+        trajectory="a2b.io.rosbag2:bag_poses",
+        input_options=frozenset({"topic", "child_frame", "input_frame"}),
     ),
     Format(
         name="parquet", suffixes=(".parquet",),

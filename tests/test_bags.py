@@ -193,3 +193,90 @@ def test_a_bag_folder_moved_reads_the_same(tmp_path, bags):
     ns, poses, _ = expected["/pose"]
     rows = _resampled(tmp_path, copy, "/pose", ns)
     assert np.array_equal(rows[:, 1:4], poses[:, :3])
+
+
+def _tf_bag(path, rng, plugin):
+    """A bag of rosbags' Writer: /tf with map→odom (a screw about z at 1, 2, 3, 4 s) and
+    odom→base_link (random, every 0.5 s), /tf_static with base_link→camera. Returns the
+    transforms (quat_wxyz, translations) of each and the stamps of base_link."""
+    from rosbags.rosbag2 import Writer
+
+    from .test_rosbag2 import STORE, T, _header
+    from .test_tftree import _about_z, _unit
+
+    base_times = 1.0 + np.arange(7) * 0.5
+    odom = _about_z(rng.uniform(-1, 1, 4), rng.uniform(-1, 1, 4))
+    base = _unit(rng, 7), rng.normal(size=(7, 3))
+    camera = _unit(rng, 1), rng.normal(size=(1, 3))
+
+    def stamped(t, parent, child, q, p):
+        return T["geometry_msgs/msg/TransformStamped"](
+            header=_header(round(t * 1e9), parent), child_frame_id=child,
+            transform=T["geometry_msgs/msg/Transform"](
+                translation=T["geometry_msgs/msg/Vector3"](x=p[0], y=p[1], z=p[2]),
+                rotation=T["geometry_msgs/msg/Quaternion"](x=q[1], y=q[2], z=q[3], w=q[0]),
+            ),
+        )  # fmt: skip
+
+    def cdr(transforms):
+        message = T["tf2_msgs/msg/TFMessage"](transforms=transforms)
+        return bytes(STORE.serialize_cdr(message, "tf2_msgs/msg/TFMessage"))
+
+    with Writer(path, version=8, storage_plugin=plugin) as writer:
+        tf, static = (writer.add_connection(topic, "tf2_msgs/msg/TFMessage", typestore=STORE)
+                      for topic in ("/tf", "/tf_static"))  # fmt: skip
+        writer.write(static, 10**9, cdr([stamped(1.0, "base_link", "camera",
+                                                 camera[0][0], camera[1][0])]))  # fmt: skip
+        for k, t in enumerate(base_times):
+            transforms = [stamped(t, "odom", "base_link", base[0][k], base[1][k])]
+            if t == int(t):
+                i = int(t) - 1
+                transforms.insert(0, stamped(t, "map", "odom", odom[0][i], odom[1][i]))
+            writer.write(tf, round(t * 1e9) + 1000, cdr(transforms))
+    return odom, base, camera, base_times
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_a_tf_chain_in_a_bag_is_the_product_of_the_transforms(tmp_path, rng, storage):
+    from rosbags.rosbag2 import StoragePlugin as Plugin
+
+    from a2b.poses import matrices_from_quat_trans
+
+    from .test_tftree import _about_z
+
+    plugin = Plugin.SQLITE3 if storage == "sqlite3" else Plugin.MCAP
+    (odom_q, odom_p), base, camera, base_times = _tf_bag(tmp_path / "tf", rng, plugin)
+    stamps, out = tmp_path / "stamps.txt", tmp_path / "out.csv"
+    stamps.write_text("".join(f"{float(t)!r}\n" for t in base_times))
+    result = run("resample", tmp_path / "tf", "--input-frame", "map", "--input-child-frame",
+                 "camera", "--times", stamps, "-v", "-o", out)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert "TF chain map → odom → base_link → camera" in result.output
+    assert "base_link→camera static" in result.output
+    assert f"  • storage {storage}: 1 file that metadata.yaml lists" in result.output
+    rows = np.array([[float(x) for x in line.split(",")]
+                     for line in out.read_text().splitlines()[1:]])  # fmt: skip
+    assert rows[:, 0].tolist() == base_times.tolist()
+    angle = np.interp(base_times, 1 + np.arange(4.0),
+                      np.unwrap(2 * np.arctan2(odom_q[:, 3], odom_q[:, 0])))  # fmt: skip
+    height = np.interp(base_times, 1 + np.arange(4.0), odom_p[:, 2])
+    want = (
+        matrices_from_quat_trans(*_about_z(angle, height))
+        @ matrices_from_quat_trans(*base)
+        @ matrices_from_quat_trans(*camera)
+    )
+    got = matrices_from_quat_trans(rows[:, 4:], rows[:, 1:4])
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)
+
+
+def test_a_broken_chain_in_a_bag_names_the_frames(tmp_path, rng):
+    from rosbags.rosbag2 import StoragePlugin as Plugin
+
+    _tf_bag(tmp_path / "tf", rng, Plugin.SQLITE3)
+    result = run("resample", tmp_path / "tf", "--input-frame", "world", "--input-child-frame",
+                 "camera", "--rate", 1, "-o", tmp_path / "o.csv")  # fmt: skip
+    assert result.exit_code == 1
+    assert result.output.count("\n") == 1
+    assert "no transform to the frame 'map', so no chain from 'world' to 'camera'" in (
+        result.output
+    )

@@ -34,7 +34,7 @@ from .documents import stream_name
 from .mcapreader import McapFile
 from .protobuf import PROTOBUF_SCHEMAS
 from .ros2 import POSE_TYPES, child_index, decode_poses, decode_transforms
-from .tftree import TransformRecords, compose
+from .tftree import TF_STATIC, compose_topics
 
 __all__ = [
     "DECODERS",
@@ -258,10 +258,6 @@ def mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | Non
     return times, quat, trans
 
 
-#: The topic of latched transforms (ROS 2's ``tf2_ros`` static broadcaster).
-TF_STATIC = "/tf_static"
-
-
 def mcap_tf_poses(
     data: bytes,
     name: str,
@@ -273,7 +269,7 @@ def mcap_tf_poses(
 ):
     """``(times, quat_wxyz, translations, statement)``: the poses of the frame ``child`` in
     ``parent``, composed through the TF tree of the MCAP file ``data``
-    (:func:`a2b.io.tftree.compose`, which says the chain in ``statement``).
+    (:func:`a2b.io.tftree.compose_topics`, which says the chain in ``statement``).
 
     The transforms are those of every topic of :data:`TRANSFORM_SCHEMAS` (``topic``: that one and
     :data:`TF_STATIC`); the ones on :data:`TF_STATIC` are static. ``mode`` and ``parameters``
@@ -295,7 +291,7 @@ def mcap_tf_poses(
             + (f"not {listing(wrong)}" if wrong else "and the file has none")
         )
     found = mcap.messages([channel.id for channel in channels])
-    parts = []
+    decoded = []
     for channel in channels:
         here = f"{name}: {listing([channel.topic], width=80)}"
         if channel.schema_name == _TF:
@@ -304,12 +300,8 @@ def mcap_tf_poses(
             numbers, *frames, _ = _foxglove_entries(channel, found[channel.id], here)
             frames = [np.array(names, object) for names in frames]
             times, quat, trans = numbers[:, 0], numbers[:, 4:], numbers[:, 1:4]
-        static = np.full(len(times), channel.topic == TF_STATIC)
-        parts.append(TransformRecords(*frames, times, quat, trans, static))
-    records = TransformRecords.joined(parts)
-    if not (np.isfinite(records.quat_wxyz).all() and np.isfinite(records.translations).all()):
-        raise InputFileError(f"{where}: a transform is not finite")
-    return compose(records, parent, child, where, mode, **parameters)
+        decoded.append((channel.topic, *frames, times, quat, trans))
+    return compose_topics(decoded, where, parent, child, mode, **parameters)
 
 
 def _topic(channels: list, name: str, topic: str | None, child_frame: str | None) -> str:

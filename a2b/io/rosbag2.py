@@ -46,6 +46,7 @@ __all__ = [
     "bag_files",
     "bag_messages",
     "bag_poses",
+    "bag_tf_poses",
     "bag_topics",
     "is_bag",
     "write_sqlite_bag",
@@ -418,6 +419,54 @@ def bag_poses(path: str | os.PathLike, name: str, topic: str, child_frame: str |
     if not (np.isfinite(quat).all() and np.isfinite(trans).all()):
         raise InputFileError(f"{where}: a pose is not finite")
     return times, quat, trans
+
+
+def bag_tf_poses(
+    path: str | os.PathLike,
+    name: str,
+    topic: str | None,
+    parent: str,
+    child: str,
+    mode: str = "screw",
+    **parameters,
+):
+    """``(times, quat_wxyz, translations, statement)``: the poses of the frame ``child`` in
+    ``parent``, composed through the TF tree of the bag ``path`` as
+    :func:`a2b.io.mcapposes.mcap_tf_poses` composes an MCAP file's
+    (:func:`a2b.io.tftree.compose_topics`): the transforms of every ``TFMessage`` topic
+    (``topic``: that one) and of :data:`~a2b.io.tftree.TF_STATIC`, which are static.
+
+    Raises
+    ------
+    InputFileError
+        As :func:`bag_messages` and :func:`a2b.io.tftree.compose_topics`; if ``topic`` is not
+        in the bag, or a topic read is no ``TFMessage`` topic or none is.
+    """
+    from .ros2 import decode_transforms
+    from .tftree import TF_STATIC, compose_topics
+
+    topics = bag_topics(path)
+    if topic is not None and topic not in {t.name for t in topics}:
+        raise InputFileError(
+            f"{name}: no topic {shown(topic)}; the bag has {few([t.name for t in topics])}"
+        )
+    mine = [
+        t for t in topics
+        if t.name in (topic, TF_STATIC) or (topic is None and t.type_name == TF_TYPE)
+    ]  # fmt: skip
+    where = f"{name}: {few(sorted(t.name for t in mine))}" if mine else name
+    wrong = sorted({t.type_name for t in mine} - {TF_TYPE})
+    if wrong or not mine:
+        raise InputFileError(
+            f"{where}: --input-frame composes the transforms of {TF_TYPE}, "
+            + (f"not {', '.join(map(shown, wrong))}" if wrong else "and the bag has none")
+        )
+    decoded = []
+    for t in mine:
+        _type_name, _log_times, datas = bag_messages(path, t.name)
+        *frames, times, quat, trans, _ = decode_transforms(datas, f"{name}: {shown(t.name)}")
+        decoded.append((t.name, *frames, times, quat, trans))
+    return compose_topics(decoded, where, parent, child, mode, **parameters)
 
 
 # -- writing -------------------------------------------------------------------------------------

@@ -27,7 +27,10 @@ import numpy as np
 
 from ..errors import InputFileError, listing, printable, quoted
 
-__all__ = ["Link", "TransformRecords", "chain", "compose"]
+__all__ = ["TF_STATIC", "Link", "TransformRecords", "chain", "compose", "compose_topics"]
+
+#: The topic of latched transforms (ROS 2's ``tf2_ros`` static broadcaster).
+TF_STATIC = "/tf_static"
 
 
 @dataclass
@@ -199,3 +202,26 @@ def _sampled(link: Link, stamps: Link, mode: str, parameters: dict, where: str) 
     resampler = Resampler(link.times, mode=mode, quat_wxyz=link.quat_wxyz,
                           translations=link.translations, **parameters)  # fmt: skip
     return resampler.sample(resampler.locate(times), "matrices")
+
+
+def compose_topics(
+    decoded: list, where: str, parent: str, child: str, mode: str = "screw", **parameters
+):
+    """``(times, quat_wxyz, translations, statement)``: :func:`compose` of the transforms of
+    several topics, as any container decodes them: ``decoded`` holds ``(topic, parents,
+    children, times, quat_wxyz, translations)`` for each topic; the transforms on
+    :data:`TF_STATIC` are static. ``where`` starts the messages.
+
+    Raises
+    ------
+    InputFileError
+        If a transform is not finite, and as :func:`compose`.
+    """
+    parts = [
+        TransformRecords(*rest, np.full(len(rest[2]), topic == TF_STATIC))
+        for topic, *rest in decoded
+    ]
+    records = TransformRecords.joined(parts)
+    if not (np.isfinite(records.quat_wxyz).all() and np.isfinite(records.translations).all()):
+        raise InputFileError(f"{where}: a transform is not finite")
+    return compose(records, parent, child, where, mode, **parameters)

@@ -122,7 +122,8 @@ def read_trajectory(
     topic when they go to several frames; ``input_frame`` with ``child_frame`` composes the
     pose of ``child_frame`` in ``input_frame`` through the TF tree of ``/tf`` and
     ``/tf_static``, each dynamic link interpolated by ``mode``
-    (:func:`a2b.io.mcapposes.mcap_tf_poses`; the chain is stated in :attr:`Trajectory.notes`);
+    (:func:`a2b.io.mcapposes.mcap_tf_poses`, :func:`a2b.io.rosbag2.bag_tf_poses`; the chain is
+    stated in :attr:`Trajectory.notes`);
     ``orthonormalize`` repairs rotation blocks that are orthogonal only to a few digits
     (:func:`a2b.poses.orthonormalize`); ``minimum`` is the fewest poses accepted.
     ``choices``: the topic and storage chosen, in words, appended.
@@ -257,7 +258,12 @@ def _tree_pieces(data, name: str, fmt: str, topic, input_frame: str, child_frame
     in its :attr:`Trajectory.notes`."""
     if child_frame is None:
         raise InputFileError(f"{name}: --input-frame needs --input-child-frame")
-    *poses, chain = mcap_tf_poses(data, name, topic, input_frame, child_frame, mode)
+    if fmt == BAG:
+        from .rosbag2 import bag_tf_poses
+
+        *poses, chain = bag_tf_poses(data, name, topic, input_frame, child_frame, mode)
+    else:
+        *poses, chain = mcap_tf_poses(data, name, topic, input_frame, child_frame, mode)
     piece = from_quaternions(*poses, name, fmt, None)
     piece.notes = (chain,)
     check_times(piece.times, name, None)
