@@ -12,9 +12,9 @@ The jobs table
 =====================  ===============================================================
 column                 meaning (a missing value, null or NaN, means "not given")
 =====================  ===============================================================
-``name``               text; default: the row's index label (pandas, an index of its own),
-                       else ``job`` and its position, ``"job0"``, ``"job1"``, … as in a
-                       jobs file
+``name``               text; default: ``job`` and the row's position, ``"job0"``,
+                       ``"job1"``, … as in a jobs file (pandas: of a range index, so that a
+                       Dask partition's rows keep their numbers), else the index label
 ``start_qw`` … ``_qz`` the start rotation, a quaternion w, x, y, z of any non-zero scale
 ``start_tx`` … ``_tz`` the start translation (all three, or none for zero)
 ``start``              instead: the 16 numbers of the 4x4 robotics matrix, row by row
@@ -164,8 +164,11 @@ class _Columns:
             self._get = lambda name: table[name]
             import pandas as pd
 
-            default = table.index.equals(pd.RangeIndex(len(table)))
-            self.labels = None if default else [str(label) for label in table.index]
+            index = table.index
+            if isinstance(index, pd.RangeIndex) and index.step == 1:  # positions, as in a file
+                self.labels = job_names([None] * len(table), index.start)
+            else:
+                self.labels = [str(label) for label in index]
         elif hasattr(table, "schema") and hasattr(table, "column"):
             self.names = list(table.schema.names)
             self.size = table.num_rows
