@@ -76,7 +76,9 @@ class Format:
     options
         The output options the writer takes (others are refused): ``duration`` and
         ``start_time`` (times from t), ``frame_id``, ``child_frame_id``, ``storage`` (the
-        storage of a ROS 2 bag: :data:`a2b.output.STORAGES`).
+        storage of a ROS 2 bag: :data:`a2b.output.STORAGES`); ``motion``: the writer states
+        the motion (a mapping: mode, parameters, …) in the file's metadata. ``motion`` is not a
+        command option: the pipeline gives it, and formats without it are not given it.
     writer_options
         Fixed keyword arguments of the writer (``ros2``: the MCAP profile); ``count`` (the
         number of samples, if known) is passed where it is a key.
@@ -218,7 +220,7 @@ TABLE = (
         "vx … wz with --velocities, original with --mark (needs a2b-motions[parquet])",
         holds=_TABLE_ROWS, binary=True, representation="quat_trans", batch="rows",
         writer="a2b.io.parquet:write_parquet", batch_writer="a2b.io.parquet:write_batch_parquet",
-        reader=None, options=_STAMPED, extra="parquet",
+        reader=None, options=_STAMPED | {"motion"}, extra="parquet",
     ),
 )  # fmt: skip
 

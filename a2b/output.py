@@ -24,7 +24,15 @@ from .errors import A2bError, OptionError, ParameterError
 from .formats import BY_NAME, FRAME_OPTIONS, OUTPUT_NAMES, Format, from_suffix, resolve
 from .samples import Samples, check_finite, poses_of
 
-__all__ = ["CHUNK_SAMPLES", "check_plan", "check_times", "format_of", "write", "write_samples"]
+__all__ = [
+    "CHUNK_SAMPLES",
+    "check_plan",
+    "check_times",
+    "format_of",
+    "motion_statement",
+    "write",
+    "write_samples",
+]
 
 #: Samples per chunk: about 10 MB of text for ``csv``.
 CHUNK_SAMPLES = 65536
@@ -167,12 +175,15 @@ def write_samples(
     block's times are checked against the format's limits as it comes.
 
     ``options``: ``frame_id``, ``child_frame_id`` (refused for formats without frames),
-    ``count``, the number of samples if known, and ``storage`` (``ros2``: ``mcap``, the
-    default, or ``sqlite3``: a rosbag2 bag folder, :data:`STORAGES`).
+    ``count``, the number of samples if known, ``storage`` (``ros2``: ``mcap``, the
+    default, or ``sqlite3``: a rosbag2 bag folder, :data:`STORAGES`), and ``motion``, what to
+    state about the motion in the file's metadata (:func:`motion_statement`), given to the
+    writers of formats that take it (``motion`` in their options: ``parquet``), else dropped.
     """
     from .io.atomic import atomic_directory, atomic_output
 
     count = options.pop("count", None)
+    motion = options.pop("motion", None)
     storage = options.pop("storage", None)
     keywords = _options(fmt, {**options, "storage": storage})
     if storage is not None and storage not in STORAGES:
@@ -187,6 +198,8 @@ def write_samples(
         keywords = {**fmt.writer_options, **keywords}
         if "count" in fmt.writer_options:
             keywords["count"] = count
+    if motion is not None and "motion" in fmt.options:
+        keywords["motion"] = motion
     stream = _checked(samples, fmt, batch)
     try:
         if hasattr(target, "write"):
@@ -322,7 +335,9 @@ def write_motion(motion, count: int, target, fmt: Format, duration: float = 1.0,
     _check_count(count)
     check_plan(fmt, target, count, start_time, duration)
     chunks = motion_samples(motion, count, fmt.representation, duration, start_time)
-    write_samples(chunks, target, fmt, count=count, **frames)
+    statement = motion_statement(fmt, motion, samples=count, duration=duration,
+                                 start_time=start_time)  # fmt: skip
+    write_samples(chunks, target, fmt, count=count, motion=statement, **frames)
 
 
 def write_timed(timed, grid, target, fmt: Format, velocities: bool = False,
@@ -337,7 +352,21 @@ def write_timed(timed, grid, target, fmt: Format, velocities: bool = False,
     check_plan(fmt, target, grid.count, start_time, last or 1.0)
     blocks = (offsets for _, offsets in grid.blocks(CHUNK_SAMPLES))
     chunks = timed_samples(timed, blocks, fmt.representation, velocities, start_time)
-    write_samples(chunks, target, fmt, count=grid.count, **frames)
+    statement = motion_statement(fmt, timed.motion, samples=grid.count, start_time=start_time,
+                                 time_law=timed.describe())  # fmt: skip
+    write_samples(chunks, target, fmt, count=grid.count, motion=statement, **frames)
+
+
+def motion_statement(fmt: Format, motion, **more) -> dict | None:
+    """What a file of ``fmt`` states about ``motion`` in its metadata (``parquet``:
+    ``a2b.motion``): the motion's ``describe()`` (its mode, the parameters given and those
+    chosen, the axis …) and ``more`` (samples, duration, …); ``None`` for a format that holds
+    no such statement, so that nothing is computed for it."""
+    if "motion" not in fmt.options:
+        return None
+    describe = getattr(motion, "describe", None)
+    stated = describe() if describe is not None else {"mode": getattr(motion, "mode", None)}
+    return {**stated, **more}
 
 
 def _check_count(count: int) -> None:

@@ -97,9 +97,7 @@ def assert_dataset_equals(directory: Path, names: list, numbers: np.ndarray) -> 
     assert frame["job"].astype(str).tolist() == names
     columns = ["t", "tx", "ty", "tz", "qw", "qx", "qy", "qz"]
     assert list(frame.columns) == ["job", *columns]
-    assert frame[columns[:4]].to_numpy().tobytes() == numbers[:, :4].tobytes()
-    # The quaternions: see test_batch_on_a_local_cluster_equals_one_parquet_file.
-    np.testing.assert_array_max_ulp(frame[columns[4:]].to_numpy(), numbers[:, 4:], maxulp=4)
+    assert frame[columns].to_numpy().tobytes() == numbers.tobytes()
 
 
 def leftovers(directory: Path) -> list[str]:
@@ -314,13 +312,9 @@ def test_batch_on_a_local_cluster_equals_one_parquet_file(tmp_path):
     got, want = pd.read_parquet(out), pd.read_parquet(single)
     assert got.dtypes.to_dict() == want.dtypes.to_dict()
     assert got["job"].astype(str).tolist() == want["job"].astype(str).tolist()
-    exact = ["t", "time", "tx", "ty", "tz"]
-    assert got[exact].to_numpy().tobytes() == want[exact].to_numpy().tobytes()
-    # The core builds a motion alone (a job alone of its kind in a block) and in a stack to
-    # results that differ in the last bit of the quaternion, and partitions split the blocks
-    # elsewhere than one process does: a few ulp apart until the core agrees with itself.
-    quat = ["qw", "qx", "qy", "qz"]
-    np.testing.assert_array_max_ulp(got[quat].to_numpy(), want[quat].to_numpy(), maxulp=4)
+    # Row for row and bit for bit: a job's samples do not depend on the block it is built in.
+    columns = ["t", "time", "tx", "ty", "tz", "qw", "qx", "qy", "qz"]
+    assert got[columns].to_numpy().tobytes() == want[columns].to_numpy().tobytes()
     assert leftovers(tmp_path) == []
 
 

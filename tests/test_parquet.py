@@ -216,6 +216,49 @@ def test_metadata_holds_the_layout_units_and_motion(tmp_path):
     assert "job" not in metadata["units"]
 
 
+@pytest.mark.parametrize(
+    "given, stated",
+    [
+        (["--delta", "0.2"], {"mode": "darboux", "delta": 0.2, "solved_from": "delta"}),
+        (["--mode", "cubic", "--m", "1,0,0,0.5"], {"mode": "cubic", "m": [1.0, 0.0, 0.0, 0.5]}),
+    ],
+)
+def test_interpolate_states_the_motion_s_parameters_in_the_metadata(tmp_path, given, stated):
+    """``a2b interpolate --format parquet``: pyarrow reads the mode and the parameters given
+    (and those chosen) back from the key-value metadata, with the units."""
+    args = ["interpolate", "samples/quarter-turn.yaml", "--samples", "7", *given]
+    raw = pq.read_schema(a2b_parquet(tmp_path, *args)).metadata
+    motion = json.loads(raw[b"a2b.motion"])
+    assert {key: motion[key] for key in stated} == stated
+    assert motion["samples"] == 7 and motion["duration"] == 1.0
+    assert motion["axis_direction"] == [0.0, 0.0, 1.0]  # chosen: the screw axis of the turn
+    assert json.loads(raw[b"a2b.units"])["tx"] == "length"
+
+
+@pytest.mark.parametrize(
+    "args, stated",
+    [
+        (["bezier", "samples/planar-bezier.yaml"], {"kind": "Bézier motion", "degree": 3}),
+        (["spline", "samples/spline.yaml"], {"kind": "spline", "degree": 3}),
+        (["interpolate", "samples/quarter-turn.yaml", "--max-speed", "1"], {"mode": "darboux"}),
+    ],
+)
+def test_the_other_motion_commands_state_their_motion(tmp_path, args, stated):
+    motion = file_metadata(pq.read_schema(a2b_parquet(tmp_path, *args)))["motion"]
+    assert {key: motion[key] for key in stated} == stated and motion["samples"] == 101
+    if "--max-speed" in args:
+        assert motion["time_law"]["limits"] == {"speed": 1.0}
+
+
+def test_resample_and_batch_state_the_mode(tmp_path):
+    args = ["resample", "samples/reference.tum", "--rate", "50", "--mode", "darboux"]
+    resampled = file_metadata(pq.read_schema(a2b_parquet(tmp_path, *args, "--delta", "0.1")))
+    assert resampled["motion"] == {"mode": "darboux", "delta": 0.1}
+    batch = file_metadata(pq.read_schema(a2b_parquet(tmp_path, "batch", "samples/jobs.yaml")))
+    assert batch["motion"]["mode"] == "darboux" and batch["motion"]["samples"] == 101
+    assert "jobs file" in batch["motion"]["jobs"]
+
+
 def chunks_of(rng, n: int, names: list, size: int, layout: str, twist=False, original=False):
     """Random samples of ``n`` rows named by ``names`` in runs, in blocks of ``size``."""
     from a2b.poses import matrices_from_quat_trans, study_from_matrices

@@ -13,6 +13,10 @@ import click
 from ..names import MAX_SAMPLES, MIN_SAMPLES
 from . import CONTEXT_SETTINGS, options, writing
 
+#: What a Parquet file of ``a2b batch`` says of its jobs in ``a2b.motion`` (per-job parameters
+#: do not fit file metadata).
+JOBS_NOTE = "mode and samples: those of jobs that name none; each job's own are in the jobs file"
+
 
 def _progress(total: int | None):
     """A rich progress bar on stderr if stderr is a terminal, else nothing."""
@@ -89,7 +93,8 @@ def command(
     names); the files of a directory are moved into it only when every job is written,
     replacing files of the same name and leaving others alone. A dataset appears in DIR
     only when every partition is written; its rows are those of one Parquet file
-    (a2b batch jobs.jsonl --format parquet --workers 2 -o dataset/).
+    (a2b batch jobs.jsonl --format parquet --workers 2 -o dataset/). A Parquet file's
+    metadata states the mode and samples of jobs that name none; the jobs file holds the rest.
     -v states every choice a2b makes, job by job.
 
     \b
@@ -145,7 +150,9 @@ def command(
                 unique_names=fmt.batch != "rows",
             )
             timed = stamped(pieces, duration, start_time)
-            write_samples(timed, output, fmt, batch=True, storage=storage, **frames)
+            defaults = {"mode": mode or "darboux", "samples": samples or 101, "jobs": JOBS_NOTE}
+            write_samples(timed, output, fmt, batch=True, storage=storage, motion=defaults,
+                          **frames)  # fmt: skip
     if verbose and repaired:
         click.echo(f"Repairs a2b made:\n  • {repaired[0]}", err=True)
 

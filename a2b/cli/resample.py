@@ -136,7 +136,9 @@ def command(trajectory, input_format, topic, input_child_frame, input_frame, inp
     run = _Run(name, mode, max_gap, clip, mark, parameters)
     options.state_choices(choices, verbose)
     frames.update({"storage": storage} if storage is not None else {})
-    write_samples(run.samples(pieces, new_times, fmt.representation), output, fmt, **frames)
+    stated = {"mode": mode, **parameters}
+    write_samples(run.samples(pieces, new_times, fmt.representation), output, fmt,
+                  motion=stated, **frames)  # fmt: skip
     _report(run.counts, run.made, run.repaired, new_times.described(), clip, max_gap, verbose)
 
 

@@ -18,7 +18,8 @@ The numbers are the doubles of the CSV output bit for bit (the CSV writes each a
 shortest round-trip text). The file's key-value metadata holds, as JSON: ``a2b.layout``,
 ``a2b.units`` (column -> unit: ``length`` is the unit of the input translations, ``s``,
 ``rad/s``, ``length/s``, ``""`` for none) and ``a2b.motion`` (what the caller states about the
-motion: its mode, parameters, sample count, duration …); ``a2b.version`` names the writer.
+motion: its mode, parameters, sample count, duration …; the commands state it through
+:func:`a2b.output.motion_statement`); ``a2b.version`` names the writer.
 
 :func:`write_parquet` and :func:`write_batch_parquet` are the writers of the ``parquet`` row of
 :mod:`a2b.formats`: they take a binary stream and :class:`a2b.samples.Samples` as every writer
@@ -297,10 +298,15 @@ def _joined(blocks: list[Samples]) -> Samples:
     return Samples(**fields, job=job, origin_ns=first.origin_ns)
 
 
-def write_batch_parquet(stream: IO[bytes], samples: Iterable[Samples], fmt: str = "") -> int:
+def write_batch_parquet(
+    stream: IO[bytes], samples: Iterable[Samples], fmt: str = "", motion: Mapping | None = None
+) -> int:
     """Many motions into one Parquet file, the ``job`` column first (``a2b batch``): as
     :func:`write_parquet`; every block names the job of each row. ``fmt``: the table's name
-    of the format, which a batch writer is given (one layout here: that of the samples)."""
+    of the format, which a batch writer is given (one layout here: that of the samples).
+    ``motion``: what holds for the whole batch (``a2b batch``: the mode and the sample count
+    of jobs that name none); each job's own mode and parameters are in the jobs file, not
+    in the metadata."""
 
     def named():
         for block in samples:
@@ -308,7 +314,7 @@ def write_batch_parquet(stream: IO[bytes], samples: Iterable[Samples], fmt: str 
                 raise ValueError("a batch block without a job column")
             yield block
 
-    return write_parquet(stream, named())
+    return write_parquet(stream, named(), motion=motion)
 
 
 def read_parquet(source) -> tuple[Samples, np.ndarray | None, dict]:
