@@ -88,11 +88,13 @@ def quoted(text, most: int = 60) -> str:
     return f"'{printable(text[:most])}…' ({len(text)} characters)"
 
 
-def listing(items, limit: int = 4, width: int = 60) -> str:
-    """``items`` (strings) for a one-line message: the first ``limit``, each cut to ``width``
-    characters, then how many more there are (``a, b, c, d and 12 more``), so that a file of
-    thousands of names or a name of a megabyte still makes a short line."""
+def listing(items, limit: int = 4, width: int = 60, empty: str = "") -> str:
+    """``items`` for a one-line message: the first ``limit``, each escaped (:func:`printable`)
+    and cut to ``width`` characters, then how many more there are (``a, b, c, d and 12
+    more``), so that a file of thousands of names or a name of a megabyte still makes a short
+    line; ``empty`` if there are none. The one bounded list of a2b's messages."""
     items = list(items)
-    shown = [item if len(item) <= width else item[: width - 1] + "…" for item in items[:limit]]
+    shown = [str(item)[: width + 1] for item in items[:limit]]
+    shown = [printable(s) if len(s) <= width else printable(s[: width - 1]) + "…" for s in shown]
     more = len(items) - len(shown)
-    return ", ".join(shown) + (f" and {more} more" if more else "")
+    return (", ".join(shown) or empty) + (f" and {more} more" if more else "")

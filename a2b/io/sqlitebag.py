@@ -30,7 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import InputFileError, ParameterError, printable
+from ..errors import InputFileError, ParameterError, listing, printable
 
 __all__ = [
     "BLOCK",
@@ -82,10 +82,9 @@ def shown(text, limit: int = 80) -> str:
 
 
 def few(items: Sequence, count: int = 4) -> str:
-    """``a, b, c, d and 5 more``: a bounded list of user text for a one-line message."""
-    names = [shown(item) for item in items[:count]]
-    more = f" and {len(items) - count} more" if len(items) > count else ""
-    return (", ".join(names) or "none") + more
+    """``a, b, c, d and 5 more``: a bounded list of user text for a one-line message
+    (:func:`a2b.errors.listing`; ``none`` for no items)."""
+    return listing(items, count, 81, empty="none")
 
 
 # -- reading --------------------------------------------------------------------------------

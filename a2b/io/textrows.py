@@ -23,7 +23,7 @@ from typing import IO
 
 import numpy as np
 
-from ..errors import InputFileError, printable
+from ..errors import InputFileError, listing, printable
 from .documents import stream_name
 
 __all__ = [
@@ -59,10 +59,9 @@ _SHOWN = 5  # items a message names before it says how many more
 
 
 def _few(items: list) -> str:
-    """The first few items, quoted and escaped, and how many more."""
-    shown = ", ".join(f"'{printable(str(item)[:40])}'" for item in items[:_SHOWN])
-    more = len(items) - _SHOWN
-    return shown + (f" and {more} more" if more > 0 else "")
+    """The first few items, quoted and escaped, and how many more
+    (:func:`a2b.errors.listing`)."""
+    return listing([f"'{str(item)[:40]}'" for item in items[:_SHOWN]] + items[_SHOWN:], _SHOWN, 42)
 
 
 def read_text_bytes(stream: IO, name: str, head: bytes = b"", limit: int | None = None) -> bytes:
