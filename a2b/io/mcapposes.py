@@ -221,7 +221,7 @@ def mcap_poses(data: bytes, name: str, topic: str | None, child_frame: str | Non
     """
     mcap = McapFile(data, name)
     channels = list(mcap.channels.values())
-    topic = _topic(channels, name, topic, child_frame)
+    topic = pick_topic(channel_topics(channels), name, topic, child_frame)[0]
     mine = [channel for channel in channels if channel.topic == topic]
     where = f"{name}: {listing([topic], width=80)}"
     kinds = sorted({_kind(channel) for channel in mine})
@@ -282,7 +282,7 @@ def mcap_tf_poses(
         or (topic is None and channel.schema_name in TRANSFORM_SCHEMAS)
     ]  # fmt: skip
     if topic is not None:
-        _topic(list(mcap.channels.values()), name, topic, child)
+        pick_topic(channel_topics(mcap.channels.values()), name, topic, child)
     where = f"{name}: {listing(sorted({channel.topic for channel in channels}), width=80)}"
     wrong = sorted({_kind(channel) for channel in channels} - set(TRANSFORM_SCHEMAS))
     if wrong or not channels:
@@ -304,30 +304,46 @@ def mcap_tf_poses(
     return compose_topics(decoded, where, parent, child, mode, **parameters)
 
 
-def _topic(channels: list, name: str, topic: str | None, child_frame: str | None) -> str:
-    """The topic to read: ``topic`` if the file has it, else the one with poses."""
-    topics = sorted({channel.topic for channel in channels})
+def channel_topics(channels) -> list[tuple[str, str, bool]]:
+    """``(topic, what it carries, whether a2b reads poses from it)`` of each channel."""
+    return [(channel.topic, _kind(channel), _decoder(channel) is not None) for channel in channels]
+
+
+def pick_topic(
+    found: list, name: str, topic: str | None, child_frame: str | None, holder: str = "file"
+) -> tuple[str, str]:
+    """``(topic, why)``: the topic to read of ``found`` (``(topic, kind, poses)`` of each
+    channel of an MCAP file or topic of a bag, the ``holder``): ``topic`` if it is there, else
+    the one topic a2b reads poses from (``/a2b/pose`` among several; with ``child_frame``,
+    the one topic of transforms). The one rule, for the library and the commands
+    (:func:`a2b.io.trajectories.chosen_topic` states ``why`` under ``-v``).
+
+    Raises
+    ------
+    InputFileError
+        If the topic given is not there, or no topic or several qualify.
+    """
+    topics = sorted({topic for topic, _kind, _poses in found})
     if topic is not None:
         if topic not in topics:
             raise InputFileError(
-                f"{name}: no topic {listing([repr(topic)])}; the file has "
+                f"{name}: no topic {listing([repr(topic)])}; the {holder} has "
                 f"{listing(topics) or 'none'}"
             )
-        return topic
+        return topic, "given with --topic"
     candidates = sorted({
-        channel.topic for channel in channels
-        if _decoder(channel) is not None
-        and (child_frame is None or channel.schema_name in TRANSFORM_SCHEMAS)
+        topic for topic, kind, poses in found
+        if poses and (child_frame is None or kind in TRANSFORM_SCHEMAS)
     })  # fmt: skip
-    if "/a2b/pose" in candidates and child_frame is None:
-        candidates = ["/a2b/pose"]
+    what = "transform topic" if child_frame is not None else "pose topic"
+    if "/a2b/pose" in candidates and child_frame is None and len(candidates) > 1:
+        return "/a2b/pose", f"a2b's own, of the {what}s {listing(candidates)}"
     if len(candidates) != 1:
-        what = "transform topics" if child_frame is not None else "pose topics"
         raise InputFileError(
-            f"{name}: {'several' if candidates else 'no'} {what} "
+            f"{name}: {'several' if candidates else 'no'} {what}s "
             f"({listing(candidates or topics) or 'none'}); choose one with --topic"
         )
-    return candidates[0]
+    return candidates[0], f"the only {what}"
 
 
 def read_mcap(stream: IO, topic: str = "/a2b/pose") -> tuple[np.ndarray, np.ndarray, np.ndarray]:

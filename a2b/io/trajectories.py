@@ -48,7 +48,7 @@ from ..errors import InputFileError, listing, printable
 from ..formats import BY_NAME, INPUT_NAMES, SUFFIXES, TABLE, resolve
 from .csvtable import CSV_HEADER, MATRIX_HEADER, STUDY_HEADER, fmt_from_header
 from .documents import stream_name
-from .mcapposes import DECODERS, TRANSFORM_SCHEMAS, mcap_tf_poses
+from .mcapposes import channel_topics, mcap_tf_poses, pick_topic
 from .mcapreader import MAGIC, McapFile
 from .sqlitebag import SQLITE_MAGIC
 from .textrows import (
@@ -298,44 +298,18 @@ def chosen_topic(
     if topic is not None and isinstance(data, bytes):
         _say(choices, f"topic {listing([topic], width=80)}: given with --topic")
         return topic
-    found = _topics(data, name)
-    topics = sorted({topic for topic, _kind, _poses in found})
-    if topic is not None:
-        if topic not in topics:
-            raise InputFileError(
-                f"{name}: no topic {listing([repr(topic)])}; the bag has {listing(topics)}"
-            )
-        _say(choices, f"topic {listing([topic], width=80)}: given with --topic")
-        return topic
-    candidates = sorted({
-        topic for topic, kind, poses in found
-        if poses and (child_frame is None or kind in TRANSFORM_SCHEMAS)
-    })  # fmt: skip
-    what = "transform topic" if child_frame is not None else "pose topic"
-    if "/a2b/pose" in candidates and child_frame is None and len(candidates) > 1:
-        why = f"a2b's own, of the {what}s {listing(candidates)}"
-        candidates = ["/a2b/pose"]
-    elif len(candidates) == 1:
-        why = f"the only {what}"
-    else:
-        raise InputFileError(
-            f"{name}: {'several' if candidates else 'no'} {what}s "
-            f"({listing(candidates or topics) or 'none'}); choose one with --topic"
-        )
-    _say(choices, f"topic {listing(candidates, width=80)}: {why} (--topic to change)")
-    return candidates[0]
+    holder = "file" if isinstance(data, bytes) else "bag"
+    topic, why = pick_topic(_topics(data, name), name, topic, child_frame, holder)
+    change = "" if why.startswith("given") else " (--topic to change)"
+    _say(choices, f"topic {listing([topic], width=80)}: {why}{change}")
+    return topic
 
 
 def _topics(data, name: str) -> list[tuple[str, str, bool]]:
     """``(topic, type or schema, whether a2b reads poses from it)`` of each channel of an MCAP
     file's bytes, or each topic of a bag's path."""
     if isinstance(data, bytes):
-        found = []
-        for channel in McapFile(data, name).channels.values():
-            schemas, _decoder = DECODERS.get(channel.message_encoding, ((), None))
-            kind = channel.schema_name or f"schemaless {channel.message_encoding}"
-            found.append((channel.topic, kind, channel.schema_name in schemas))
-        return found
+        return channel_topics(McapFile(data, name).channels.values())
     from .ros2 import POSE_TYPES
     from .rosbag2 import bag_topics
 
