@@ -120,6 +120,8 @@ storage_option = click.option(
 
 #: The formats that write times (``--duration``, ``--start-time``), from the table.
 _TIMED = ", ".join(row.name for row in formats.TABLE if row.timed)
+#: The formats that name frames (``--frame-id``, ``--child-frame-id``), from the table.
+_FRAMED = ", ".join(row.name for row in formats.TABLE if "frame_id" in row.options)
 
 _start_time_option = click.option(
     "--start-time",
@@ -153,13 +155,13 @@ _child_frame_option = click.option(
     "--child-frame-id",
     default="a2b",
     show_default=True,
-    help="mcap, ros2: the child frame of the /tf transforms (the moving body).",
+    help=f"{_FRAMED}: the child frame of the /tf transforms (the moving body).",
 )
 frame_id_option = click.option(
     "--frame-id",
     default="world",
     show_default=True,
-    help="mcap, ros2: the fixed frame of /a2b/pose and the parent frame of /tf.",
+    help=f"{_FRAMED}: the fixed frame of /a2b/pose and the parent frame of /tf.",
 )
 
 
