@@ -29,7 +29,7 @@ from .poses import (
     rotations_from_quaternions,
     study_from_quat_trans,
 )
-from .study import cross, quat_conj, quat_mul
+from .study import CROSS, MATRIX_VECTOR, ROTATION, TURN, bilinear, dots, quat_conj, quat_mul
 
 #: ``|sin(φ/2)|`` at or below which the relative rotation of two poses is rounding noise.
 ROTATION_NOISE = 4 * np.finfo(float).eps
@@ -227,68 +227,75 @@ def screw_frame(start: np.ndarray, end: np.ndarray, quaternions=None) -> ScrewFr
 
 
 def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list]:
-    """The fields of the screw frames of ``J`` pairs ``(J, 4, 4)``, and the choices made."""
+    """The fields of the screw frames of ``J`` pairs ``(J, 4, 4)``, and the choices made.
+
+    The work arrays are component-major, ``(k, J)``: every bilinear form (``pB p̄A``, eq. 4's
+    rotation, ``u × t``) is one :func:`a2b.study.bilinear` over all pairs, and the fields are
+    returned as ``(J, k)`` views of them."""
+    count = len(start)
     if quaternions is None:  # both poses in one call
-        quaternions = quaternions_from_rotations(np.stack([start[:, :3, :3], end[:, :3, :3]]))
+        both = quaternions_from_rotations(np.concatenate([start[:, :3, :3], end[:, :3, :3]]))
+        quaternions = both[:count], both[count:]
     p_a, p_b = quaternions
-    t_a, t_b = start[:, :3, 3].copy(), end[:, :3, 3].copy()
+    t_a, t_b = start[:, :3, 3].T.copy(), end[:, :3, 3].T.copy()  # (3, J)
+    r = bilinear(TURN, p_b.T, p_a.T)
     same = (p_a == p_b).all(axis=-1)  # identical rotations: no rounding residue from p p̄
-    r = quat_mul(p_b, quat_conj(p_a))
     if same.any():
-        r[same] = (1.0, 0.0, 0.0, 0.0)
-    s = np.sqrt(np.add.reduce(r[:, 1:] * r[:, 1:], axis=-1))
+        r[:, same] = [[1.0], [0.0], [0.0], [0.0]]
+    s = np.sqrt(dots(r[1:].T, r[1:].T))
     rotating = s > ROTATION_NOISE
     everywhere = bool(rotating.all())  # the rare cases below run only where they occur
     # A half-turn (pA·pB = 0 within rounding): u and −u are equally short; one is picked and
     # said, rather than let the sign of rounding noise decide.
-    half_turn = rotating & (np.abs(r[:, 0]) <= ROTATION_NOISE)
-    flip = (r[:, 0] < 0) & ~half_turn
-    sign = np.where(flip, -1.0, 1.0)[:, None]  # × −1 is negation, bit for bit
-    p_b = p_b * sign
-    r *= sign
-    t_disp = t_b - (rotations_from_quaternions(r) @ t_a[:, :, None])[:, :, 0]
+    half_turn = rotating & (np.abs(r[0]) <= ROTATION_NOISE)
+    flip = (r[0] < 0) & ~half_turn
+    if flip.any():
+        sign = np.where(flip, -1.0, 1.0)  # × −1 is negation, bit for bit
+        p_b = p_b * sign[:, None]
+        r *= sign
+    numerators = bilinear(ROTATION, r, r)  # eq. 4 of r, and |r|²
+    t_disp = t_b - bilinear(MATRIX_VECTOR, numerators[:9], t_a) / numerators[9]
 
     # a rotation: the axis of r, and the half-turn rule
-    u = r[:, 1:] / (s if everywhere else np.where(rotating, s, 1.0))[:, None]
-    d = np.add.reduce(u * t_disp, axis=-1)
+    safe_s = s if everywhere else np.where(rotating, s, 1.0)
+    u = r[1:] / safe_s
+    d = dots(u.T, t_disp.T)
     if half_turn.any():
-        turn = half_turn & ((d < 0) | ((d == 0) & (canonical_sign(u)[:, 0] != u[:, 0])))
-        u = np.where(turn[:, None], -u, u)
+        turn = half_turn & ((d < 0) | ((d == 0) & (canonical_sign(u.T)[:, 0] != u[0])))
+        u = np.where(turn, -u, u)
         d = np.where(turn, -d, d)
         p_b = np.where(turn[:, None], -p_b, p_b)
-        r = np.where(turn[:, None], -r, r)
-    c = np.abs(r[:, 0])
+        r = np.where(turn, -r, r)
+    c = np.abs(r[0])
     phi = 2.0 * np.arctan2(s, c)
-    t_perp = t_disp - d[:, None] * u
-    ratio = c / (s if everywhere else np.where(rotating, s, 1.0))
-    axis_point = 0.5 * (t_perp + cross(u, t_perp) * ratio[:, None])
+    t_perp = t_disp - d * u
+    axis_point = 0.5 * (t_perp + bilinear(CROSS, u, t_perp) * (c / safe_s))
 
     # no rotation: the axis along the translation, or parallel to z for B = A
-    moving = np.zeros(len(s), dtype=bool)
+    moving = np.zeros(count, dtype=bool)
     if not everywhere:
-        norm_t = safe_norm(t_disp)  # a translation of 1e200 has a length
+        norm_t = safe_norm(t_disp, axis=0)  # a translation of 1e200 has a length
         moving = norm_t > 0.0
-        u_t = np.where(
-            moving[:, None], t_disp / np.where(moving, norm_t, 1.0)[:, None], [0.0, 0.0, 1.0]
-        )
-        axis_point_t = t_a - np.sum(u_t * t_a, axis=-1)[:, None] * u_t
-        u = np.where(rotating[:, None], u, u_t)
+        z = np.array([[0.0], [0.0], [1.0]])
+        u_t = np.where(moving, t_disp / np.where(moving, norm_t, 1.0), z)
+        axis_point_t = t_a - dots(u_t.T, t_a.T) * u_t
+        u = np.where(rotating, u, u_t)
         d = np.where(rotating, d, np.where(moving, norm_t, 0.0))
         phi = np.where(rotating, phi, 0.0)
-        axis_point = np.where(rotating[:, None], axis_point, axis_point_t)
+        axis_point = np.where(rotating, axis_point, axis_point_t)
 
     notes = _notes(flip, s, rotating, half_turn, moving, d, c)
     fields = {
         "phi": phi,
         "d": d,
-        "axis_direction": u,
-        "axis_point": axis_point,
-        "r": r,
+        "axis_direction": u.T,
+        "axis_point": axis_point.T,
+        "r": r.T,
         "p_start": p_a,
         "p_end": p_b,
-        "t_start": t_a,
-        "t_end": t_b,
-        "t_disp": t_disp,
+        "t_start": t_a.T,
+        "t_end": t_b.T,
+        "t_disp": t_disp.T,
     }
     return fields, notes
 

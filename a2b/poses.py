@@ -22,11 +22,14 @@ from .elements import as_numbers, unit_scale
 from .errors import PoseError
 from .study import (
     STUDY_TOL,
+    Structure,
     check_study,
     dots,
     kappa,
+    linear,
     quat_mul,
     rotation_numerators,
+    sparse_rows,
     study_from_quat_trans,
 )
 
@@ -298,6 +301,36 @@ def check_quaternions(quat_wxyz: np.ndarray) -> np.ndarray:
     return q / norm[..., None]
 
 
+def _shepperd_map() -> Structure:
+    """The linear map from ``(1, a11, a12, …, a33)`` to the 16 entries of eq. 9's four ratio
+    rows (row by row) and the four diagonal terms of eq. 7 that choose among them."""
+    one, e = 0, {f"a{i}{j}": 1 + 3 * (i - 1) + (j - 1) for i in (1, 2, 3) for j in (1, 2, 3)}
+
+    def row(*terms):
+        out = np.zeros(10)
+        for sign, name in terms:
+            out[one if name == "1" else e[name]] += sign
+        return out
+
+    w_x, w_y, w_z = ((1, "a32"), (-1, "a23")), ((1, "a13"), (-1, "a31")), ((1, "a21"), (-1, "a12"))
+    x_y, x_z, y_z = ((1, "a21"), (1, "a12")), ((1, "a31"), (1, "a13")), ((1, "a32"), (1, "a23"))
+    signs = ((1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1))
+    diagonals = [tuple(zip(sign, ("a11", "a22", "a33"))) for sign in signs]
+    ratios = [
+        [((1, "1"),) + diagonals[0], w_x, w_y, w_z],
+        [w_x, ((1, "1"),) + diagonals[1], x_y, x_z],
+        [w_y, x_y, ((1, "1"),) + diagonals[2], y_z],
+        [w_z, x_z, y_z, ((1, "1"),) + diagonals[3]],
+    ]
+    rows = [row(*terms) for ratio in ratios for terms in ratio] + [row(*d) for d in diagonals]
+    return sparse_rows(np.array(rows), padding=-0.0)
+
+
+#: :func:`_shepperd_map` as a :class:`a2b.study.Structure`: one contraction gives every ratio
+#: row and diagonal term of all rotations at once, each sum in the order eq. 7 and 9 write it.
+_SHEPPERD = _shepperd_map()
+
+
 def quaternions_from_rotations(rotations: np.ndarray) -> np.ndarray:
     """Unit quaternions ``(..., 4)`` (w, x, y, z) of rotation matrices ``(..., 3, 3)``.
 
@@ -310,29 +343,25 @@ def quaternions_from_rotations(rotations: np.ndarray) -> np.ndarray:
     ----------
     Schröcker, *From A to B*, eq. 7–9.
     """
-    a11, a12, a13, a21, a22, a23, a31, a32, a33 = _entries(rotations)
-    w_x, w_y, w_z = a32 - a23, a13 - a31, a21 - a12
-    x_y, x_z, y_z = a21 + a12, a31 + a13, a32 + a23
-    diagonals = np.stack([a11 + a22 + a33, a11 - a22 - a33, -a11 + a22 - a33, -a11 - a22 + a33])
-    rows = np.stack(  # the rows of eq. 9; the first whose diagonal term is largest is taken
-        [
-            [1 + a11 + a22 + a33, w_x, w_y, w_z],
-            [w_x, 1 + a11 - a22 - a33, x_y, x_z],
-            [w_y, x_y, 1 - a11 + a22 - a33, y_z],
-            [w_z, x_z, y_z, 1 - a11 - a22 + a33],
-        ]
-    )  # (4 rows, 4 components, ...)
-    best = np.argmax(diagonals, axis=0)  # the first largest, as a strict > from the first row
-    p = np.take_along_axis(rows, best[None, None], axis=0)[0]
-    norm = np.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3])
-    p /= norm
-    return canonical_sign(np.moveaxis(p, 0, -1))
+    r = np.asarray(rotations, dtype=float)
+    shape = r.shape[:-2]
+    count = int(np.prod(shape, dtype=np.int64))
+    x = np.empty((10, count))
+    x[0] = 1.0
+    x[1:] = r.reshape(count, 9).T
+    terms = linear(_SHEPPERD, x)  # (20, count)
+    best = np.argmax(terms[16:], axis=0)  # the first largest, as a strict > from the first row
+    p = terms[:16].reshape(4, 4, count)[best, :, np.arange(count)]  # (count, 4)
+    p /= np.sqrt(dots(p, p))[:, None]
+    return canonical_sign(p.reshape(shape + (4,)))
 
 
 def canonical_sign(p: np.ndarray) -> np.ndarray:
     """Flip vectors ``(..., n)`` (quaternions, axis directions) so that the first non-zero
     component is positive; zero vectors stay as they are."""
     p = np.asarray(p, dtype=float)
+    if (p[..., 0] > 0.0).all():  # the common case: nothing to flip
+        return p
     flip = p[..., -1] < 0.0  # the sign of the last component, unless an earlier one is non-zero
     for i in range(p.shape[-1] - 2, -1, -1):
         flip = np.where(p[..., i] == 0.0, flip, p[..., i] < 0.0)

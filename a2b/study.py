@@ -15,6 +15,7 @@ All functions are vectorised over leading dimensions.
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -63,10 +64,20 @@ def structure_matrix(form, n_a: int, n_b: int) -> Structure:
     """
     a = np.repeat(np.eye(n_a), n_b, axis=0)
     b = np.tile(np.eye(n_b), (n_a, 1))
-    matrix = np.ascontiguousarray(np.asarray(form(a, b), dtype=float).T)
+    return sparse_rows(np.asarray(form(a, b), dtype=float).T)
+
+
+def sparse_rows(matrix: np.ndarray, padding: float = 0.0) -> Structure:
+    """The :class:`Structure` of a matrix ``(n_out, n_in)``: its rows' non-zero entries.
+
+    Rows with fewer terms than the longest are padded with column 0 and weight ``padding``.
+    A linear map whose input row 0 is the constant 1 pads with ``-0.0``, the one term that
+    leaves every sum as it is, signed zeros included.
+    """
+    matrix = np.ascontiguousarray(matrix, dtype=float)
     width = max(1, int((matrix != 0).sum(axis=1).max()))
     columns = np.zeros((len(matrix), width), dtype=np.intp)
-    weights = np.zeros((len(matrix), width, 1))
+    weights = np.full((len(matrix), width, 1), padding)
     for row, entries in enumerate(matrix):
         (found,) = np.nonzero(entries)
         columns[row, : len(found)] = found
@@ -84,17 +95,32 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     bit for bit the element computed alone (a BLAS or ``einsum`` product sums in an order
     that depends on an element's place in the array).
     """
-    shape = np.broadcast_shapes(a.shape[1:], b.shape[1:])
-    size = int(np.prod(shape, dtype=np.int64))
+    shape = a.shape[1:]
+    if b.shape[1:] != shape:
+        shape = np.broadcast_shapes(shape, b.shape[1:])
+    size = math.prod(shape)
     if size <= BILINEAR_CHUNK:
-        return _contract(form, a[:, None] * b[None]).reshape(form.matrix.shape[:1] + shape)
+        return contract(form, a[:, None] * b[None]).reshape(form.matrix.shape[:1] + shape)
     a = np.broadcast_to(a, a.shape[:1] + shape).reshape(len(a), size)
     b = np.broadcast_to(b, b.shape[:1] + shape).reshape(len(b), size)
     out = np.empty((len(form.matrix), size))
     for lo in range(0, size, BILINEAR_CHUNK):  # outer products that stay in cache
         hi = min(lo + BILINEAR_CHUNK, size)
-        out[:, lo:hi] = _contract(form, a[:, None, lo:hi] * b[None, :, lo:hi])
+        out[:, lo:hi] = contract(form, a[:, None, lo:hi] * b[None, :, lo:hi])
     return out.reshape(form.matrix.shape[:1] + shape)
+
+
+def linear(form: Structure, x: np.ndarray) -> np.ndarray:
+    """A linear map given by its :func:`sparse_rows` on a component-major array ``(n_in, N)``:
+    ``(n_out, N)``, each row's terms summed in the order of the columns, in chunks that stay
+    in cache (as :func:`bilinear`)."""
+    size = x.shape[1]
+    if size <= BILINEAR_CHUNK:
+        return contract(form, x)
+    out = np.empty((len(form.matrix), size))
+    for lo in range(0, size, BILINEAR_CHUNK):
+        out[:, lo : lo + BILINEAR_CHUNK] = contract(form, x[:, lo : lo + BILINEAR_CHUNK])
+    return out
 
 
 #: Columns of :func:`bilinear` at a time: an outer product of two quaternions' components over
@@ -102,9 +128,10 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 BILINEAR_CHUNK = 8192
 
 
-def _contract(form: Structure, outer: np.ndarray) -> np.ndarray:
-    """Each output row's non-zero terms of an outer product ``(n_a, n_b, ...)``, summed in
-    order: ``(n_out, N)``."""
+def contract(form: Structure, outer: np.ndarray) -> np.ndarray:
+    """Each output row's non-zero terms of an outer product ``(n_a, n_b, ...)`` (or, for a
+    linear map, of its input ``(n_in, ...)``), summed in the order of the columns:
+    ``(n_out, N)``."""
     terms = outer.reshape(form.matrix.shape[1], -1).take(form.columns, axis=0)  # (n_out, m, N)
     terms *= form.weights
     return np.add.reduce(terms, axis=1)
@@ -340,3 +367,20 @@ def kappa_fiber_direction(h: np.ndarray) -> np.ndarray:
     """The direction ``εp = (0, 0, 0, 0, p0, p1, p2, p3)`` of the κ-fiber of ``h``."""
     h = np.asarray(h, dtype=float)
     return np.concatenate([np.zeros_like(h[..., :4]), h[..., :4]], axis=-1)
+
+
+# The structure matrices of a2b's bilinear forms, each made from its formula above.
+
+#: ``(b, a) ↦ b ā``: the rotation ``pB p̄A`` from A's to B's, of quaternions ``(4, ...)``.
+TURN = structure_matrix(lambda b, a: quat_mul(b, quat_conj(a)), 4, 4)
+#: ``(a, b) ↦ a × b`` of vectors ``(3, ...)``.
+CROSS = structure_matrix(cross, 3, 3)
+#: Eq. 4's nine rotation numerators as the symmetric bilinear form ``B(p, r)``, with the
+#: denominator ``p·r`` as a tenth row: ``B(p, p) / (p·p)`` is the rotation of ``p``.
+ROTATION = structure_matrix(
+    lambda p, r: np.concatenate([rotation_numerators(p, r), dots(p, r)[..., None]], axis=-1),
+    4,
+    4,
+)
+#: ``(m, v) ↦ m v`` for the nine entries of 3x3 matrices ``m`` (row by row) and vectors ``v``.
+MATRIX_VECTOR = structure_matrix(lambda m, v: (m.reshape(-1, 3, 3) @ v[..., None])[..., 0], 9, 3)

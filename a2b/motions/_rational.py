@@ -20,7 +20,7 @@ from math import comb
 
 import numpy as np
 
-from ..study import bilinear, rotation_numerators, structure_matrix
+from ..study import ROTATION, bilinear
 
 EPS = float(np.finfo(float).eps)
 #: ``|p(t)|² / max|p|²`` at or below which a motion is refused as passing through ``p = 0``.
@@ -47,22 +47,11 @@ BLAS_ONE_THREAD = 2**19 - 1
 #: 1.2 MB) stay in cache, where those of 10⁵ pairs at once (40 MB) ran slower.
 CHUNK = 4096
 
-#: The structure matrix (:func:`a2b.study.structure_matrix`) of eq. 4's rotation numerators
-#: with their denominator ``p·r``, from a2b's own formula.
-_ROTATION = structure_matrix(
-    lambda p, r: np.concatenate(
-        [rotation_numerators(p, r), np.sum(p * r, axis=-1, keepdims=True)], axis=-1
-    ),
-    4,
-    4,
-)
-
-
 def quadratic_rows(p: np.ndarray) -> np.ndarray:
     """The Bernstein coefficients ``B(pA, pA), B(pA, pB), B(pB, pB)`` of eq. 4's nine rotation
     numerators and of the denominator ``|p(t)|²`` along ``p(t) = (1−t) pA + t pB``: ``(10, 3,
     ...)`` for ends ``(4, 2, ...)``, components first (:func:`a2b.study.bilinear`)."""
-    return bilinear(_ROTATION, p[:, [0, 0, 1]], p[:, [0, 1, 1]])
+    return bilinear(ROTATION, p[:, [0, 0, 1]], p[:, [0, 1, 1]])
 
 
 def bernstein_basis(ts: np.ndarray, degree: int) -> np.ndarray:
