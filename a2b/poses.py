@@ -23,6 +23,7 @@ from .errors import PoseError
 from .study import (
     STUDY_TOL,
     Structure,
+    bilinear,
     check_study,
     dots,
     kappa,
@@ -30,6 +31,7 @@ from .study import (
     quat_mul,
     rotation_numerators,
     sparse_rows,
+    structure_matrix,
     study_from_quat_trans,
 )
 
@@ -40,7 +42,7 @@ LAYOUTS = ("robotics", "paper")
 
 
 def _finite(a: np.ndarray, what: str) -> None:
-    if not np.all(np.isfinite(a)):
+    if not np.isfinite(a).all():
         raise PoseError(f"{what} contains NaN or infinity")
 
 
@@ -57,7 +59,7 @@ def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndar
         raise PoseError(f"a rotation block must be 3x3, got shape {r.shape}")
     _finite(r, "the rotation block")
     entries = _entries(r)
-    residual = float(np.max(_orthogonality(entries), initial=0.0))
+    residual = float(_orthogonality(entries).max(initial=0.0))
     if residual > tol:
         raise PoseError(
             f"the rotation block is not orthogonal: max |R Rᵀ − I| = {residual:.3g} "
@@ -71,12 +73,12 @@ def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndar
             )
         )
     det = _determinants(entries)
-    if np.any(det < 0):
+    if (det < 0).any():
         raise PoseError(
             f"the rotation block has determinant {float(np.min(det)):.6g}: a reflection, not a "
             f"rotation"
         )
-    det_residual = float(np.max(np.abs(det - 1.0), initial=0.0))
+    det_residual = float(np.abs(det - 1.0).max(initial=0.0))
     if det_residual > tol:
         raise PoseError(
             f"the rotation block has |det R − 1| = {det_residual:.3g}, exceeding tolerance {tol:g}"
@@ -139,17 +141,9 @@ def _entries(r: np.ndarray) -> np.ndarray:
 
 def _orthogonality(entries: np.ndarray) -> np.ndarray:
     """``max |R Rᵀ − I|`` of each matrix, from its :func:`_entries`: shape ``...``."""
-    rows = (entries[0:3], entries[3:6], entries[6:9])
-    out = None
-    for i in range(3):
-        for j in range(i, 3):
-            a, b = rows[i], rows[j]
-            g = a[0] * b[0]
-            g += a[1] * b[1]
-            g += a[2] * b[2]
-            g = np.abs(g - 1.0 if i == j else g)
-            out = g if out is None else np.maximum(out, g)
-    return out
+    gram = bilinear(GRAM, entries, entries)  # the six entries of R Rᵀ on and above its diagonal
+    gram -= _GRAM_IDENTITY.reshape((6,) + (1,) * (gram.ndim - 1))
+    return np.abs(gram, out=gram).max(axis=0)
 
 
 def determinants(r: np.ndarray) -> np.ndarray:
@@ -158,8 +152,31 @@ def determinants(r: np.ndarray) -> np.ndarray:
 
 
 def _determinants(entries: np.ndarray) -> np.ndarray:
-    a, b, c, d, e, f, g, h, i = entries
-    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+    cofactors = bilinear(COFACTORS, entries[3:], entries[3:])
+    return entries[0] * cofactors[0] - entries[1] * cofactors[1] + entries[2] * cofactors[2]
+
+
+def _gram(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The entries ``(0,0), (0,1), (0,2), (1,1), (1,2), (2,2)`` of ``A Bᵀ`` for the entries
+    ``(..., 9)`` of 3x3 matrices, row by row: with ``B = A``, those of ``A Aᵀ`` that differ."""
+    rows_a, rows_b = a.reshape(a.shape[:-1] + (3, 3)), b.reshape(b.shape[:-1] + (3, 3))
+    pairs = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+    return np.stack([dots(rows_a[..., i, :], rows_b[..., j, :]) for i, j in pairs], axis=-1)
+
+
+def _cofactors(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """The cofactors of the first row of 3x3 matrices, from the entries ``d … i`` ``(..., 6)``
+    of their last two rows: ``(e i − f h, d i − f g, d h − e g)``."""
+    d, e, f, g, h, i = (x[..., k] for k in range(6))
+    d2, e2, f2, g2, h2, i2 = (y[..., k] for k in range(6))
+    return np.stack([e * i2 - f * h2, d * i2 - f * g2, d * h2 - e * g2], axis=-1)
+
+
+#: The structure matrices (:func:`a2b.study.structure_matrix`) of :func:`_gram` and
+#: :func:`_cofactors`, so that the checks of many rotations are a few operations over all.
+GRAM = structure_matrix(_gram, 9, 9)
+COFACTORS = structure_matrix(_cofactors, 6, 6)
+_GRAM_IDENTITY = np.array([1.0, 0.0, 0.0, 1.0, 0.0, 1.0])
 
 
 def valid_matrices(matrices: np.ndarray, tol: float = ORTHO_TOL) -> np.ndarray:
@@ -237,7 +254,7 @@ def check_matrices(
         where = "top row"
     else:
         raise PoseError(f"unknown matrix layout {layout!r}; expected one of {LAYOUTS}")
-    residual = float(np.max(np.abs(fixed - expected), initial=0.0))
+    residual = float(np.abs(fixed - expected).max(initial=0.0))
     if residual > 0.0:
         raise PoseError(
             f"the {where} of a {layout}-layout pose matrix must be exactly "
