@@ -181,6 +181,9 @@ def pin_ends(motion, ts, poses: dict) -> dict:
         at = ts == t
         if not at.any():
             continue
+        if ts.ndim == 1:  # shared by every motion: the same columns of all
+            _pin_columns(poses, at, np.asarray(pose)[..., None, :, :])
+            continue
         lead = next(iter(poses.values())).shape[: len(shape) + 1]
         at = np.broadcast_to(at, lead)
         pose = np.broadcast_to(np.asarray(pose)[..., None, :, :], lead + (4, 4))[at]
@@ -191,6 +194,20 @@ def pin_ends(motion, ts, poses: dict) -> dict:
         if poses.get("study") is not None:
             poses["study"][at] = study_from_quat_trans(poses["study"][at][:, :4], pose[:, :3, 3])
     return poses
+
+
+def _pin_columns(poses: dict, at: np.ndarray, pose: np.ndarray) -> None:
+    """:func:`pin_ends` for parameters ``(N,)`` shared by every motion: the samples ``at``
+    (a mask ``(N,)``) of every field take ``pose`` ``S + (1, 4, 4)``."""
+    from .poses import study_from_quat_trans
+
+    if poses.get("trans") is not None:
+        poses["trans"][..., at, :] = pose[..., :3, 3]
+    if poses.get("matrices") is not None:
+        poses["matrices"][..., at, :, :] = pose
+    if poses.get("study") is not None:
+        study = poses["study"]
+        study[..., at, :] = study_from_quat_trans(study[..., at, :4], pose[..., :3, 3])
 
 
 def describe(start, end, mode: str = "darboux", **parameters) -> dict:

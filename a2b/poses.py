@@ -16,6 +16,8 @@ tolerance; they never repair their input.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .elements import as_numbers, unit_scale
@@ -362,12 +364,12 @@ def quaternions_from_rotations(rotations: np.ndarray) -> np.ndarray:
     """
     r = np.asarray(rotations, dtype=float)
     shape = r.shape[:-2]
-    count = int(np.prod(shape, dtype=np.int64))
+    count = math.prod(shape)
     x = np.empty((10, count))
     x[0] = 1.0
     x[1:] = r.reshape(count, 9).T
     terms = linear(_SHEPPERD, x)  # (20, count)
-    best = np.argmax(terms[16:], axis=0)  # the first largest, as a strict > from the first row
+    best = terms[16:].argmax(axis=0)  # the first largest, as a strict > from the first row
     p = terms[:16].reshape(4, 4, count)[best, :, np.arange(count)]  # (count, 4)
     p /= np.sqrt(dots(p, p))[:, None]
     return canonical_sign(p.reshape(shape + (4,)))

@@ -147,8 +147,10 @@ def dots(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     vector registers) than a strided one, and a batch's arrays are often laid out otherwise
     than one element's.
     """
-    a = np.asarray(a, dtype=float)
-    b = np.asarray(b, dtype=float)
+    if not isinstance(a, np.ndarray) or a.dtype != float:
+        a = np.asarray(a, dtype=float)
+    if not isinstance(b, np.ndarray) or b.dtype != float:
+        b = np.asarray(b, dtype=float)
     out = a[..., 0] * b[..., 0]
     for k in range(1, a.shape[-1]):
         out += a[..., k] * b[..., k]

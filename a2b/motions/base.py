@@ -41,7 +41,7 @@ def check_ts(ts, one_dimensional: bool = True) -> np.ndarray:
     arr = as_numbers(ts, "ts")
     if one_dimensional and arr.ndim != 1:
         raise ParameterError(f"ts must be a 1-D array or a count, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
+    if not np.isfinite(arr).all():
         raise ParameterError("ts contains NaN or infinity")
     return arr
 
@@ -185,14 +185,16 @@ def path_minimum(ends: np.ndarray, lo: float, hi: float) -> tuple[np.ndarray, np
     """
     p_a, p_b = ends[..., 0, :], ends[..., 1, :]
     diff = p_b - p_a
-    dd = np.sum(diff * diff, axis=-1)
+    dd = dots(diff, diff)
     flat = dd == 0.0
-    t_min = np.where(
-        flat, 0.0, np.clip(-np.sum(p_a * diff, axis=-1) / np.where(flat, 1.0, dd), lo, hi)
-    )
+    if flat.any():
+        dd = np.where(flat, 1.0, dd)
+    t_min = np.minimum(np.maximum(-dots(p_a, diff) / dd, lo), hi)
+    if flat.any():
+        t_min = np.where(flat, 0.0, t_min)
     p_min = p_a + t_min[..., None] * diff
-    scale = np.maximum(np.sum(p_a * p_a, axis=-1), np.sum(p_b * p_b, axis=-1))
-    return t_min, np.sum(p_min * p_min, axis=-1) / scale
+    scale = np.maximum(dots(p_a, p_a), dots(p_b, p_b))
+    return t_min, dots(p_min, p_min) / scale
 
 
 def linear_root(v0, v1) -> np.ndarray:
@@ -346,9 +348,18 @@ class Motion(Kinematic):
                 f"ts must be a count, a 1-D array shared by every motion or an array of shape "
                 f"{self.shape + ('N',)} (one row per motion), got shape {arr.shape}"
             )
-        if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
-            self._check_interval(min(0.0, float(arr.min())), max(1.0, float(arr.max())))
+        if arr.size:
+            low, high = float(arr.min()), float(arr.max())
+            if low < 0.0 or high > 1.0:
+                self._check_interval(min(0.0, low), max(1.0, high))
         return arr
+
+    @staticmethod
+    def _range(arr: np.ndarray) -> tuple[float, float] | None:
+        """``[lo, hi]``, the interval ``[0, 1]`` widened to hold ``ts``; ``None`` for no ts."""
+        if not arr.size:
+            return None
+        return min(0.0, float(arr.min())), max(1.0, float(arr.max()))
 
     def _check_finite(self, ts: np.ndarray, values: np.ndarray) -> None:
         """Raise if extrapolating to far-away ``t`` overflowed (values ``S + (N, ...)``)."""
@@ -375,18 +386,18 @@ class Motion(Kinematic):
         stays rigid to rounding.
         """
         arr = self._prepare(ts)
+        span = self._range(arr)
         with np.errstate(over="ignore", invalid="ignore"):  # far extrapolation: checked below
             out = evaluate_table(self._basis(arr), self.table)
-            if arr.size:
-                lo, hi = min(0.0, float(arr.min())), max(1.0, float(arr.max()))
-                fragile = self._rotation_is_fragile(lo, hi)
+            if span is not None:
+                fragile = self._rotation_is_fragile(*span)
                 if not self.shape and fragile:
                     out[..., :3, :3] = rotations_from_quaternions(self._quats(arr))
                 elif self.shape and fragile.any():
                     own = arr if arr.ndim == 1 else arr[fragile]
                     rotations = rotations_from_quaternions(self[fragile]._quats(own))
                     out[fragile, :, :3, :3] = rotations
-        if arr.size and (arr.min() < 0.0 or arr.max() > 1.0):
+        if span is not None and span != (0.0, 1.0):
             self._check_finite(arr, out[..., :3, :])
         return out
 
