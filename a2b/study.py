@@ -43,13 +43,14 @@ def _vectors(*components: np.ndarray) -> np.ndarray:
 
 
 class Structure(NamedTuple):
-    """A bilinear form's structure matrix, and its non-zero entries row by row."""
+    """A bilinear form's structure matrix, and its non-zero entries term by term."""
 
     #: ``(n_out, n_a n_b)``: column ``i n_b + j`` is ``form(e_i, e_j)``.
     matrix: np.ndarray
-    #: ``(n_out, m)``: the columns of each row's non-zero entries, in order (padded with 0).
+    #: ``(m, n_out)``: term ``k`` of each row: the column of its ``k``-th non-zero entry, in
+    #: order (padded with 0).
     columns: np.ndarray
-    #: ``(n_out, m, 1)``: those entries (padding: 0).
+    #: ``(m, n_out, 1)``: those entries (padding: see :func:`sparse_rows`).
     weights: np.ndarray
 
 
@@ -76,12 +77,12 @@ def sparse_rows(matrix: np.ndarray, padding: float = 0.0) -> Structure:
     """
     matrix = np.ascontiguousarray(matrix, dtype=float)
     width = max(1, int((matrix != 0).sum(axis=1).max()))
-    columns = np.zeros((len(matrix), width), dtype=np.intp)
-    weights = np.full((len(matrix), width, 1), padding)
+    columns = np.zeros((width, len(matrix)), dtype=np.intp)
+    weights = np.full((width, len(matrix), 1), padding)
     for row, entries in enumerate(matrix):
         (found,) = np.nonzero(entries)
-        columns[row, : len(found)] = found
-        weights[row, : len(found), 0] = entries[found]
+        columns[: len(found), row] = found
+        weights[: len(found), row, 0] = entries[found]
     return Structure(matrix, columns, weights)
 
 
@@ -91,7 +92,7 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     ``a`` is ``(n_a, ...)`` and ``b`` is ``(n_b, ...)``, components first; their trailing
     shapes broadcast. Returns ``(n_out, ...)``: the outer product of ``a`` and ``b``, of
     which each output row sums its few non-zero terms, in the order of the columns. Every
-    step is elementwise or a sum over a short middle axis, so that an element of a batch is
+    step is elementwise, the terms added one after another, so that an element of a batch is
     bit for bit the element computed alone (a BLAS or ``einsum`` product sums in an order
     that depends on an element's place in the array).
     """
@@ -132,9 +133,12 @@ def contract(form: Structure, outer: np.ndarray) -> np.ndarray:
     """Each output row's non-zero terms of an outer product ``(n_a, n_b, ...)`` (or, for a
     linear map, of its input ``(n_in, ...)``), summed in the order of the columns:
     ``(n_out, N)``."""
-    terms = outer.reshape(form.matrix.shape[1], -1).take(form.columns, axis=0)  # (n_out, m, N)
+    terms = outer.reshape(form.matrix.shape[1], -1).take(form.columns, axis=0)  # (m, n_out, N)
     terms *= form.weights
-    return np.add.reduce(terms, axis=1)
+    out = terms[0]  # then term by term: contiguous additions, cheaper than a reduction
+    for term in terms[1:]:
+        out += term
+    return out
 
 
 def dots(a: np.ndarray, b: np.ndarray) -> np.ndarray:

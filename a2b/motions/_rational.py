@@ -47,6 +47,7 @@ BLAS_ONE_THREAD = 2**19 - 1
 #: 1.2 MB) stay in cache, where those of 10⁵ pairs at once (40 MB) ran slower.
 CHUNK = 4096
 
+
 def quadratic_rows(p: np.ndarray) -> np.ndarray:
     """The Bernstein coefficients ``B(pA, pA), B(pA, pB), B(pB, pB)`` of eq. 4's nine rotation
     numerators and of the denominator ``|p(t)|²`` along ``p(t) = (1−t) pA + t pB``: ``(10, 3,
