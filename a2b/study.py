@@ -52,6 +52,10 @@ class Structure(NamedTuple):
     columns: np.ndarray
     #: ``(m, n_out, 1)``: those entries (padding: see :func:`sparse_rows`).
     weights: np.ndarray
+    #: For a bilinear form, ``(m, n_out)`` each: the indices ``i`` and ``j`` of the
+    #: components ``a_i b_j`` of each term (``column = i n_b + j``).
+    left: np.ndarray | None = None
+    right: np.ndarray | None = None
 
 
 def structure_matrix(form, n_a: int, n_b: int) -> Structure:
@@ -60,12 +64,13 @@ def structure_matrix(form, n_a: int, n_b: int) -> Structure:
 
     a2b writes each bilinear form once, as a plain function of vectors ``(..., n)``; its
     structure matrix, made by evaluating that function on basis vectors at import, lets
-    :func:`bilinear` evaluate it over component-major arrays with one outer product and one
-    small (sparse) matrix product, however many terms the formula has.
+    :func:`bilinear` evaluate it over component-major arrays with a few operations, however
+    many terms the formula has.
     """
     a = np.repeat(np.eye(n_a), n_b, axis=0)
     b = np.tile(np.eye(n_b), (n_a, 1))
-    return sparse_rows(np.asarray(form(a, b), dtype=float).T)
+    rows = sparse_rows(np.asarray(form(a, b), dtype=float).T)
+    return rows._replace(left=rows.columns // n_b, right=rows.columns % n_b)
 
 
 def sparse_rows(matrix: np.ndarray, padding: float = 0.0) -> Structure:
@@ -101,14 +106,27 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         shape = np.broadcast_shapes(shape, b.shape[1:])
     size = math.prod(shape)
     if size <= BILINEAR_CHUNK:
-        return contract(form, a[:, None] * b[None]).reshape(form.matrix.shape[:1] + shape)
+        return _terms(form, a, b, len(shape))
     a = np.broadcast_to(a, a.shape[:1] + shape).reshape(len(a), size)
     b = np.broadcast_to(b, b.shape[:1] + shape).reshape(len(b), size)
-    out = np.empty((len(form.matrix), size))
-    for lo in range(0, size, BILINEAR_CHUNK):  # outer products that stay in cache
+    out = np.empty((len(form.left[0]), size))
+    for lo in range(0, size, BILINEAR_CHUNK):  # work arrays that stay in cache
         hi = min(lo + BILINEAR_CHUNK, size)
-        out[:, lo:hi] = contract(form, a[:, None, lo:hi] * b[None, :, lo:hi])
-    return out.reshape(form.matrix.shape[:1] + shape)
+        out[:, lo:hi] = _terms(form, a[:, lo:hi], b[:, lo:hi], 1)
+    return out.reshape(out.shape[:1] + shape)
+
+
+def _terms(form: Structure, a: np.ndarray, b: np.ndarray, trailing: int) -> np.ndarray:
+    """:func:`bilinear` of arrays with ``trailing`` dimensions after the components: each term
+    ``w a_i b_j`` of each output row gathered, multiplied, and added in order."""
+    terms = a.take(form.left, axis=0) * b.take(form.right, axis=0)  # (m, n_out, ...)
+    terms *= (
+        form.weights if trailing == 1 else form.weights.reshape(form.left.shape + (1,) * trailing)
+    )
+    out = terms[0]
+    for term in terms[1:]:
+        out += term
+    return out
 
 
 def linear(form: Structure, x: np.ndarray) -> np.ndarray:
