@@ -110,14 +110,20 @@ def checked_motion(a, b, mode: str = "darboux", /, quaternions=None, **parameter
         if not isinstance(item, str):
             shapes[key] = np.shape(item)[: max(np.ndim(item) - TRAILING.get(key, 0), 0)]
     try:
-        shape = np.broadcast_shapes(*shapes.values())
+        shape = (
+            a.shape[:-2]
+            if len(set(shapes.values())) == 1
+            else np.broadcast_shapes(*shapes.values())
+        )
     except ValueError:
         described = ", ".join(f"{key} {value}" for key, value in shapes.items())
         raise ParameterError(f"the leading shapes do not broadcast: {described}") from None
     if quaternions is not None and not shape == a.shape[:-2] == b.shape[:-2]:
         quaternions = None  # made again for the broadcast poses
-    a = np.broadcast_to(a, shape + (4, 4))
-    b = np.broadcast_to(b, shape + (4, 4))
+    if a.shape[:-2] != shape:
+        a = np.broadcast_to(a, shape + (4, 4))
+    if b.shape[:-2] != shape:
+        b = np.broadcast_to(b, shape + (4, 4))
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below, as an error
         return _build(a, b, mode, params, quaternions)
 

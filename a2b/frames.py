@@ -213,6 +213,8 @@ def screw_frame(start: np.ndarray, end: np.ndarray, quaternions=None) -> ScrewFr
         None if mask is None else mask.reshape(shape),
         text if isinstance(text, str) else text.reshape(shape),
     ) for mask, text in notes]))  # fmt: skip
+    if np.isfinite(fields["t_disp"]).all() and np.isfinite(fields["d"]).all():
+        return frame
     finite = np.isfinite(frame.d) & np.isfinite(frame.t_disp).all(axis=-1)
     refuse(
         ParameterError,

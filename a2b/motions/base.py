@@ -185,15 +185,17 @@ def path_minimum(ends: np.ndarray, lo: float, hi: float) -> tuple[np.ndarray, np
     """
     p_a, p_b = ends[..., 0, :], ends[..., 1, :]
     diff = p_b - p_a
-    dd = dots(diff, diff)
+    left = np.stack([diff, p_a, p_a, p_b], axis=-2)
+    right = np.stack([diff, diff, p_a, p_b], axis=-2)
+    dd, a_diff, aa, bb = np.moveaxis(dots(left, right), -1, 0)
     flat = dd == 0.0
     if flat.any():
         dd = np.where(flat, 1.0, dd)
-    t_min = np.minimum(np.maximum(-dots(p_a, diff) / dd, lo), hi)
+    t_min = np.minimum(np.maximum(-a_diff / dd, lo), hi)
     if flat.any():
         t_min = np.where(flat, 0.0, t_min)
     p_min = p_a + t_min[..., None] * diff
-    scale = np.maximum(dots(p_a, p_a), dots(p_b, p_b))
+    scale = np.maximum(aa, bb)
     return t_min, dots(p_min, p_min) / scale
 
 
