@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .elements import anywhere
 from .errors import ParameterError
 from .frames import screw_frame
 from .motions import REGISTRY
@@ -185,7 +186,7 @@ def pin_ends(motion, ts, poses: dict) -> dict:
     ts = np.asarray(ts, dtype=float)
     for t, pose in ((0.0, start), (1.0, end)):
         at = ts == t
-        if not at.any():
+        if not anywhere(at):
             continue
         if ts.ndim == 1:  # shared by every motion: the same columns of all
             _pin_columns(poses, at, np.asarray(pose)[..., None, :, :])

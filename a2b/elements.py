@@ -49,7 +49,7 @@ def label(shape: tuple, flat: int) -> str:
 
 def refuse(error: type[A2bError], bad, message: Callable[[int], str], shape: tuple) -> None:
     """Raise ``error`` for the first element where ``bad`` holds, with ``message(flat)``."""
-    if not _any(bad):
+    if not anywhere(bad):
         return
     bad = np.broadcast_to(bad, shape)
     flat = int(np.flatnonzero(bad.ravel())[0]) if shape else 0
@@ -62,7 +62,7 @@ def refuse(error: type[A2bError], bad, message: Callable[[int], str], shape: tup
 
 def warn(where, message: Callable[[int], str], shape: tuple, notes: Notes) -> None:
     """Issue an :class:`A2bWarning` for every element where ``where`` holds, and note it."""
-    if not _any(where):
+    if not anywhere(where):
         return
     mask = np.broadcast_to(where, shape)
     texts = np.full(shape, None, dtype=object)
@@ -76,9 +76,16 @@ def warn(where, message: Callable[[int], str], shape: tuple, notes: Notes) -> No
     notes.add(texts, mask)
 
 
-def _any(where) -> bool:
-    """Whether a mask (an array or a bool) holds anywhere: the quick test before the work."""
-    return bool(where.any() if isinstance(where, np.ndarray) else np.any(where))
+def anywhere(mask) -> bool:
+    """Whether a boolean mask (an array or a bool) holds anywhere: the quick test before the
+    work. ``numpy.count_nonzero`` costs a fifth of ``mask.any()`` on the small arrays of one
+    motion, where a ufunc reduction's setup is most of the time."""
+    return np.count_nonzero(mask) > 0
+
+
+def everywhere(mask) -> bool:
+    """Whether a boolean mask (an array or a bool) holds everywhere (as :func:`anywhere`)."""
+    return np.count_nonzero(mask) == (mask.size if isinstance(mask, np.ndarray) else 1)
 
 
 def value(array, flat: int) -> float:
@@ -100,7 +107,7 @@ class Notes:
 
     def add(self, text, where=None) -> None:
         """Note ``text`` (a str, or texts of shape ``S``) for the elements ``where`` holds."""
-        if where is not None and not _any(where):
+        if where is not None and not anywhere(where):
             return
         mask = None if where is None else np.broadcast_to(where, self.shape)
         self.rules.append((mask, text))

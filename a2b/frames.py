@@ -19,7 +19,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .elements import Notes, refuse, safe_norm
+from .elements import Notes, anywhere, everywhere, refuse, safe_norm
 from .errors import ParameterError
 from .poses import (
     canonical_sign,
@@ -213,7 +213,7 @@ def screw_frame(start: np.ndarray, end: np.ndarray, quaternions=None) -> ScrewFr
         None if mask is None else mask.reshape(shape),
         text if isinstance(text, str) else text.reshape(shape),
     ) for mask, text in notes]))  # fmt: skip
-    if np.isfinite(fields["t_disp"]).all() and np.isfinite(fields["d"]).all():
+    if everywhere(np.isfinite(fields["t_disp"])) and everywhere(np.isfinite(fields["d"])):
         return frame
     finite = np.isfinite(frame.d) & np.isfinite(frame.t_disp).all(axis=-1)
     refuse(
@@ -242,16 +242,16 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
     t_a, t_b = start[:, :3, 3].T.copy(), end[:, :3, 3].T.copy()  # (3, J)
     r = bilinear(TURN, p_b.T, p_a.T)
     same = (p_a == p_b).all(axis=-1)  # identical rotations: no rounding residue from p p̄
-    if same.any():
+    if anywhere(same):
         r[:, same] = [[1.0], [0.0], [0.0], [0.0]]
     s = np.sqrt(dots(r[1:].T, r[1:].T))
     rotating = s > ROTATION_NOISE
-    everywhere = bool(rotating.all())  # the rare cases below run only where they occur
+    turning = everywhere(rotating)  # the rare cases below run only where they occur
     # A half-turn (pA·pB = 0 within rounding): u and −u are equally short; one is picked and
     # said, rather than let the sign of rounding noise decide.
     half_turn = rotating & (np.abs(r[0]) <= ROTATION_NOISE)
     flip = (r[0] < 0) & ~half_turn
-    if flip.any():
+    if anywhere(flip):
         sign = np.where(flip, -1.0, 1.0)  # × −1 is negation, bit for bit
         p_b = p_b * sign[:, None]
         r *= sign
@@ -259,10 +259,10 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
     t_disp = t_b - bilinear(MATRIX_VECTOR, numerators[:9], t_a) / numerators[9]
 
     # a rotation: the axis of r, and the half-turn rule
-    safe_s = s if everywhere else np.where(rotating, s, 1.0)
+    safe_s = s if turning else np.where(rotating, s, 1.0)
     u = r[1:] / safe_s
     d = dots(u.T, t_disp.T)
-    if half_turn.any():
+    if anywhere(half_turn):
         turn = half_turn & ((d < 0) | ((d == 0) & (canonical_sign(u.T)[:, 0] != u[0])))
         u = np.where(turn, -u, u)
         d = np.where(turn, -d, d)
@@ -275,7 +275,7 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
 
     # no rotation: the axis along the translation, or parallel to z for B = A
     moving = np.zeros(count, dtype=bool)
-    if not everywhere:
+    if not turning:
         norm_t = safe_norm(t_disp, axis=0)  # a translation of 1e200 has a length
         moving = norm_t > 0.0
         z = np.array([[0.0], [0.0], [1.0]])
@@ -306,7 +306,7 @@ def _notes(flip, s, rotating, half_turn, moving, d, c) -> list:
     """The choices :func:`_frames` made, as (mask, text) rules for :class:`Notes`."""
     notes: list = [(flip, _FLIP)]
     noise = (s > 0.0) & ~rotating
-    if noise.any():
+    if anywhere(noise):
         texts = np.full(len(s), None, dtype=object)
         for j in np.flatnonzero(noise).tolist():
             texts[j] = (
@@ -314,7 +314,7 @@ def _notes(flip, s, rotating, half_turn, moving, d, c) -> list:
                 f"rounding ({ROTATION_NOISE:.3g}): treated as a pure translation"
             )
         notes.append((noise, texts))
-    if half_turn.any():
+    if anywhere(half_turn):
         texts = np.full(len(s), None, dtype=object)
         for j in np.flatnonzero(half_turn).tolist():
             side = "d > 0" if d[j] > 0 else "d = 0 and the first non-zero axis component positive"

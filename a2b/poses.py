@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from .elements import as_numbers, unit_scale
+from .elements import anywhere, as_numbers, everywhere, unit_scale
 from .errors import PoseError
 from .study import (
     STUDY_TOL,
@@ -44,7 +44,7 @@ LAYOUTS = ("robotics", "paper")
 
 
 def _finite(a: np.ndarray, what: str) -> None:
-    if not np.isfinite(a).all():
+    if not everywhere(np.isfinite(a)):
         raise PoseError(f"{what} contains NaN or infinity")
 
 
@@ -75,7 +75,7 @@ def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndar
             )
         )
     det = _determinants(entries)
-    if (det < 0).any():
+    if anywhere(det < 0):
         raise PoseError(
             f"the rotation block has determinant {float(np.min(det)):.6g}: a reflection, not a "
             f"rotation"
@@ -379,7 +379,7 @@ def canonical_sign(p: np.ndarray) -> np.ndarray:
     """Flip vectors ``(..., n)`` (quaternions, axis directions) so that the first non-zero
     component is positive; zero vectors stay as they are."""
     p = np.asarray(p, dtype=float)
-    if (p[..., 0] > 0.0).all():  # the common case: nothing to flip
+    if everywhere(p[..., 0] > 0.0):  # the common case: nothing to flip
         return p
     flip = p[..., -1] < 0.0  # the sign of the last component, unless an earlier one is non-zero
     for i in range(p.shape[-1] - 2, -1, -1):

@@ -12,7 +12,7 @@ import numbers
 
 import numpy as np
 
-from ..elements import Notes, as_numbers, refuse, value, warn
+from ..elements import Notes, anywhere, as_numbers, everywhere, refuse, value, warn
 from ..errors import ParameterError, SingularMotionError
 from ..frames import ScrewFrame
 from ..kinematics import Kinematic, check_point
@@ -41,7 +41,7 @@ def check_ts(ts, one_dimensional: bool = True) -> np.ndarray:
     arr = as_numbers(ts, "ts")
     if one_dimensional and arr.ndim != 1:
         raise ParameterError(f"ts must be a 1-D array or a count, got shape {arr.shape}")
-    if not np.isfinite(arr).all():
+    if not everywhere(np.isfinite(arr)):
         raise ParameterError("ts contains NaN or infinity")
     return arr
 
@@ -189,10 +189,10 @@ def path_minimum(ends: np.ndarray, lo: float, hi: float) -> tuple[np.ndarray, np
     right = np.stack([diff, diff, p_a, p_b], axis=-2)
     dd, a_diff, aa, bb = np.moveaxis(dots(left, right), -1, 0)
     flat = dd == 0.0
-    if flat.any():
+    if anywhere(flat):
         dd = np.where(flat, 1.0, dd)
     t_min = np.minimum(np.maximum(-a_diff / dd, lo), hi)
-    if flat.any():
+    if anywhere(flat):
         t_min = np.where(flat, 0.0, t_min)
     p_min = p_a + t_min[..., None] * diff
     scale = np.maximum(aa, bb)
@@ -395,7 +395,7 @@ class Motion(Kinematic):
                 fragile = self._rotation_is_fragile(*span)
                 if not self.shape and fragile:
                     out[..., :3, :3] = rotations_from_quaternions(self._quats(arr))
-                elif self.shape and fragile.any():
+                elif self.shape and anywhere(fragile):
                     own = arr if arr.ndim == 1 else arr[fragile]
                     rotations = rotations_from_quaternions(self[fragile]._quats(own))
                     out[fragile, :, :3, :3] = rotations
@@ -463,7 +463,7 @@ class Motion(Kinematic):
         and 1, each at the sign that the computed row has."""
         for k, t in enumerate((0.0, 1.0)):
             at = np.broadcast_to(ts == t, quat.shape[:-1])
-            if not at.any():
+            if not anywhere(at):
                 continue
             end = np.broadcast_to(self.end_quaternions[..., k, None, :], quat.shape)
             sign = np.where(np.einsum("...i,...i->...", quat, end) < 0.0, -1.0, 1.0)
