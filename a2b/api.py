@@ -208,6 +208,10 @@ def _pin_columns(poses: dict, at: np.ndarray, pose: np.ndarray) -> None:
     (a mask ``(N,)``) of every field take ``pose`` ``S + (1, 4, 4)``."""
     from .poses import study_from_quat_trans
 
+    (found,) = np.nonzero(at)
+    if len(found) == 1:  # one sample at t: a basic index, cheaper than a mask
+        at = int(found[0])
+        pose = pose[..., 0, :, :]
     if poses.get("trans") is not None:
         poses["trans"][..., at, :] = pose[..., :3, 3]
     if poses.get("matrices") is not None:

@@ -344,24 +344,23 @@ class Motion(Kinematic):
     def _prepare(self, ts) -> np.ndarray:
         """``ts`` checked: a count, ``(N,)`` shared by every motion, or ``S + (N,)``, one row of
         parameters per motion (``S = ()``: 1-D only)."""
+        return self._sampled(ts)[0]
+
+    def _sampled(self, ts) -> tuple[np.ndarray, tuple[float, float] | None]:
+        """:meth:`_prepare`'s ``ts``, and ``[lo, hi]``: ``[0, 1]`` widened to hold them
+        (``None`` for no ``ts``)."""
         arr = check_ts(ts, one_dimensional=False)
         if arr.ndim == 0 or (arr.ndim > 1 and arr.shape[:-1] != self.shape):
             raise ParameterError(
                 f"ts must be a count, a 1-D array shared by every motion or an array of shape "
                 f"{self.shape + ('N',)} (one row per motion), got shape {arr.shape}"
             )
-        if arr.size:
-            low, high = float(arr.min()), float(arr.max())
-            if low < 0.0 or high > 1.0:
-                self._check_interval(min(0.0, low), max(1.0, high))
-        return arr
-
-    @staticmethod
-    def _range(arr: np.ndarray) -> tuple[float, float] | None:
-        """``[lo, hi]``, the interval ``[0, 1]`` widened to hold ``ts``; ``None`` for no ts."""
         if not arr.size:
-            return None
-        return min(0.0, float(arr.min())), max(1.0, float(arr.max()))
+            return arr, None
+        span = min(0.0, float(arr.min())), max(1.0, float(arr.max()))
+        if span != (0.0, 1.0):
+            self._check_interval(*span)
+        return arr, span
 
     def _check_finite(self, ts: np.ndarray, values: np.ndarray) -> None:
         """Raise if extrapolating to far-away ``t`` overflowed (values ``S + (N, ...)``)."""
@@ -387,8 +386,7 @@ class Motion(Kinematic):
         from the normalised ``p(t)`` instead of the coefficient table, so that every sample
         stays rigid to rounding.
         """
-        arr = self._prepare(ts)
-        span = self._range(arr)
+        arr, span = self._sampled(ts)
         with np.errstate(over="ignore", invalid="ignore"):  # far extrapolation: checked below
             out = evaluate_table(self._basis(arr), self.table)
             if span is not None:

@@ -184,6 +184,13 @@ def third_pose_coordinates(frame: ScrewFrame, pose: np.ndarray) -> tuple[np.ndar
 #: build, from a2b's own formulas: eq. 5, and ``q = −½ t p``.
 _TRANSLATION = structure_matrix(translation_numerators, 4, 4)
 _DUAL = structure_matrix(lambda t, p: study_from_quat_trans(p, t)[..., 4:], 3, 4)
+#: The table's 14 columns from the rows of ``entries`` in :func:`darboux_tables`: the rotation
+#: numerators (rows 0–8) at ROT_COLS, the translations (10–12) at TRANS_COLS, and the
+#: denominator (9) twice.
+_COLUMNS = np.empty(14, dtype=np.intp)
+_COLUMNS[list(ROT_COLS)] = range(9)
+_COLUMNS[list(TRANS_COLS)] = range(10, 13)
+_COLUMNS[12:] = 9
 
 
 def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np.ndarray]:
@@ -214,12 +221,13 @@ def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np
         q += s_all[:, lo:hi] * p
         rows = quadratic_rows(p)  # (10, 3, J)
         trans = bilinear(_TRANSLATION, p[:, :, None], q[:, None])  # (3, 2, 2, J)
-        columns = table[lo:hi].transpose(2, 1, 0)  # (14, 3, J), a view
-        columns[list(ROT_COLS)] = rows[:9]
-        columns[12] = columns[13] = rows[9]
-        columns[list(TRANS_COLS), 0] = trans[:, 0, 0]
-        columns[list(TRANS_COLS), 1] = 0.5 * (trans[:, 0, 1] + trans[:, 1, 0])
-        columns[list(TRANS_COLS), 2] = trans[:, 1, 1]
+        entries = np.empty((13, 3, hi - lo))  # eq. 4's ten rows, then eq. 5's three
+        entries[:10] = rows
+        entries[10:, 0] = trans[:, 0, 0]
+        np.add(trans[:, 0, 1], trans[:, 1, 0], out=entries[10:, 1])
+        entries[10:, 1] *= 0.5
+        entries[10:, 2] = trans[:, 1, 1]
+        table[lo:hi] = entries.take(_COLUMNS, axis=0).transpose(2, 1, 0)
     quat_ends = p_all.transpose(2, 1, 0).reshape(shape + (2, 4))
     return quat_ends, table.reshape(shape + (3, 14))
 
