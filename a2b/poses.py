@@ -23,6 +23,7 @@ import numpy as np
 from .elements import anywhere, as_numbers, everywhere, unit_scale
 from .errors import PoseError
 from .study import (
+    ROTATION,
     STUDY_TOL,
     Structure,
     bilinear,
@@ -31,10 +32,10 @@ from .study import (
     kappa,
     linear,
     quat_mul,
-    rotation_numerators,
     sparse_rows,
     structure_matrix,
     study_from_quat_trans,
+    vector_form,
 )
 
 #: Tolerance of ``max |R Rᵀ − I|`` and ``|det R − 1|`` for rotation blocks of input matrices.
@@ -390,8 +391,9 @@ def canonical_sign(p: np.ndarray) -> np.ndarray:
 def rotations_from_quaternions(quat_wxyz: np.ndarray) -> np.ndarray:
     """Rotation matrices ``(..., 3, 3)`` of quaternions ``(..., 4)`` (eq. 4 divided by ``Δ``)."""
     p = np.asarray(quat_wxyz, dtype=float)
-    delta = dots(p, p)
-    return (rotation_numerators(p) / delta[..., None]).reshape(p.shape[:-1] + (3, 3))
+    numerators = vector_form(ROTATION, p, p)  # eq. 4's nine, and Δ = p·p
+    numerators = numerators[..., :9] / numerators[..., 9:]
+    return numerators.reshape(p.shape[:-1] + (3, 3))
 
 
 def quaternions_from_axis_angle(axes, angles) -> np.ndarray:

@@ -106,6 +106,7 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         shape = np.broadcast_shapes(shape, b.shape[1:])
     size = math.prod(shape)
     if size <= BILINEAR_CHUNK:
+        a, b = _aligned(a, len(shape)), _aligned(b, len(shape))
         return _terms(form, a, b, len(shape))
     a = np.broadcast_to(a, a.shape[:1] + shape).reshape(len(a), size)
     b = np.broadcast_to(b, b.shape[:1] + shape).reshape(len(b), size)
@@ -114,6 +115,13 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         hi = min(lo + BILINEAR_CHUNK, size)
         out[:, lo:hi] = _terms(form, a[:, lo:hi], b[:, lo:hi], 1)
     return out.reshape(out.shape[:1] + shape)
+
+
+def _aligned(x: np.ndarray, trailing: int) -> np.ndarray:
+    """``x`` ``(n, ...)`` with ``trailing`` dimensions after the components (new ones of 1
+    first), so that gathered terms broadcast as the arrays do."""
+    missing = trailing - (x.ndim - 1)
+    return x.reshape(x.shape[:1] + (1,) * missing + x.shape[1:]) if missing else x
 
 
 def _terms(form: Structure, a: np.ndarray, b: np.ndarray, trailing: int) -> np.ndarray:
@@ -180,7 +188,26 @@ def dots(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton product ``a b`` of quaternions ``(..., 4)``, scalar first."""
+    """Hamilton product ``a b`` of quaternions ``(..., 4)``, scalar first (by its structure
+    matrix :data:`HAMILTON`, made from :func:`_hamilton`)."""
+    return vector_form(HAMILTON, a, b)
+
+
+def vector_form(form: Structure, a, b) -> np.ndarray:
+    """:func:`bilinear` of vectors ``(..., n)``, components last: moved first and back, as
+    views."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    out = bilinear(form, a.transpose(_last_first(a.ndim)), b.transpose(_last_first(b.ndim)))
+    return out.transpose(tuple(range(1, out.ndim)) + (0,))
+
+
+def _last_first(ndim: int) -> tuple:
+    return (ndim - 1,) + tuple(range(ndim - 1))
+
+
+def _hamilton(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The Hamilton product's formula, for :data:`HAMILTON`."""
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
     a0, a1, a2, a3 = _components(a)
@@ -395,8 +422,10 @@ def kappa_fiber_direction(h: np.ndarray) -> np.ndarray:
 
 # The structure matrices of a2b's bilinear forms, each made from its formula above.
 
+#: ``(a, b) ↦ a b``: the Hamilton product of quaternions ``(4, ...)``.
+HAMILTON = structure_matrix(_hamilton, 4, 4)
 #: ``(b, a) ↦ b ā``: the rotation ``pB p̄A`` from A's to B's, of quaternions ``(4, ...)``.
-TURN = structure_matrix(lambda b, a: quat_mul(b, quat_conj(a)), 4, 4)
+TURN = structure_matrix(lambda b, a: _hamilton(b, quat_conj(a)), 4, 4)
 #: ``(a, b) ↦ a × b`` of vectors ``(3, ...)``.
 CROSS = structure_matrix(cross, 3, 3)
 #: Eq. 4's nine rotation numerators as the symmetric bilinear form ``B(p, r)``, with the
