@@ -33,20 +33,21 @@ import numpy as np
 
 from ..elements import as_numbers, refuse, value
 from ..errors import ParameterError, SingularMotionError
-from ..extended import check_m, check_not_orthogonal, paper_basis_degenerate, paper_kernel_basis
+from ..extended import check_m, paper_basis_degenerate, paper_kernel_basis, refuse_orthogonal
 from ..frames import ScrewFrame
 from ..names import FRAMES
-from ..study import cross
+from ..study import bilinear, dots
 from ._rational import (
+    CHUNK,
     EPS,
     bern_elevate,
     bern_mul,
     bernstein_basis,
     bernstein_derivatives,
-    make_table,
     quadratic_rows,
 )
 from .base import Motion, _vec, broadcast_parameter, linear_root
+from .screw import _CROSS
 from .text import number_text
 
 #: Relative sensitivity to rounding of the input above which a canonical cubic motion warns.
@@ -95,11 +96,89 @@ def _psi(m, coeffs, scalar, name: str, letter: str, shape: tuple) -> np.ndarray:
     return 1.0 + np.sum(coefficients * paper_kernel_basis(m)[..., 0], axis=-1)
 
 
-def _quadratic(ends: np.ndarray, shape: tuple) -> np.ndarray:
-    """:func:`quadratic_rows` of ends ``S + (2, 4)``, coefficients first: ``(3,) + S + (10,)``,
-    as :func:`bern_mul` and :func:`bern_elevate` take them."""
-    rows = quadratic_rows(ends.reshape(-1, 2, 4).transpose(2, 1, 0))  # (10, 3, J)
-    return rows.transpose(1, 2, 0).reshape((3,) + shape + (10,))
+def cubic_tables(frame: ScrewFrame, weights, psi_a, psi_b, given: bool) -> tuple:
+    """``p(t)``'s ends ``S + (2, 4)`` and the Bernstein tables ``S + (4, 14)`` of cubic motions
+    with the weights ``wA, wB`` (``S + (2,)``) and ``ψA, ψB`` (``S``): the rotation of
+    ``p(t) = (1−t) wA pA + t wB pB`` (degree 2, raised to 3) and the translation of eq. 12 over
+    ``Δ · x0`` (canonical frame, ``given`` false) or ``x0`` (given frame).
+
+    Component-major: each chunk of :data:`CHUNK` pairs gathers the numbers it needs into one
+    ``(k, J)`` array, and the rotation rows of ``p(t)`` and of ``ρ(t) = p(t) p̄A`` (whose rows
+    turn ``tA``) are one :func:`quadratic_rows` over both.
+    """
+    parts = [frame.p_start, frame.p_end, weights, psi_a, psi_b, frame.t_start]
+    widths = [4, 4, 2, 1, 1, 3]
+    if given:
+        parts.append(frame.t_end)
+        widths.append(3)
+    else:
+        slide = (np.asarray(frame.d) * psi_b)[..., None] * frame.axis_direction  # d ψB u
+        parts += [frame.r, frame.t_perp, slide]
+        widths += [4, 3, 3]
+    parts = [np.reshape(part, (-1, width)) for part, width in zip(parts, widths)]
+    count = len(parts[0])
+    quat_ends = np.empty((count, 2, 4))
+    table = np.empty((count, 4, 14))
+    for lo in range(0, count, CHUNK):
+        columns = np.concatenate([part[lo : lo + CHUNK].T for part in parts])  # (k, J)
+        _cubic_chunk(columns, given, quat_ends[lo : lo + CHUNK], table[lo : lo + CHUNK])
+    return quat_ends.reshape(frame.shape + (2, 4)), table.reshape(frame.shape + (4, 14))
+
+
+def _cubic_chunk(columns: np.ndarray, given: bool, quat_ends: np.ndarray, table: np.ndarray):
+    """:func:`cubic_tables` of one chunk: ``columns`` ``(k, J)`` as gathered there, written
+    into its ``quat_ends`` ``(J, 2, 4)`` and ``table`` ``(J, 4, 14)``."""
+    count = columns.shape[1]
+    weights = columns[8:10]
+    ends = np.empty((4, 2, 1 if given else 2, count))  # components, A and B, p (and ρ), pairs
+    np.multiply(
+        columns[:8].reshape(2, 4, count), weights[:, None], out=ends[:, :, 0].swapaxes(0, 1)
+    )
+    if not given:  # ρ(t) = (1−t) wA + t wB r
+        ends[:, 0, 1] = 0.0
+        ends[0, 0, 1] = weights[0]
+        np.multiply(columns[15:19], weights[1], out=ends[:, 1, 1])
+    quat_ends[...] = ends[:, :, 0].T
+    rows = quadratic_rows(ends)  # (10, 3, 1 or 2, J)
+    rotation = bern_elevate(rows[:, :, 0].swapaxes(0, 1), 3)  # (4, 10, J): eq. 4 and Δ
+    if given:  # ((1−t) ψA tA + t ψB tB) / ((1−t) ψA + t ψB)
+        lines = np.empty((2, 4, count))  # (ends, ψ t and ψ, J)
+        np.multiply(columns[12:18].reshape(2, 3, count), columns[10:12, None], out=lines[:, :3])
+        lines[:, 3] = columns[10:12]
+        translation = bern_elevate(lines, 3)
+    else:
+        translation = _canonical_translation(columns, rows)
+    out = table.transpose(2, 1, 0)  # (14, 4, J), a view
+    rotation, translation = rotation.swapaxes(0, 1), translation.swapaxes(0, 1)
+    for row in range(3):
+        out[4 * row : 4 * row + 3] = rotation[3 * row : 3 * row + 3]
+    out[3:12:4] = translation[:3]
+    out[12] = rotation[9]
+    out[13] = translation[3]
+
+
+def _canonical_translation(columns: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """The translation's numerators and denominator ``Δ · x0``, ``(4, 4, J)`` coefficients
+    first, of the canonical construction: ``R_D(t) tA Δ(t)`` from the rows of ``ρ(t)``, the
+    part ``t⊥`` across the axis and the slide ``z(t) u`` (module docstring)."""
+    count = columns.shape[1]
+    weights, psi, t_a = columns[8:10], columns[10:12], columns[12:15]
+    r, t_perp, slide = columns[15:19], columns[19:22], columns[22:25]
+    turn = rows[:9, :, 1]  # (9, 3, J): R_D(t) Δ(t) row by row
+    work = np.empty((3, 4, count))  # (coefficients, numerators and Δ, J)
+    turned = work[:, :3].swapaxes(0, 1)  # R_D(t) Δ(t) tA, (3, 3, J)
+    np.multiply(turn[0::3], t_a[0], out=turned)
+    turned += turn[1::3] * t_a[1]
+    turned += turn[2::3] * t_a[2]
+    r_cross_t = bilinear(_CROSS, r[1:], t_perp)
+    work[1, :3] += 0.5 * weights[0] * weights[1] * (r[0] * t_perp - r_cross_t)
+    work[2, :3] += weights[1] * weights[1] * t_perp
+    work[:, 3] = rows[9, :, 0]  # Δ
+    out = bern_mul(work, psi[:, None])  # over Δ · x0, and Δ · x0 itself
+    slides = np.zeros((2, 3, count))  # t d ψB u
+    slides[1] = slide
+    out[:, :3] += bern_mul(slides, rows[9, :, 0, None])
+    return out
 
 
 class CubicMotion(Motion):
@@ -159,83 +238,33 @@ class CubicMotion(Motion):
         self.psi_a = _psi(m_arr, alpha, a, "alpha", "a", shape) + 0.0
         self.psi_b = _psi(m_arr, beta, b, "beta", "b", shape) + 0.0
         r = np.asarray(frame.r)
-        c = r[..., 0]
         s = np.linalg.norm(r[..., 1:], axis=-1)
-        w_a, w_b = self._weights(m_arr, c, s)
-        self.weights = np.stack(np.broadcast_arrays(w_a, w_b), axis=-1)
-        self._check_psi()
-        self.quat_ends, self.table = self._tables(np.asarray(w_a), np.asarray(w_b))
-        self._check_interval(0.0, 1.0)
+        self.weights = self._weights(m_arr, r[..., 0], s)
+        root = linear_root(self.psi_a, self.psi_b)
+        self._check_psi(root)
+        self.quat_ends, self.table = cubic_tables(
+            frame, self.weights, self.psi_a, self.psi_b, frame_name == "given"
+        )
+        self._check_interval(0.0, 1.0, root)
         if frame_name == "canonical":
             self._check_axis_sensitivity(s)
         if not shape:
             self.psi_a, self.psi_b = self.psi_a[()], self.psi_b[()]
 
-    def _weights(self, m_arr, c, s) -> tuple:
-        """``4 (m·pA)`` and ``4 (m·pB)``, in the motion's frame (refused where 0)."""
+    def _weights(self, m_arr, c, s) -> np.ndarray:
+        """``4 (m·pA)`` and ``4 (m·pB)``, ``S + (2,)``, in the motion's frame (refused where 0)."""
         if self.frame_name == "canonical":
-            p_a_can = np.zeros(np.shape(c) + (4,))
-            p_a_can[..., 0] = 1.0
-            p_b_can = np.zeros(np.shape(c) + (4,))
-            p_b_can[..., 0] = c
-            p_b_can[..., 3] = s
-            w_a = 4.0 * check_not_orthogonal(m_arr, p_a_can, "start pose (canonical coordinates)")
-            w_b = 4.0 * check_not_orthogonal(m_arr, p_b_can, "end pose (canonical coordinates)")
+            quats = np.zeros(np.shape(c) + (2, 4))  # pA = 1 and pB = (c, 0, 0, s)
+            quats[..., 0, 0] = 1.0
+            quats[..., 1, 0] = c
+            quats[..., 1, 3] = s
+            where = " (canonical coordinates)"
         else:
-            p_a, p_b = np.asarray(self.frame.p_start), np.asarray(self.frame.p_end)
-            w_a = 4.0 * check_not_orthogonal(m_arr, p_a, "start pose")
-            w_b = 4.0 * check_not_orthogonal(m_arr, p_b, "end pose")
-        return w_a, w_b
-
-    def _tables(self, w_a, w_b) -> tuple[np.ndarray, np.ndarray]:
-        """``p(t)``'s ends ``S + (2, 4)`` and the tables ``S + (4, 14)``: the rotation of
-        ``p(t) = (1−t) wA pA + t wB pB`` (degree 2, raised to 3) and the translation of eq. 12
-        over ``Δ · x0`` (canonical frame) or ``x0`` (given frame)."""
-        frame, shape = self.frame, self.shape
-        w_a, w_b = w_a[..., None], w_b[..., None]
-        ends = np.stack([w_a * frame.p_start, w_b * frame.p_end], axis=-2)
-        rows = _quadratic(ends, shape)  # (3,) + S + (10,)
-        rot, delta = rows[..., :9], rows[..., 9]
-        x0 = np.stack([self.psi_a, self.psi_b])
-        t_a = np.asarray(frame.t_start)
-        if self.frame_name == "given":
-            t_b = np.asarray(frame.t_end)
-            trans = bern_elevate(
-                np.stack([self.psi_a[..., None] * t_a, self.psi_b[..., None] * t_b]), 3
-            )
-            trans_den = bern_elevate(x0, 3)
-        else:
-            r = np.asarray(frame.r)
-            rho = np.zeros(shape + (2, 4))
-            rho[..., 0, 0] = w_a[..., 0]
-            rho[..., 1, :] = w_b * r
-            n_rho = _quadratic(rho, shape)[..., :9]  # (3,) + S + (9,)
-            rotated_start = (n_rho.reshape(n_rho.shape[:-1] + (3, 3)) @ t_a[..., None])[..., 0]
-            t_perp = frame.t_perp
-            r_cross_t = cross(r[..., 1:], t_perp)
-            n_disp = np.stack(
-                [
-                    np.zeros(t_perp.shape),
-                    0.5 * w_a * w_b * (r[..., :1] * t_perp - r_cross_t),
-                    w_b * w_b * t_perp,
-                ]
-            )
-            first = bern_mul(rotated_start + n_disp, x0[..., None])  # over Δ · x0
-            z_num = np.stack(
-                [
-                    np.zeros(t_perp.shape),
-                    (np.asarray(frame.d) * self.psi_b)[..., None] * frame.axis_direction,
-                ]
-            )  # t d ψB u
-            trans = first + bern_mul(z_num, delta[..., None])
-            trans_den = bern_mul(delta, x0)
-        table = make_table(
-            np.moveaxis(bern_elevate(rot, 3), 0, -2),
-            np.moveaxis(bern_elevate(delta, 3), 0, -1),
-            np.moveaxis(trans, 0, -2),
-            np.moveaxis(trans_den, 0, -1),
-        )
-        return ends, table
+            quats = np.stack([self.frame.p_start, self.frame.p_end], axis=-2)
+            where = ""
+        dot = dots(m_arr[..., None, :], quats)
+        refuse_orthogonal(m_arr, dot, ("start pose" + where, "end pose" + where))
+        return 4.0 * dot
 
     def _check_axis_sensitivity(self, s) -> None:
         """Warn when a nearly pure translation makes the canonical motion depend on rounding.
@@ -279,8 +308,7 @@ class CubicMotion(Motion):
             ),
         )
 
-    def _check_psi(self):
-        root = linear_root(self.psi_a, self.psi_b)
+    def _check_psi(self, root):
         both_zero = (self.psi_a == 0.0) & (self.psi_b == 0.0)
         self._refuse(
             SingularMotionError,
@@ -299,8 +327,9 @@ class CubicMotion(Motion):
     def _basis_derivatives(self, ts, order):
         return bernstein_derivatives(ts, 3, order)
 
-    def _check_interval(self, lo, hi):
-        root = linear_root(self.psi_a, self.psi_b)
+    def _check_interval(self, lo, hi, root=None):
+        if root is None:
+            root = linear_root(self.psi_a, self.psi_b)
         self._refuse(
             SingularMotionError,
             (lo <= root) & (root <= hi),
