@@ -54,14 +54,14 @@ from .text import number_text
 SENSITIVITY_WARNING = 1e-9
 
 
-def default_m(frame: ScrewFrame, which: str) -> np.ndarray:
+def default_m(frame: ScrewFrame, which: str, s=None) -> np.ndarray:
     """``m = pA + pB``: ``(1 + cos(φ/2), 0, 0, sin(φ/2))`` in canonical coordinates
-    (``docs/math.md``)."""
+    (``docs/math.md``); ``s`` is ``sin(φ/2) = |r⃗|`` where the caller has it."""
     if which == "canonical":
         r = np.asarray(frame.r)
         out = np.zeros(r.shape)
         out[..., 0] = 1.0 + r[..., 0]
-        out[..., 3] = np.linalg.norm(r[..., 1:], axis=-1)
+        out[..., 3] = np.linalg.norm(r[..., 1:], axis=-1) if s is None else s
         return out
     return np.asarray(frame.p_start) + frame.p_end
 
@@ -115,7 +115,7 @@ def cubic_tables(frame: ScrewFrame, weights, psi_a, psi_b, given: bool) -> tuple
         slide = (np.asarray(frame.d) * psi_b)[..., None] * frame.axis_direction  # d ψB u
         parts += [frame.r, frame.t_perp, slide]
         widths += [4, 3, 3]
-    parts = [np.reshape(part, (-1, width)) for part, width in zip(parts, widths)]
+    parts = [np.asarray(part).reshape(-1, width) for part, width in zip(parts, widths)]
     count = len(parts[0])
     quat_ends = np.empty((count, 2, 4))
     table = np.empty((count, 4, 14))
@@ -148,13 +148,11 @@ def _cubic_chunk(columns: np.ndarray, given: bool, quat_ends: np.ndarray, table:
         translation = bern_elevate(lines, 3)
     else:
         translation = _canonical_translation(columns, rows)
-    out = table.transpose(2, 1, 0)  # (14, 4, J), a view
-    rotation, translation = rotation.swapaxes(0, 1), translation.swapaxes(0, 1)
-    for row in range(3):
-        out[4 * row : 4 * row + 3] = rotation[3 * row : 3 * row + 3]
-    out[3:12:4] = translation[:3]
-    out[12] = rotation[9]
-    out[13] = translation[3]
+    blocks = table[:, :, :12].reshape(count, 4, 3, 4).transpose(2, 3, 1, 0)  # [R | t], a view
+    blocks[:, :3] = rotation[:, :9].reshape(4, 3, 3, count).transpose(1, 2, 0, 3)
+    blocks[:, 3] = translation[:, :3].swapaxes(0, 1)
+    table[:, :, 12] = rotation[:, 9].T
+    table[:, :, 13] = translation[:, 3].T
 
 
 def _canonical_translation(columns: np.ndarray, rows: np.ndarray) -> np.ndarray:
@@ -162,23 +160,22 @@ def _canonical_translation(columns: np.ndarray, rows: np.ndarray) -> np.ndarray:
     first, of the canonical construction: ``R_D(t) tA Δ(t)`` from the rows of ``ρ(t)``, the
     part ``t⊥`` across the axis and the slide ``z(t) u`` (module docstring)."""
     count = columns.shape[1]
-    weights, psi, t_a = columns[8:10], columns[10:12], columns[12:15]
-    r, t_perp, slide = columns[15:19], columns[19:22], columns[22:25]
-    turn = rows[:9, :, 1]  # (9, 3, J): R_D(t) Δ(t) row by row
-    work = np.empty((3, 4, count))  # (coefficients, numerators and Δ, J)
-    turned = work[:, :3].swapaxes(0, 1)  # R_D(t) Δ(t) tA, (3, 3, J)
-    np.multiply(turn[0::3], t_a[0], out=turned)
-    turned += turn[1::3] * t_a[1]
-    turned += turn[2::3] * t_a[2]
+    weights, t_a, r, t_perp = columns[8:10], columns[12:15], columns[15:19], columns[19:22]
+    # one Bernstein product of degree 2 by 1, ``(3, 7, J) · (2, 7, J)``: the numerators over
+    # Δ (R_D(t) Δ(t) tA and the part across the axis) and Δ by x0; the slide by Δ
+    factors = np.empty((3, 7, count))
+    turn = rows[:9, :, 1].reshape(3, 3, 3, count)  # R_D(t) Δ(t), (row, column, coefficient, J)
+    np.add.reduce(turn * t_a[:, None], axis=1, out=factors[:, :3].swapaxes(0, 1))
     r_cross_t = bilinear(_CROSS, r[1:], t_perp)
-    work[1, :3] += 0.5 * weights[0] * weights[1] * (r[0] * t_perp - r_cross_t)
-    work[2, :3] += weights[1] * weights[1] * t_perp
-    work[:, 3] = rows[9, :, 0]  # Δ
-    out = bern_mul(work, psi[:, None])  # over Δ · x0, and Δ · x0 itself
-    slides = np.zeros((2, 3, count))  # t d ψB u
-    slides[1] = slide
-    out[:, :3] += bern_mul(slides, rows[9, :, 0, None])
-    return out
+    factors[1, :3] += 0.5 * weights[0] * weights[1] * (r[0] * t_perp - r_cross_t)
+    factors[2, :3] += weights[1] * weights[1] * t_perp
+    factors[:, 3:] = rows[9, :, 0, None]  # Δ
+    others = np.zeros((2, 7, count))
+    others[:, :4] = columns[10:12, None]  # x0
+    others[1, 4:] = columns[22:25]  # t d ψB u
+    out = bern_mul(factors, others)
+    out[:, :3] += out[:, 4:]
+    return out[:, :4]
 
 
 class CubicMotion(Motion):
@@ -221,8 +218,10 @@ class CubicMotion(Motion):
             raise ParameterError(f"unknown frame {frame_name!r}; expected one of {FRAMES}")
         shape = self.shape
         self.frame_name = frame_name
+        r = np.asarray(frame.r)
+        s = np.linalg.norm(r[..., 1:], axis=-1)
         if m is None:
-            m_arr = default_m(frame, frame_name)
+            m_arr = default_m(frame, frame_name, s)
             self.notes.add(
                 f"m defaults to pA + pB in {frame_name} coordinates, so both weights are equal"
             )
@@ -237,8 +236,6 @@ class CubicMotion(Motion):
         self.m = np.array(m_arr, dtype=float)
         self.psi_a = _psi(m_arr, alpha, a, "alpha", "a", shape) + 0.0
         self.psi_b = _psi(m_arr, beta, b, "beta", "b", shape) + 0.0
-        r = np.asarray(frame.r)
-        s = np.linalg.norm(r[..., 1:], axis=-1)
         self.weights = self._weights(m_arr, r[..., 0], s)
         root = linear_root(self.psi_a, self.psi_b)
         self._check_psi(root)
@@ -280,23 +277,24 @@ class CubicMotion(Motion):
         w_a, w_b = self.weights[..., 0], self.weights[..., 1]
         with np.errstate(divide="ignore"):
             candidates = (EPS / s > SENSITIVITY_WARNING) | (w_a * w_b <= 0)
+        if not candidates.any():
+            return
         estimate = np.zeros(self.shape)
-        if np.any(candidates):
-            pick = (lambda x: x) if not self.shape else (lambda x: np.asarray(x)[candidates])
-            w_a, w_b, s_c = pick(w_a)[..., None], pick(w_b)[..., None], pick(s)
-            psi_a = pick(self.psi_a)[..., None]
-            psi_b = pick(self.psi_b)[..., None]
-            ts = np.linspace(0.0, 1.0, 101)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                f = ts * w_b / ((1 - ts) * w_a + ts * w_b)
-                g = ts * psi_b / ((1 - ts) * psi_a + ts * psi_b)
-                diff = np.abs(f - g)
-                spread = np.max(np.where(np.isfinite(diff), diff, 0.0), axis=-1, initial=0.0)
-                found = np.where(s_c == 0.0, 0.0, EPS / np.where(s_c == 0.0, 1.0, s_c) * spread)
-            if self.shape:
-                estimate[candidates] = found
-            else:
-                estimate = found
+        pick = (lambda x: x) if not self.shape else (lambda x: np.asarray(x)[candidates])
+        w_a, w_b, s_c = pick(w_a)[..., None], pick(w_b)[..., None], pick(s)
+        psi_a = pick(self.psi_a)[..., None]
+        psi_b = pick(self.psi_b)[..., None]
+        ts = np.linspace(0.0, 1.0, 101)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            f = ts * w_b / ((1 - ts) * w_a + ts * w_b)
+            g = ts * psi_b / ((1 - ts) * psi_a + ts * psi_b)
+            diff = np.abs(f - g)
+            spread = np.max(np.where(np.isfinite(diff), diff, 0.0), axis=-1, initial=0.0)
+            found = np.where(s_c == 0.0, 0.0, EPS / np.where(s_c == 0.0, 1.0, s_c) * spread)
+        if self.shape:
+            estimate[candidates] = found
+        else:
+            estimate = found
         self._warn(
             estimate > SENSITIVITY_WARNING,
             lambda i: (
@@ -309,13 +307,16 @@ class CubicMotion(Motion):
         )
 
     def _check_psi(self, root):
-        both_zero = (self.psi_a == 0.0) & (self.psi_b == 0.0)
         self._refuse(
             SingularMotionError,
             self.psi_a * self.psi_b <= 0.0,
             lambda i: (
                 "the cubic motion passes through infinity at "
-                + ("every t" if value(both_zero, i) else f"t = {value(root, i):.6g}")
+                + (
+                    "every t"
+                    if value(self.psi_a, i) == 0.0 and value(self.psi_b, i) == 0.0
+                    else f"t = {value(root, i):.6g}"
+                )
                 + f": ψA = 1 + a = {value(self.psi_a, i):.6g} and ψB = 1 + b = "
                 f"{value(self.psi_b, i):.6g} need the same sign (x0(t) = (1−t) ψA + t ψB vanishes)"
             ),
