@@ -119,15 +119,18 @@ def cubic_tables(frame: ScrewFrame, weights, psi_a, psi_b, given: bool) -> tuple
     count = len(parts[0])
     quat_ends = np.empty((count, 2, 4))
     table = np.empty((count, 4, 14))
+    work = np.empty((4, 14, min(count, CHUNK)))  # a chunk's table, component-major
     for lo in range(0, count, CHUNK):
         columns = np.concatenate([part[lo : lo + CHUNK].T for part in parts])  # (k, J)
-        _cubic_chunk(columns, given, quat_ends[lo : lo + CHUNK], table[lo : lo + CHUNK])
+        size = columns.shape[1]
+        _cubic_chunk(columns, given, work[..., :size], quat_ends[lo : lo + size])
+        table[lo : lo + size] = work[..., :size].transpose(2, 0, 1)
     return quat_ends.reshape(frame.shape + (2, 4)), table.reshape(frame.shape + (4, 14))
 
 
-def _cubic_chunk(columns: np.ndarray, given: bool, quat_ends: np.ndarray, table: np.ndarray):
+def _cubic_chunk(columns: np.ndarray, given: bool, work: np.ndarray, quat_ends: np.ndarray):
     """:func:`cubic_tables` of one chunk: ``columns`` ``(k, J)`` as gathered there, written
-    into its ``quat_ends`` ``(J, 2, 4)`` and ``table`` ``(J, 4, 14)``."""
+    into its table ``work``, component-major ``(4, 14, J)``, and ``quat_ends`` ``(J, 2, 4)``."""
     count = columns.shape[1]
     weights = columns[8:10]
     ends = np.empty((4, 2, 1 if given else 2, count))  # components, A and B, p (and ρ), pairs
@@ -148,11 +151,11 @@ def _cubic_chunk(columns: np.ndarray, given: bool, quat_ends: np.ndarray, table:
         translation = bern_elevate(lines, 3)
     else:
         translation = _canonical_translation(columns, rows)
-    blocks = table[:, :, :12].reshape(count, 4, 3, 4).transpose(2, 3, 1, 0)  # [R | t], a view
-    blocks[:, :3] = rotation[:, :9].reshape(4, 3, 3, count).transpose(1, 2, 0, 3)
-    blocks[:, 3] = translation[:, :3].swapaxes(0, 1)
-    table[:, :, 12] = rotation[:, 9].T
-    table[:, :, 13] = translation[:, 3].T
+    blocks = work[:, :12].reshape(4, 3, 4, count)  # [R | t] row by row, a view
+    blocks[:, :, :3] = rotation[:, :9].reshape(4, 3, 3, count)
+    blocks[:, :, 3] = translation[:, :3]
+    work[:, 12] = rotation[:, 9]
+    work[:, 13] = translation[:, 3]
 
 
 def _canonical_translation(columns: np.ndarray, rows: np.ndarray) -> np.ndarray:
