@@ -40,7 +40,6 @@ from ..study import bilinear, dots
 from ._rational import (
     CHUNK,
     EPS,
-    bern_elevate,
     bern_mul,
     bernstein_basis,
     bernstein_derivatives,
@@ -119,18 +118,23 @@ def cubic_tables(frame: ScrewFrame, weights, psi_a, psi_b, given: bool) -> tuple
     count = len(parts[0])
     quat_ends = np.empty((count, 2, 4))
     table = np.empty((count, 4, 14))
-    work = np.empty((4, 14, min(count, CHUNK)))  # a chunk's table, component-major
     for lo in range(0, count, CHUNK):
         columns = np.concatenate([part[lo : lo + CHUNK].T for part in parts])  # (k, J)
-        size = columns.shape[1]
-        _cubic_chunk(columns, given, work[..., :size], quat_ends[lo : lo + size])
-        table[lo : lo + size] = work[..., :size].transpose(2, 0, 1)
+        _cubic_chunk(columns, given, quat_ends[lo : lo + CHUNK], table[lo : lo + CHUNK])
     return quat_ends.reshape(frame.shape + (2, 4)), table.reshape(frame.shape + (4, 14))
 
 
-def _cubic_chunk(columns: np.ndarray, given: bool, work: np.ndarray, quat_ends: np.ndarray):
+def _cubic_chunk(columns: np.ndarray, given: bool, quat_ends: np.ndarray, table: np.ndarray):
     """:func:`cubic_tables` of one chunk: ``columns`` ``(k, J)`` as gathered there, written
-    into its table ``work``, component-major ``(4, 14, J)``, and ``quat_ends`` ``(J, 2, 4)``."""
+    into its ``quat_ends`` ``(J, 2, 4)`` and ``table`` ``(J, 4, 14)``.
+
+    The whole table is one Bernstein product of degree 2 by 1 (:func:`bern_mul`), column by
+    column in the table's order: the rotation rows of ``p(t)`` and Δ by the constant 1 (which
+    raises them to degree 3), and the translation's numerators by their second factor
+    (:func:`_translation_factors`). Where ``x0`` is constant 1 (``a = b = 0``), the canonical
+    translation's denominator ``Δ · x0`` is then the rotation's to the bit, and sampling
+    divides by one denominator instead of two.
+    """
     count = columns.shape[1]
     weights = columns[8:10]
     ends = np.empty((4, 2, 1 if given else 2, count))  # components, A and B, p (and ρ), pairs
@@ -143,42 +147,50 @@ def _cubic_chunk(columns: np.ndarray, given: bool, work: np.ndarray, quat_ends: 
         np.multiply(columns[15:19], weights[1], out=ends[:, 1, 1])
     quat_ends[...] = ends[:, :, 0].T
     rows = quadratic_rows(ends)  # (10, 3, 1 or 2, J)
-    rotation = bern_elevate(rows[:, :, 0].swapaxes(0, 1), 3)  # (4, 10, J): eq. 4 and Δ
-    if given:  # ((1−t) ψA tA + t ψB tB) / ((1−t) ψA + t ψB)
-        lines = np.empty((2, 4, count))  # (ends, ψ t and ψ, J)
-        np.multiply(columns[12:18].reshape(2, 3, count), columns[10:12, None], out=lines[:, :3])
-        lines[:, 3] = columns[10:12]
-        translation = bern_elevate(lines, 3)
-    else:
-        translation = _canonical_translation(columns, rows)
-    blocks = work[:, :12].reshape(4, 3, 4, count)  # [R | t] row by row, a view
-    blocks[:, :, :3] = rotation[:, :9].reshape(4, 3, 3, count)
-    blocks[:, :, 3] = translation[:, :3]
-    work[:, 12] = rotation[:, 9]
-    work[:, 13] = translation[:, 3]
+    width = 14 if given else 17  # the table's columns (and the canonical slide's three)
+    first, second = np.empty((3, width, count)), np.empty((2, width, count))
+    rotation = first[:, :12].reshape(3, 3, 4, count)[:, :, :3]  # eq. 4, row by row
+    rotation[...] = rows[:9, :, 0].swapaxes(0, 1).reshape(3, 3, 3, count)
+    first[:, 12] = rows[9, :, 0]  # Δ
+    second[:, :12].reshape(2, 3, 4, count)[:, :, :3] = 1.0
+    second[:, 12] = 1.0
+    _translation_factors(columns, rows, given, first, second)
+    out = bern_mul(first, second)  # (4, width, J)
+    if not given:
+        out[:, 3:12:4] += out[:, 14:]
+    table[...] = out[:, :14].transpose(2, 0, 1)
 
 
-def _canonical_translation(columns: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """The translation's numerators and denominator ``Δ · x0``, ``(4, 4, J)`` coefficients
-    first, of the canonical construction: ``R_D(t) tA Δ(t)`` from the rows of ``ρ(t)``, the
-    part ``t⊥`` across the axis and the slide ``z(t) u`` (module docstring)."""
+def _translation_factors(columns, rows, given: bool, first, second) -> None:
+    """The factors of the translation's columns (3, 7, 11: numerators, 13: denominator) in
+    ``first`` (degree 2) and ``second`` (degree 1), and those of the canonical slide (14 to
+    16).
+
+    Given frame: ``1 · (ψ t)`` over ``1 · x0``, the rational linear interpolation
+    ``((1−t) ψA tA + t ψB tB) / ((1−t) ψA + t ψB)``. Canonical frame: the numerators over
+    Δ, ``R_D(t) Δ(t) tA`` from the rows of ``ρ(t)`` and the part across the axis, times
+    ``x0``, plus Δ times the slide ``t d ψB u`` (module docstring), over ``Δ · x0``.
+    """
     count = columns.shape[1]
+    psi = columns[10:12, None]
+    if given:
+        first[:, 3:14:4] = 1.0
+        first[:, 13] = 1.0
+        np.multiply(columns[12:18].reshape(2, 3, count), psi, out=second[:, 3:12:4])
+        second[:, 13] = columns[10:12]
+        return
     weights, t_a, r, t_perp = columns[8:10], columns[12:15], columns[15:19], columns[19:22]
-    # one Bernstein product of degree 2 by 1, ``(3, 7, J) · (2, 7, J)``: the numerators over
-    # Δ (R_D(t) Δ(t) tA and the part across the axis) and Δ by x0; the slide by Δ
-    factors = np.empty((3, 7, count))
     turn = rows[:9, :, 1].reshape(3, 3, 3, count)  # R_D(t) Δ(t), (row, column, coefficient, J)
-    np.add.reduce(turn * t_a[:, None], axis=1, out=factors[:, :3].swapaxes(0, 1))
+    turned = first[:, 3:12:4]  # R_D(t) Δ(t) tA, then the part across the axis
+    np.add.reduce(turn * t_a[:, None], axis=1, out=turned.swapaxes(0, 1))
     r_cross_t = bilinear(_CROSS, r[1:], t_perp)
-    factors[1, :3] += 0.5 * weights[0] * weights[1] * (r[0] * t_perp - r_cross_t)
-    factors[2, :3] += weights[1] * weights[1] * t_perp
-    factors[:, 3:] = rows[9, :, 0, None]  # Δ
-    others = np.zeros((2, 7, count))
-    others[:, :4] = columns[10:12, None]  # x0
-    others[1, 4:] = columns[22:25]  # t d ψB u
-    out = bern_mul(factors, others)
-    out[:, :3] += out[:, 4:]
-    return out[:, :4]
+    turned[1] += 0.5 * weights[0] * weights[1] * (r[0] * t_perp - r_cross_t)
+    turned[2] += weights[1] * weights[1] * t_perp
+    first[:, 13:] = rows[9, :, 0, None]  # Δ
+    second[:, 3:14:4] = psi  # x0
+    second[:, 13] = columns[10:12]
+    second[0, 14:] = 0.0
+    second[1, 14:] = columns[22:25]  # t d ψB u
 
 
 class CubicMotion(Motion):
