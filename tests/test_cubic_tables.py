@@ -99,3 +99,14 @@ def test_orthogonality_names_the_first_element_and_the_start_before_the_end(rng)
         a2b.motion(start[:3], end[:3], "cubic", m=m[:3], frame="given")
     with pytest.raises(ParameterError, match=r"^m = .* of the end pose \(m·p = "):
         a2b.motion(start[1], end[1], "cubic", m=m[1], frame="given")
+
+
+def test_with_x0_constant_one_both_denominators_are_the_same(rng):
+    """a = b = 0 in the canonical frame: Δ · x0 is Δ to the bit, so that sampling divides by
+    one denominator; with a ≠ b the translation has its own."""
+    start = np.stack([random_pose(rng, 2.0) for _ in range(50)])
+    end = np.stack([random_pose(rng, 2.0) for _ in range(50)])
+    table = a2b.motion(start, end, "cubic").table
+    assert np.array_equal(table[..., 12], table[..., 13])
+    table = a2b.motion(start, end, "cubic", a=0.1, b=0.2).table
+    assert not np.array_equal(table[..., 1:3, 12], table[..., 1:3, 13])
