@@ -239,7 +239,7 @@ def refuse_orthogonal(m: np.ndarray, dot: np.ndarray, what: tuple) -> None:
     in that order).
     """
     shape = dot.shape[:-1]
-    norm = np.sqrt(np.add.reduce(m * m, axis=-1))  # numpy.linalg.norm in fewer calls
+    norm = np.sqrt(dots(m, m))  # numpy.linalg.norm's sum, in its order
     bad = np.abs(dot) <= ORTHOGONAL_TOL * norm[..., None]
     if not bad.any():
         return

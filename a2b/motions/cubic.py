@@ -234,7 +234,7 @@ class CubicMotion(Motion):
         shape = self.shape
         self.frame_name = frame_name
         r = np.asarray(frame.r)
-        s = np.linalg.norm(r[..., 1:], axis=-1)
+        s = np.sqrt(dots(r[..., 1:], r[..., 1:]))  # |r⃗| = sin(φ/2), as numpy.linalg.norm sums
         if m is None:
             m_arr = default_m(frame, frame_name, s)
             self.notes.add(
