@@ -16,7 +16,7 @@ import numpy as np
 from .elements import as_numbers, refuse, unit_scale
 from .errors import ParameterError, PoseError
 from .poses import matrices_from_rot_trans, quaternions_from_rotations
-from .study import kappa, study_from_quat_trans
+from .study import dots, kappa, study_from_quat_trans
 
 #: Relative size of ``m·p`` below which a pose counts as orthogonal to ``m`` (not in the image).
 ORTHOGONAL_TOL = 1e-12
@@ -226,22 +226,36 @@ def matrices_from_model_points(x, m) -> np.ndarray:
 def check_not_orthogonal(m, quat_wxyz, what: str):
     """``m·p`` for unit quaternions ``p`` (``(..., 4)``); raise where ``μ_[m]`` is undefined."""
     arr = check_m(m)
-    quat = np.asarray(quat_wxyz, dtype=float)
-    dot = np.sum(arr * quat, axis=-1)
-    shape = dot.shape
-    bad = np.abs(dot) <= ORTHOGONAL_TOL * np.linalg.norm(arr, axis=-1)
-    flat_m = np.broadcast_to(arr, shape + (4,)).reshape(-1, 4)
-    refuse(
-        ParameterError,
-        bad,
-        lambda i: (
-            f"m = {flat_m[i].tolist()} is orthogonal to the quaternion of the {what} "
-            f"(m·p = {float(dot.reshape(-1)[i]) if shape else float(dot):.3g}, tolerance "
-            f"{ORTHOGONAL_TOL:g}·|m|): μ_[m] is undefined at that pose"
-        ),
-        shape,
-    )
-    return dot[()] if not shape else dot
+    dot = dots(arr, np.asarray(quat_wxyz, dtype=float))
+    refuse_orthogonal(arr, dot[..., None], (what,))
+    return dot[()] if not dot.shape else dot
+
+
+def refuse_orthogonal(m: np.ndarray, dot: np.ndarray, what: tuple) -> None:
+    """Refuse where ``μ_[m]`` is undefined at a pose: ``|m·p| ≤ ORTHOGONAL_TOL |m|``.
+
+    ``m`` is checked (:func:`check_m`), ``(..., 4)``; ``dot`` holds its dot products ``m·p``
+    with ``k`` poses' unit quaternions, ``S + (k,)``, which ``what`` names (``k`` names, checked
+    in that order).
+    """
+    shape = dot.shape[:-1]
+    norm = np.sqrt(dots(m, m))  # numpy.linalg.norm's sum, in its order
+    bad = np.abs(dot) <= ORTHOGONAL_TOL * norm[..., None]
+    if not bad.any():
+        return
+    flat_m = np.broadcast_to(m, shape + (4,)).reshape(-1, 4)
+    flat_dot = dot.reshape(-1, len(what))
+    for k, name in enumerate(what):
+        refuse(
+            ParameterError,
+            bad[..., k],
+            lambda i: (
+                f"m = {flat_m[i].tolist()} is orthogonal to the quaternion of the {name} "
+                f"(m·p = {float(flat_dot[i, k]):.3g}, tolerance "
+                f"{ORTHOGONAL_TOL:g}·|m|): μ_[m] is undefined at that pose"
+            ),
+            shape,
+        )
 
 
 def mu_fiber_points(matrix, m, alphas, basis: str = "paper") -> np.ndarray:

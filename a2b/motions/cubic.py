@@ -33,34 +33,34 @@ import numpy as np
 
 from ..elements import as_numbers, refuse, value
 from ..errors import ParameterError, SingularMotionError
-from ..extended import check_m, check_not_orthogonal, paper_basis_degenerate, paper_kernel_basis
+from ..extended import check_m, paper_basis_degenerate, paper_kernel_basis, refuse_orthogonal
 from ..frames import ScrewFrame
 from ..names import FRAMES
-from ..study import cross
+from ..study import bilinear, dots
 from ._rational import (
+    CHUNK,
     EPS,
-    bern_elevate,
     bern_mul,
     bernstein_basis,
     bernstein_derivatives,
-    make_table,
     quadratic_rows,
 )
 from .base import Motion, _vec, broadcast_parameter, linear_root
+from .screw import _CROSS
 from .text import number_text
 
 #: Relative sensitivity to rounding of the input above which a canonical cubic motion warns.
 SENSITIVITY_WARNING = 1e-9
 
 
-def default_m(frame: ScrewFrame, which: str) -> np.ndarray:
+def default_m(frame: ScrewFrame, which: str, s=None) -> np.ndarray:
     """``m = pA + pB``: ``(1 + cos(φ/2), 0, 0, sin(φ/2))`` in canonical coordinates
-    (``docs/math.md``)."""
+    (``docs/math.md``); ``s`` is ``sin(φ/2) = |r⃗|`` where the caller has it."""
     if which == "canonical":
         r = np.asarray(frame.r)
         out = np.zeros(r.shape)
         out[..., 0] = 1.0 + r[..., 0]
-        out[..., 3] = np.linalg.norm(r[..., 1:], axis=-1)
+        out[..., 3] = np.linalg.norm(r[..., 1:], axis=-1) if s is None else s
         return out
     return np.asarray(frame.p_start) + frame.p_end
 
@@ -95,11 +95,102 @@ def _psi(m, coeffs, scalar, name: str, letter: str, shape: tuple) -> np.ndarray:
     return 1.0 + np.sum(coefficients * paper_kernel_basis(m)[..., 0], axis=-1)
 
 
-def _quadratic(ends: np.ndarray, shape: tuple) -> np.ndarray:
-    """:func:`quadratic_rows` of ends ``S + (2, 4)``, coefficients first: ``(3,) + S + (10,)``,
-    as :func:`bern_mul` and :func:`bern_elevate` take them."""
-    rows = quadratic_rows(ends.reshape(-1, 2, 4).transpose(2, 1, 0))  # (10, 3, J)
-    return rows.transpose(1, 2, 0).reshape((3,) + shape + (10,))
+def cubic_tables(frame: ScrewFrame, weights, psi_a, psi_b, given: bool) -> tuple:
+    """``p(t)``'s ends ``S + (2, 4)`` and the Bernstein tables ``S + (4, 14)`` of cubic motions
+    with the weights ``wA, wB`` (``S + (2,)``) and ``ψA, ψB`` (``S``): the rotation of
+    ``p(t) = (1−t) wA pA + t wB pB`` (degree 2, raised to 3) and the translation of eq. 12 over
+    ``Δ · x0`` (canonical frame, ``given`` false) or ``x0`` (given frame).
+
+    Component-major: each chunk of :data:`CHUNK` pairs gathers the numbers it needs into one
+    ``(k, J)`` array, and the rotation rows of ``p(t)`` and of ``ρ(t) = p(t) p̄A`` (whose rows
+    turn ``tA``) are one :func:`quadratic_rows` over both.
+    """
+    parts = [frame.p_start, frame.p_end, weights, psi_a, psi_b, frame.t_start]
+    widths = [4, 4, 2, 1, 1, 3]
+    if given:
+        parts.append(frame.t_end)
+        widths.append(3)
+    else:
+        slide = (np.asarray(frame.d) * psi_b)[..., None] * frame.axis_direction  # d ψB u
+        parts += [frame.r, frame.t_perp, slide]
+        widths += [4, 3, 3]
+    parts = [np.asarray(part).reshape(-1, width) for part, width in zip(parts, widths)]
+    count = len(parts[0])
+    quat_ends = np.empty((count, 2, 4))
+    table = np.empty((count, 4, 14))
+    for lo in range(0, count, CHUNK):
+        columns = np.concatenate([part[lo : lo + CHUNK].T for part in parts])  # (k, J)
+        _cubic_chunk(columns, given, quat_ends[lo : lo + CHUNK], table[lo : lo + CHUNK])
+    return quat_ends.reshape(frame.shape + (2, 4)), table.reshape(frame.shape + (4, 14))
+
+
+def _cubic_chunk(columns: np.ndarray, given: bool, quat_ends: np.ndarray, table: np.ndarray):
+    """:func:`cubic_tables` of one chunk: ``columns`` ``(k, J)`` as gathered there, written
+    into its ``quat_ends`` ``(J, 2, 4)`` and ``table`` ``(J, 4, 14)``.
+
+    The whole table is one Bernstein product of degree 2 by 1 (:func:`bern_mul`), column by
+    column in the table's order: the rotation rows of ``p(t)`` and Δ by the constant 1 (which
+    raises them to degree 3), and the translation's numerators by their second factor
+    (:func:`_translation_factors`). Where ``x0`` is constant 1 (``a = b = 0``), the canonical
+    translation's denominator ``Δ · x0`` is then the rotation's to the bit, and sampling
+    divides by one denominator instead of two.
+    """
+    count = columns.shape[1]
+    weights = columns[8:10]
+    ends = np.empty((4, 2, 1 if given else 2, count))  # components, A and B, p (and ρ), pairs
+    np.multiply(
+        columns[:8].reshape(2, 4, count), weights[:, None], out=ends[:, :, 0].swapaxes(0, 1)
+    )
+    if not given:  # ρ(t) = (1−t) wA + t wB r
+        ends[:, 0, 1] = 0.0
+        ends[0, 0, 1] = weights[0]
+        np.multiply(columns[15:19], weights[1], out=ends[:, 1, 1])
+    quat_ends[...] = ends[:, :, 0].T
+    rows = quadratic_rows(ends)  # (10, 3, 1 or 2, J)
+    width = 14 if given else 17  # the table's columns (and the canonical slide's three)
+    first, second = np.empty((3, width, count)), np.empty((2, width, count))
+    rotation = first[:, :12].reshape(3, 3, 4, count)[:, :, :3]  # eq. 4, row by row
+    rotation[...] = rows[:9, :, 0].swapaxes(0, 1).reshape(3, 3, 3, count)
+    first[:, 12] = rows[9, :, 0]  # Δ
+    second[:, :12].reshape(2, 3, 4, count)[:, :, :3] = 1.0
+    second[:, 12] = 1.0
+    _translation_factors(columns, rows, given, first, second)
+    out = bern_mul(first, second)  # (4, width, J)
+    if not given:
+        out[:, 3:12:4] += out[:, 14:]
+    table[...] = out[:, :14].transpose(2, 0, 1)
+
+
+def _translation_factors(columns, rows, given: bool, first, second) -> None:
+    """The factors of the translation's columns (3, 7, 11: numerators, 13: denominator) in
+    ``first`` (degree 2) and ``second`` (degree 1), and those of the canonical slide (14 to
+    16).
+
+    Given frame: ``1 · (ψ t)`` over ``1 · x0``, the rational linear interpolation
+    ``((1−t) ψA tA + t ψB tB) / ((1−t) ψA + t ψB)``. Canonical frame: the numerators over
+    Δ, ``R_D(t) Δ(t) tA`` from the rows of ``ρ(t)`` and the part across the axis, times
+    ``x0``, plus Δ times the slide ``t d ψB u`` (module docstring), over ``Δ · x0``.
+    """
+    count = columns.shape[1]
+    psi = columns[10:12, None]
+    if given:
+        first[:, 3:14:4] = 1.0
+        first[:, 13] = 1.0
+        np.multiply(columns[12:18].reshape(2, 3, count), psi, out=second[:, 3:12:4])
+        second[:, 13] = columns[10:12]
+        return
+    weights, t_a, r, t_perp = columns[8:10], columns[12:15], columns[15:19], columns[19:22]
+    turn = rows[:9, :, 1].reshape(3, 3, 3, count)  # R_D(t) Δ(t), (row, column, coefficient, J)
+    turned = first[:, 3:12:4]  # R_D(t) Δ(t) tA, then the part across the axis
+    np.add.reduce(turn * t_a[:, None], axis=1, out=turned.swapaxes(0, 1))
+    r_cross_t = bilinear(_CROSS, r[1:], t_perp)
+    turned[1] += 0.5 * weights[0] * weights[1] * (r[0] * t_perp - r_cross_t)
+    turned[2] += weights[1] * weights[1] * t_perp
+    first[:, 13:] = rows[9, :, 0, None]  # Δ
+    second[:, 3:14:4] = psi  # x0
+    second[:, 13] = columns[10:12]
+    second[0, 14:] = 0.0
+    second[1, 14:] = columns[22:25]  # t d ψB u
 
 
 class CubicMotion(Motion):
@@ -142,8 +233,10 @@ class CubicMotion(Motion):
             raise ParameterError(f"unknown frame {frame_name!r}; expected one of {FRAMES}")
         shape = self.shape
         self.frame_name = frame_name
+        r = np.asarray(frame.r)
+        s = np.sqrt(dots(r[..., 1:], r[..., 1:]))  # |r⃗| = sin(φ/2), as numpy.linalg.norm sums
         if m is None:
-            m_arr = default_m(frame, frame_name)
+            m_arr = default_m(frame, frame_name, s)
             self.notes.add(
                 f"m defaults to pA + pB in {frame_name} coordinates, so both weights are equal"
             )
@@ -158,84 +251,32 @@ class CubicMotion(Motion):
         self.m = np.array(m_arr, dtype=float)
         self.psi_a = _psi(m_arr, alpha, a, "alpha", "a", shape) + 0.0
         self.psi_b = _psi(m_arr, beta, b, "beta", "b", shape) + 0.0
-        r = np.asarray(frame.r)
-        c = r[..., 0]
-        s = np.linalg.norm(r[..., 1:], axis=-1)
-        w_a, w_b = self._weights(m_arr, c, s)
-        self.weights = np.stack(np.broadcast_arrays(w_a, w_b), axis=-1)
-        self._check_psi()
-        self.quat_ends, self.table = self._tables(np.asarray(w_a), np.asarray(w_b))
-        self._check_interval(0.0, 1.0)
+        self.weights = self._weights(m_arr, r[..., 0], s)
+        root = linear_root(self.psi_a, self.psi_b)
+        self._check_psi(root)
+        self.quat_ends, self.table = cubic_tables(
+            frame, self.weights, self.psi_a, self.psi_b, frame_name == "given"
+        )
+        self._check_interval(0.0, 1.0, root)
         if frame_name == "canonical":
             self._check_axis_sensitivity(s)
         if not shape:
             self.psi_a, self.psi_b = self.psi_a[()], self.psi_b[()]
 
-    def _weights(self, m_arr, c, s) -> tuple:
-        """``4 (m·pA)`` and ``4 (m·pB)``, in the motion's frame (refused where 0)."""
+    def _weights(self, m_arr, c, s) -> np.ndarray:
+        """``4 (m·pA)`` and ``4 (m·pB)``, ``S + (2,)``, in the motion's frame (refused where 0)."""
         if self.frame_name == "canonical":
-            p_a_can = np.zeros(np.shape(c) + (4,))
-            p_a_can[..., 0] = 1.0
-            p_b_can = np.zeros(np.shape(c) + (4,))
-            p_b_can[..., 0] = c
-            p_b_can[..., 3] = s
-            w_a = 4.0 * check_not_orthogonal(m_arr, p_a_can, "start pose (canonical coordinates)")
-            w_b = 4.0 * check_not_orthogonal(m_arr, p_b_can, "end pose (canonical coordinates)")
+            quats = np.zeros(np.shape(c) + (2, 4))  # pA = 1 and pB = (c, 0, 0, s)
+            quats[..., 0, 0] = 1.0
+            quats[..., 1, 0] = c
+            quats[..., 1, 3] = s
+            where = " (canonical coordinates)"
         else:
-            p_a, p_b = np.asarray(self.frame.p_start), np.asarray(self.frame.p_end)
-            w_a = 4.0 * check_not_orthogonal(m_arr, p_a, "start pose")
-            w_b = 4.0 * check_not_orthogonal(m_arr, p_b, "end pose")
-        return w_a, w_b
-
-    def _tables(self, w_a, w_b) -> tuple[np.ndarray, np.ndarray]:
-        """``p(t)``'s ends ``S + (2, 4)`` and the tables ``S + (4, 14)``: the rotation of
-        ``p(t) = (1−t) wA pA + t wB pB`` (degree 2, raised to 3) and the translation of eq. 12
-        over ``Δ · x0`` (canonical frame) or ``x0`` (given frame)."""
-        frame, shape = self.frame, self.shape
-        w_a, w_b = w_a[..., None], w_b[..., None]
-        ends = np.stack([w_a * frame.p_start, w_b * frame.p_end], axis=-2)
-        rows = _quadratic(ends, shape)  # (3,) + S + (10,)
-        rot, delta = rows[..., :9], rows[..., 9]
-        x0 = np.stack([self.psi_a, self.psi_b])
-        t_a = np.asarray(frame.t_start)
-        if self.frame_name == "given":
-            t_b = np.asarray(frame.t_end)
-            trans = bern_elevate(
-                np.stack([self.psi_a[..., None] * t_a, self.psi_b[..., None] * t_b]), 3
-            )
-            trans_den = bern_elevate(x0, 3)
-        else:
-            r = np.asarray(frame.r)
-            rho = np.zeros(shape + (2, 4))
-            rho[..., 0, 0] = w_a[..., 0]
-            rho[..., 1, :] = w_b * r
-            n_rho = _quadratic(rho, shape)[..., :9]  # (3,) + S + (9,)
-            rotated_start = (n_rho.reshape(n_rho.shape[:-1] + (3, 3)) @ t_a[..., None])[..., 0]
-            t_perp = frame.t_perp
-            r_cross_t = cross(r[..., 1:], t_perp)
-            n_disp = np.stack(
-                [
-                    np.zeros(t_perp.shape),
-                    0.5 * w_a * w_b * (r[..., :1] * t_perp - r_cross_t),
-                    w_b * w_b * t_perp,
-                ]
-            )
-            first = bern_mul(rotated_start + n_disp, x0[..., None])  # over Δ · x0
-            z_num = np.stack(
-                [
-                    np.zeros(t_perp.shape),
-                    (np.asarray(frame.d) * self.psi_b)[..., None] * frame.axis_direction,
-                ]
-            )  # t d ψB u
-            trans = first + bern_mul(z_num, delta[..., None])
-            trans_den = bern_mul(delta, x0)
-        table = make_table(
-            np.moveaxis(bern_elevate(rot, 3), 0, -2),
-            np.moveaxis(bern_elevate(delta, 3), 0, -1),
-            np.moveaxis(trans, 0, -2),
-            np.moveaxis(trans_den, 0, -1),
-        )
-        return ends, table
+            quats = np.stack([self.frame.p_start, self.frame.p_end], axis=-2)
+            where = ""
+        dot = dots(m_arr[..., None, :], quats)
+        refuse_orthogonal(m_arr, dot, ("start pose" + where, "end pose" + where))
+        return 4.0 * dot
 
     def _check_axis_sensitivity(self, s) -> None:
         """Warn when a nearly pure translation makes the canonical motion depend on rounding.
@@ -251,23 +292,24 @@ class CubicMotion(Motion):
         w_a, w_b = self.weights[..., 0], self.weights[..., 1]
         with np.errstate(divide="ignore"):
             candidates = (EPS / s > SENSITIVITY_WARNING) | (w_a * w_b <= 0)
+        if not candidates.any():
+            return
         estimate = np.zeros(self.shape)
-        if np.any(candidates):
-            pick = (lambda x: x) if not self.shape else (lambda x: np.asarray(x)[candidates])
-            w_a, w_b, s_c = pick(w_a)[..., None], pick(w_b)[..., None], pick(s)
-            psi_a = pick(self.psi_a)[..., None]
-            psi_b = pick(self.psi_b)[..., None]
-            ts = np.linspace(0.0, 1.0, 101)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                f = ts * w_b / ((1 - ts) * w_a + ts * w_b)
-                g = ts * psi_b / ((1 - ts) * psi_a + ts * psi_b)
-                diff = np.abs(f - g)
-                spread = np.max(np.where(np.isfinite(diff), diff, 0.0), axis=-1, initial=0.0)
-                found = np.where(s_c == 0.0, 0.0, EPS / np.where(s_c == 0.0, 1.0, s_c) * spread)
-            if self.shape:
-                estimate[candidates] = found
-            else:
-                estimate = found
+        pick = (lambda x: x) if not self.shape else (lambda x: np.asarray(x)[candidates])
+        w_a, w_b, s_c = pick(w_a)[..., None], pick(w_b)[..., None], pick(s)
+        psi_a = pick(self.psi_a)[..., None]
+        psi_b = pick(self.psi_b)[..., None]
+        ts = np.linspace(0.0, 1.0, 101)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            f = ts * w_b / ((1 - ts) * w_a + ts * w_b)
+            g = ts * psi_b / ((1 - ts) * psi_a + ts * psi_b)
+            diff = np.abs(f - g)
+            spread = np.max(np.where(np.isfinite(diff), diff, 0.0), axis=-1, initial=0.0)
+            found = np.where(s_c == 0.0, 0.0, EPS / np.where(s_c == 0.0, 1.0, s_c) * spread)
+        if self.shape:
+            estimate[candidates] = found
+        else:
+            estimate = found
         self._warn(
             estimate > SENSITIVITY_WARNING,
             lambda i: (
@@ -279,15 +321,17 @@ class CubicMotion(Motion):
             ),
         )
 
-    def _check_psi(self):
-        root = linear_root(self.psi_a, self.psi_b)
-        both_zero = (self.psi_a == 0.0) & (self.psi_b == 0.0)
+    def _check_psi(self, root):
         self._refuse(
             SingularMotionError,
             self.psi_a * self.psi_b <= 0.0,
             lambda i: (
                 "the cubic motion passes through infinity at "
-                + ("every t" if value(both_zero, i) else f"t = {value(root, i):.6g}")
+                + (
+                    "every t"
+                    if value(self.psi_a, i) == 0.0 and value(self.psi_b, i) == 0.0
+                    else f"t = {value(root, i):.6g}"
+                )
                 + f": ψA = 1 + a = {value(self.psi_a, i):.6g} and ψB = 1 + b = "
                 f"{value(self.psi_b, i):.6g} need the same sign (x0(t) = (1−t) ψA + t ψB vanishes)"
             ),
@@ -299,8 +343,9 @@ class CubicMotion(Motion):
     def _basis_derivatives(self, ts, order):
         return bernstein_derivatives(ts, 3, order)
 
-    def _check_interval(self, lo, hi):
-        root = linear_root(self.psi_a, self.psi_b)
+    def _check_interval(self, lo, hi, root=None):
+        if root is None:
+            root = linear_root(self.psi_a, self.psi_b)
         self._refuse(
             SingularMotionError,
             (lo <= root) & (root <= hi),
