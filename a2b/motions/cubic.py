@@ -36,7 +36,7 @@ from ..errors import ParameterError, SingularMotionError
 from ..extended import check_m, paper_basis_degenerate, paper_kernel_basis, refuse_orthogonal
 from ..frames import ScrewFrame
 from ..names import FRAMES
-from ..study import bilinear, dots
+from ..study import CROSS, bilinear, dots
 from ._rational import (
     CHUNK,
     EPS,
@@ -46,7 +46,6 @@ from ._rational import (
     quadratic_rows,
 )
 from .base import Motion, _vec, broadcast_parameter, linear_root
-from .screw import _CROSS
 from .text import number_text
 
 #: Relative sensitivity to rounding of the input above which a canonical cubic motion warns.
@@ -183,7 +182,7 @@ def _translation_factors(columns, rows, given: bool, first, second) -> None:
     turn = rows[:9, :, 1].reshape(3, 3, 3, count)  # R_D(t) Δ(t), (row, column, coefficient, J)
     turned = first[:, 3:12:4]  # R_D(t) Δ(t) tA, then the part across the axis
     np.add.reduce(turn * t_a[:, None], axis=1, out=turned.swapaxes(0, 1))
-    r_cross_t = bilinear(_CROSS, r[1:], t_perp)
+    r_cross_t = bilinear(CROSS, r[1:], t_perp)
     turned[1] += 0.5 * weights[0] * weights[1] * (r[0] * t_perp - r_cross_t)
     turned[2] += weights[1] * weights[1] * t_perp
     first[:, 13:] = rows[9, :, 0, None]  # Δ

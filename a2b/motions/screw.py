@@ -17,7 +17,7 @@ import numpy as np
 
 from ..frames import ScrewFrame
 from ..poses import rotations_from_quaternions
-from ..study import bilinear, cross, quat_mul, structure_matrix
+from ..study import CROSS, bilinear, quat_mul
 from ._rational import CHUNK
 from .base import Motion
 from .text import number_text
@@ -25,10 +25,6 @@ from .text import number_text
 #: Largest |tφ/2| for which the screw basis is computed from tan(tφ/2) (see ``_basis``); numpy's
 #: vectorised tan reduces larger arguments less accurately, and there np.sin is used.
 HALF_ANGLE_TAN = 1.6
-
-
-#: The vector product's structure matrix (:func:`a2b.study.structure_matrix`).
-_CROSS = structure_matrix(cross, 3, 3)
 
 
 def screw_tables(frame: ScrewFrame) -> np.ndarray:
@@ -63,10 +59,10 @@ def _screw_chunk(rot, t_a, u, t_perp, phi, d, table) -> None:
     columns = np.empty((3, 4, count))
     columns[:, :3] = rot.transpose(1, 2, 0)
     columns[:, 3] = t_a.T
-    k_cols = bilinear(_CROSS, u[:, None], columns)  # (3, 4, J)
+    k_cols = bilinear(CROSS, u[:, None], columns)  # (3, 4, J)
     k2_cols = u[:, None] * np.add.reduce(u[:, None] * columns, axis=0)
     k2_cols -= columns
-    u_cross_t = bilinear(_CROSS, u, t_perp)
+    u_cross_t = bilinear(CROSS, u, t_perp)
     turning = phi > 0.0
     with np.errstate(divide="ignore", invalid="ignore"):
         half_cot = np.where(turning, 0.5 * np.cos(phi / 2) / np.sin(phi / 2), 0.0)
