@@ -185,17 +185,15 @@ def path_minimum(ends: np.ndarray, lo: float, hi: float) -> tuple[np.ndarray, np
     """
     p_a, p_b = ends[..., 0, :], ends[..., 1, :]
     diff = p_b - p_a
-    left = np.stack([diff, p_a, p_a, p_b], axis=-2)
-    right = np.stack([diff, diff, p_a, p_b], axis=-2)
-    dd, a_diff, aa, bb = np.moveaxis(dots(left, right), -1, 0)
+    dd = dots(diff, diff)
     flat = dd == 0.0
     if anywhere(flat):
         dd = np.where(flat, 1.0, dd)
-    t_min = np.minimum(np.maximum(-a_diff / dd, lo), hi)
+    t_min = np.minimum(np.maximum(-dots(p_a, diff) / dd, lo), hi)
     if anywhere(flat):
         t_min = np.where(flat, 0.0, t_min)
     p_min = p_a + t_min[..., None] * diff
-    scale = np.maximum(aa, bb)
+    scale = np.maximum(dots(p_a, p_a), dots(p_b, p_b))
     return t_min, dots(p_min, p_min) / scale
 
 
