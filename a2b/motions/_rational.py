@@ -231,34 +231,41 @@ def table_derivatives(bases: np.ndarray, table: np.ndarray, point=None) -> np.nd
         reduced = np.stack([blocks[..., :3] @ point, blocks[..., 3]], axis=-1)
         columns = np.concatenate([reduced.reshape(shape + (k, 6)), table[..., 12:]], axis=-1)
         split, dens_of = (3, 2), slice(6, 8)
-    # column-major work arrays (columns, motions, r + 1, N): one matrix product for all
-    # motions, and every step below runs on contiguous rows of samples
-    flat = np.ascontiguousarray(np.moveaxis(columns.reshape((-1, k, columns.shape[-1])), -1, 0))
-    count, n = flat.shape[1], bases.shape[-2]
+    # component-major work arrays (r + 1, columns, motions, N): each derivative of each column
+    # is one contiguous plane, so every step below runs on long rows
+    flat = np.moveaxis(columns.reshape((-1, k, columns.shape[-1])), -1, 0)
+    width, count, n = flat.shape[0], flat.shape[1], bases.shape[-2]
     if bases.ndim > 3:  # one basis per motion: a product per motion, as for one motion alone
         per_motion = np.moveaxis(bases.reshape((count,) + bases.shape[-3:]), -1, -3)
         products = np.moveaxis(flat, 0, 1) @ per_motion.reshape(count, k, -1)
-        values = np.moveaxis(products, 0, 1).reshape(flat.shape[:2] + (order + 1, n))
-    else:  # one basis for all: one product
-        stacked = np.moveaxis(bases, -1, 0).reshape(k, -1)
-        values = (flat.reshape(-1, k) @ stacked).reshape(flat.shape[:2] + (order + 1, n))
-    width = split[0] * split[1]
-    numerators = values[:width].reshape(split + values.shape[1:])
-    dens = values[dens_of]
-    scale = 1.0 / dens[..., 0, :]
+        values = products.reshape(count, width, order + 1, n).transpose(2, 1, 0, 3)
+    else:  # one basis for all: products small enough for one BLAS thread each (a second
+        # thread stalls whenever another process keeps the other core busy)
+        rows = np.ascontiguousarray(flat).reshape(-1, k)
+        stacked = np.ascontiguousarray(np.swapaxes(bases, -1, -2))  # (r + 1, k, N)
+        values = np.empty((order + 1, width, count, n))
+        step = max(1, BLAS_ONE_THREAD // (k * n))
+        for r in range(order + 1):
+            plane = values[r].reshape(-1, n)
+            for lo in range(0, len(rows), step):
+                np.matmul(rows[lo : lo + step], stacked[r], out=plane[lo : lo + step])
+    numerators = values[:, : split[0] * split[1]].reshape((order + 1,) + split + (count, n))
+    dens = values[:, dens_of]
+    scale = 1.0 / dens[0]
     quotients = np.empty(numerators.shape)
-    for r in range(order + 1):
-        top = quotients[..., r, :]
-        top[...] = numerators[..., r, :]
+    np.multiply(numerators[0], scale, out=quotients[0])
+    for r in range(1, order + 1):  # n_r − Σ_j C(r, j) F_j d_(r−j), over d_0
+        top = quotients[r]
         for j in range(r):
-            part = quotients[..., j, :] * dens[..., r - j, :]
-            top -= part if comb(r, j) == 1 else comb(r, j) * part
+            part = quotients[j] * dens[r - j]
+            part = part if comb(r, j) == 1 else comb(r, j) * part
+            np.subtract(numerators[r] if j == 0 else top, part, out=top)
         top *= scale
-    if point is not None:  # (3, motions, r + 1, N) -> S + (r + 1, N, 3)
-        path = quotients.sum(axis=1) if split[1] > 1 else quotients[:, 0]
-        return np.moveaxis(path, 0, -1).reshape(shape + (order + 1, n, 3))
+    if point is not None:  # (r + 1, 3, motions, N) -> S + (r + 1, N, 3), a view
+        path = quotients.sum(axis=2) if split[1] > 1 else quotients[:, :, 0]
+        return path.transpose(2, 0, 3, 1).reshape(shape + (order + 1, n, 3))
     out = np.zeros((count, order + 1, n, 4, 4))
-    out[..., :3, :] = np.moveaxis(quotients, (0, 1), (-2, -1))
+    out[..., :3, :] = quotients.transpose(3, 0, 4, 1, 2)
     out[:, 0, :, 3, 3] = 1.0
     return out.reshape(shape + out.shape[1:])
 
