@@ -10,6 +10,7 @@ import pytest
 
 import a2b
 from a2b.errors import ParameterError
+from a2b.kinematics import path_rates
 from a2b.motions.bezier import bezier_motion, spline_motion
 from a2b.timelaw import LIMITS, timing
 from a2b.timelaw.profiles import trapezoid
@@ -120,6 +121,50 @@ def test_a_batch_element_equals_the_motion_alone(rng):
         for i in range(3):
             alone = a2b.motion(starts[i], ends[i], mode).derivatives(ts, 3)
             assert np.array_equal(got[i], alone), mode
+
+
+def test_path_rates_do_not_depend_on_the_layout_of_the_stack(rng):
+    """``R x``, ``ẋ·ẍ`` and ``ẋ·x⃛`` are summed in one order (:func:`a2b.study.dots`): a stack
+    laid out otherwise, as a batch's often is, gives the same bits (``einsum`` and ``@`` did
+    not, for a point off the origin)."""
+    stack = a2b.motion(random_pose(rng), random_pose(rng), "darboux").derivatives(
+        np.linspace(0, 1, 64), 3
+    )
+    others = (
+        np.asfortranarray(stack),
+        np.moveaxis(np.moveaxis(stack, -1, 0).copy(), 0, -1),  # component-major
+    )
+    for point in (None, rng.normal(size=3)):
+        want = path_rates(stack, point)
+        for other in others:
+            got = path_rates(other, point)
+            for name in want:
+                assert np.array_equal(got[name], want[name]), name
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_a_timed_batch_element_is_the_element_timed_alone(rng, mode):
+    """Constant speed (arc lengths, their inversion, the progress's derivatives) and a point
+    off the origin: every sampled value of a batch element is bit for bit the one alone."""
+    starts = np.stack([random_pose(rng) for _ in range(4)])
+    ends = np.stack([random_pose(rng) for _ in range(4)])
+    point = rng.normal(size=3)
+    limits = {"max_speed": 1.0, "max_accel": 2.0, "max_jerk": 5.0}
+    motion = a2b.motion(starts, ends, mode)
+    batch = timing(motion, "jerk-limited", point=point, constant_speed=True, **limits)
+    times = batch.profile.duration[:, None] * np.linspace(0, 1, 11)
+    got = (batch.parameters(times), batch.twists(times), batch.accelerations(times))
+    rates = batch.rates(times)
+    for i in range(4):
+        alone = timing(motion[i], "jerk-limited", point=point, constant_speed=True, **limits)
+        assert np.array_equal(batch.profile.coefficients[i], alone.profile.coefficients)
+        assert np.array_equal(batch.path_length[i], alone.path_length)
+        want = (alone.parameters(times[i]), alone.twists(times[i]))
+        want += (alone.accelerations(times[i]),)
+        for g, w in zip(got, want):
+            assert np.array_equal(g[i], w)
+        for name, value in alone.rates(times[i]).items():
+            assert np.array_equal(rates[name][i], value), name
 
 
 def _rng_limits(rng, names):
