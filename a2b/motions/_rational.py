@@ -232,23 +232,37 @@ def table_derivatives(bases: np.ndarray, table: np.ndarray, point=None) -> np.nd
         columns = np.concatenate([reduced.reshape(shape + (k, 6)), table[..., 12:]], axis=-1)
         split, dens_of = (3, 2), slice(6, 8)
     # component-major work arrays (r + 1, columns, motions, N): each derivative of each column
-    # is one contiguous plane, so every step below runs on long rows
-    flat = np.moveaxis(columns.reshape((-1, k, columns.shape[-1])), -1, 0)
+    # is one contiguous plane, so every step below runs on long rows. A product per plane, but
+    # a single sample's derivatives in one product: BLAS rounds a product of one column by
+    # another kernel, and a motion must take the same alone (one basis for all) as in a batch
+    # (the screw's: a basis per motion)
+    flat = np.ascontiguousarray(np.moveaxis(columns.reshape((-1, k, columns.shape[-1])), -1, 0))
     width, count, n = flat.shape[0], flat.shape[1], bases.shape[-2]
+    values = np.empty((order + 1, width, count, n))
     if bases.ndim > 3:  # one basis per motion: a product per motion, as for one motion alone
         per_motion = np.moveaxis(bases.reshape((count,) + bases.shape[-3:]), -1, -3)
-        products = np.moveaxis(flat, 0, 1) @ per_motion.reshape(count, k, -1)
-        values = products.reshape(count, width, order + 1, n).transpose(2, 1, 0, 3)
+        coefficients = np.moveaxis(flat, 0, 1)
+        if n == 1:
+            products = coefficients @ per_motion.reshape(count, k, -1)
+            values[..., 0] = products.transpose(2, 1, 0)
+        else:
+            for r in range(order + 1):
+                values[r] = np.swapaxes(coefficients @ per_motion[:, :, r], 0, 1)
     else:  # one basis for all: products small enough for one BLAS thread each (a second
         # thread stalls whenever another process keeps the other core busy)
-        rows = np.ascontiguousarray(flat).reshape(-1, k)
-        stacked = np.ascontiguousarray(np.swapaxes(bases, -1, -2))  # (r + 1, k, N)
-        values = np.empty((order + 1, width, count, n))
-        step = max(1, BLAS_ONE_THREAD // (k * n))
-        for r in range(order + 1):
-            plane = values[r].reshape(-1, n)
+        rows = flat.reshape(-1, k)
+        if n > 1:
+            stacked = np.ascontiguousarray(np.swapaxes(bases, -1, -2))  # (r + 1, k, N)
+            planes = values.reshape(order + 1, -1, n)
+        else:
+            stacked = np.moveaxis(bases, -1, 0).reshape(1, k, order + 1)
+            planes = np.empty((1, len(rows), order + 1))
+        step = max(1, BLAS_ONE_THREAD // (k * stacked.shape[-1]))
+        for plane, basis in zip(planes, stacked):
             for lo in range(0, len(rows), step):
-                np.matmul(rows[lo : lo + step], stacked[r], out=plane[lo : lo + step])
+                np.matmul(rows[lo : lo + step], basis, out=plane[lo : lo + step])
+        if n == 1:
+            values[..., 0] = planes[0].T.reshape(values.shape[:-1])
     numerators = values[:, : split[0] * split[1]].reshape((order + 1,) + split + (count, n))
     dens = values[:, dens_of]
     scale = 1.0 / dens[0]
