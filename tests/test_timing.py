@@ -111,16 +111,21 @@ def test_body_and_spatial_twists_are_the_matrix_forms(rng):
             assert np.allclose(twist[3:], [mat[2, 1], mat[0, 2], mat[1, 0]], atol=1e-12)
 
 
-def test_a_batch_element_equals_the_motion_alone(rng):
+@pytest.mark.parametrize("samples", [7, 1])
+def test_a_batch_element_equals_the_motion_alone(rng, samples):
+    """Matrices and body points' paths, with their derivatives: a batch (whose screw motions
+    have a basis each) gives every element the bits of the motion alone (one basis), for
+    many samples and for one (a product of one column, which BLAS rounds by another kernel)."""
     starts = np.stack([random_pose(rng) for _ in range(3)])
     ends = np.stack([random_pose(rng) for _ in range(3)])
-    ts = np.linspace(0, 1, 7)
+    ts = np.linspace(0, 1, samples) if samples > 1 else np.array([0.3])
     for mode in MODES:
         batch = a2b.motion(starts, ends, mode)
-        got = batch.derivatives(ts, 3)
-        for i in range(3):
-            alone = a2b.motion(starts[i], ends[i], mode).derivatives(ts, 3)
-            assert np.array_equal(got[i], alone), mode
+        for point in (None, np.zeros(3), rng.normal(size=3)):
+            got = batch.derivatives(ts, 3, point=point)
+            for i in range(3):
+                alone = a2b.motion(starts[i], ends[i], mode).derivatives(ts, 3, point=point)
+                assert np.array_equal(got[i], alone), mode
 
 
 def test_path_rates_do_not_depend_on_the_layout_of_the_stack(rng):
