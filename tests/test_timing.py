@@ -11,7 +11,9 @@ import pytest
 import a2b
 from a2b.errors import ParameterError
 from a2b.kinematics import path_rates
+from a2b.motions._rational import BLAS_ONE_THREAD
 from a2b.motions.bezier import bezier_motion, spline_motion
+from a2b.poses import matrices_from_quat_trans
 from a2b.timelaw import LIMITS, timing
 from a2b.timelaw.profiles import trapezoid
 
@@ -126,6 +128,21 @@ def test_a_batch_element_equals_the_motion_alone(rng, samples):
             for i in range(3):
                 alone = a2b.motion(starts[i], ends[i], mode).derivatives(ts, 3, point=point)
                 assert np.array_equal(got[i], alone), mode
+
+
+def test_no_batch_size_leaves_a_motion_to_another_blas_kernel(rng):
+    """The products of the coefficient tables run in blocks of rows (one BLAS thread each): a
+    batch whose rows would leave a block of one row (BLAS's matrix-vector kernel, which rounds
+    otherwise) still gives its last motion the bits of the motion alone."""
+    ts = np.linspace(0, 1, 26)
+    step = BLAS_ONE_THREAD // (3 * len(ts))  # rows a block: 3 Bernstein terms, 26 samples
+    count = next(c for c in range(1, 4 * step) if 4 * c % step == 1)  # 4 rows a motion
+    starts = matrices_from_quat_trans(rng.normal(size=(count, 4)), rng.normal(size=(count, 3)))
+    ends = matrices_from_quat_trans(rng.normal(size=(count, 4)), rng.normal(size=(count, 3)))
+    batch = a2b.motion(starts, ends, "darboux")
+    got = batch.derivatives(ts, 1, point=np.zeros(3))
+    for i in (count - 2, count - 1):
+        assert np.array_equal(got[i], batch[i].derivatives(ts, 1, point=np.zeros(3)))
 
 
 def test_path_rates_do_not_depend_on_the_layout_of_the_stack(rng):

@@ -233,9 +233,9 @@ def table_derivatives(bases: np.ndarray, table: np.ndarray, point=None) -> np.nd
         split, dens_of = (3, 2), slice(6, 8)
     # component-major work arrays (r + 1, columns, motions, N): each derivative of each column
     # is one contiguous plane, so every step below runs on long rows. A product per plane, but
-    # a single sample's derivatives in one product: BLAS rounds a product of one column by
-    # another kernel, and a motion must take the same alone (one basis for all) as in a batch
-    # (the screw's: a basis per motion)
+    # a single sample's derivatives in one product, and no product of a single row: BLAS rounds
+    # a product of one column or one row by another kernel, and a motion must take the same
+    # alone (one basis for all) as in any batch (the screw's: a basis per motion)
     flat = np.ascontiguousarray(np.moveaxis(columns.reshape((-1, k, columns.shape[-1])), -1, 0))
     width, count, n = flat.shape[0], flat.shape[1], bases.shape[-2]
     values = np.empty((order + 1, width, count, n))
@@ -257,10 +257,13 @@ def table_derivatives(bases: np.ndarray, table: np.ndarray, point=None) -> np.nd
         else:
             stacked = np.moveaxis(bases, -1, 0).reshape(1, k, order + 1)
             planes = np.empty((1, len(rows), order + 1))
-        step = max(1, BLAS_ONE_THREAD // (k * stacked.shape[-1]))
+        step = max(3, BLAS_ONE_THREAD // (k * stacked.shape[-1]))
+        edges = [*range(0, len(rows), step), len(rows)]
+        if edges[-1] - edges[-2] == 1 and len(edges) > 2:  # no product of one row either
+            edges[-2] -= 1
         for plane, basis in zip(planes, stacked):
-            for lo in range(0, len(rows), step):
-                np.matmul(rows[lo : lo + step], basis, out=plane[lo : lo + step])
+            for lo, hi in zip(edges, edges[1:]):
+                np.matmul(rows[lo:hi], basis, out=plane[lo:hi])
         if n == 1:
             values[..., 0] = planes[0].T.reshape(values.shape[:-1])
     numerators = values[:, : split[0] * split[1]].reshape((order + 1,) + split + (count, n))
