@@ -272,11 +272,11 @@ def table_derivatives(bases: np.ndarray, table: np.ndarray, point=None) -> np.nd
     quotients = np.empty(numerators.shape)
     np.multiply(numerators[0], scale, out=quotients[0])
     for r in range(1, order + 1):  # n_r − Σ_j C(r, j) F_j d_(r−j), over d_0
-        top = quotients[r]
-        for j in range(r):
+        top = np.multiply(quotients[0], dens[r], out=quotients[r])
+        np.subtract(numerators[r], top, out=top)
+        for j in range(1, r):
             part = quotients[j] * dens[r - j]
-            part = part if comb(r, j) == 1 else comb(r, j) * part
-            np.subtract(numerators[r] if j == 0 else top, part, out=top)
+            top -= comb(r, j) * part
         top *= scale
     if point is not None:  # (r + 1, 3, motions, N) -> S + (r + 1, N, 3), a view
         path = quotients.sum(axis=2) if split[1] > 1 else quotients[:, :, 0]
