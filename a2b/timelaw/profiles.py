@@ -106,7 +106,9 @@ def _phases(kind: str, durations: np.ndarray, accels: np.ndarray, jerks: np.ndar
         position = position + d * (speed + d * (a / 2 + d * j / 6))
         speed = speed + d * (a + d * j / 2)
     starts = np.zeros((phases + 1,) + shape)
-    np.cumsum(durations, axis=0, out=starts[1:])
+    starts[1] = durations[0]
+    for k in range(1, phases):  # the running sum, row by row (cumsum down axis 0 is slow)
+        starts[k + 1] = starts[k] + durations[k]
     return Profile(kind, np.moveaxis(starts, 0, -1), np.moveaxis(coefficients, (0, 1), (-1, -2)))
 
 
