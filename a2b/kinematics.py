@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ParameterError
+from .study import dots
 
 __all__ = ["FRAMES", "accelerations", "path_rates", "point_derivatives", "twists"]
 
@@ -51,9 +52,10 @@ def _check_frame(frame: str, point) -> None:
 
 
 def point_derivatives(stack: np.ndarray, point=None) -> np.ndarray:
-    """The body point and its derivatives ``(..., r + 1, N, 3)``: ``R^(k) x + t^(k)``."""
+    """The body point and its derivatives ``(..., r + 1, N, 3)``: ``R^(k) x + t^(k)``, each
+    row of ``R^(k) x`` summed in one order (:func:`a2b.study.dots`), whatever the layout."""
     x = check_point(point)
-    return stack[..., :3, :3] @ x + stack[..., :3, 3]
+    return dots(stack[..., :3, :3], x) + stack[..., :3, 3]
 
 
 def _vee(skew: np.ndarray) -> np.ndarray:
@@ -132,8 +134,8 @@ def path_rates(stack: np.ndarray, point=None) -> dict:
     total = np.linalg.norm(accel, axis=-1)
     still = speed <= 1e-300
     safe = np.where(still, 1.0, speed)
-    along = np.where(still, total, np.einsum("...i,...i->...", rate, accel) / safe)
-    third = (total**2 + np.einsum("...i,...i->...", rate, jerk) - along**2) / safe
+    along = np.where(still, total, dots(rate, accel) / safe)
+    third = (total**2 + dots(rate, jerk) - along**2) / safe
     third = np.where(still, np.linalg.norm(jerk, axis=-1), third)
     return {
         "speed": speed,

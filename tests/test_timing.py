@@ -10,7 +10,10 @@ import pytest
 
 import a2b
 from a2b.errors import ParameterError
+from a2b.kinematics import path_rates
+from a2b.motions._rational import BLAS_ONE_THREAD
 from a2b.motions.bezier import bezier_motion, spline_motion
+from a2b.poses import matrices_from_quat_trans
 from a2b.timelaw import LIMITS, timing
 from a2b.timelaw.profiles import trapezoid
 
@@ -110,16 +113,80 @@ def test_body_and_spatial_twists_are_the_matrix_forms(rng):
             assert np.allclose(twist[3:], [mat[2, 1], mat[0, 2], mat[1, 0]], atol=1e-12)
 
 
-def test_a_batch_element_equals_the_motion_alone(rng):
+@pytest.mark.parametrize("samples", [7, 1])
+def test_a_batch_element_equals_the_motion_alone(rng, samples):
+    """Matrices and body points' paths, with their derivatives: a batch (whose screw motions
+    have a basis each) gives every element the bits of the motion alone (one basis), for
+    many samples and for one (a product of one column, which BLAS rounds by another kernel)."""
     starts = np.stack([random_pose(rng) for _ in range(3)])
     ends = np.stack([random_pose(rng) for _ in range(3)])
-    ts = np.linspace(0, 1, 7)
+    ts = np.linspace(0, 1, samples) if samples > 1 else np.array([0.3])
     for mode in MODES:
         batch = a2b.motion(starts, ends, mode)
-        got = batch.derivatives(ts, 3)
-        for i in range(3):
-            alone = a2b.motion(starts[i], ends[i], mode).derivatives(ts, 3)
-            assert np.array_equal(got[i], alone), mode
+        for point in (None, np.zeros(3), rng.normal(size=3)):
+            got = batch.derivatives(ts, 3, point=point)
+            for i in range(3):
+                alone = a2b.motion(starts[i], ends[i], mode).derivatives(ts, 3, point=point)
+                assert np.array_equal(got[i], alone), mode
+
+
+def test_no_batch_size_leaves_a_motion_to_another_blas_kernel(rng):
+    """The products of the coefficient tables run in blocks of rows (one BLAS thread each): a
+    batch whose rows would leave a block of one row (BLAS's matrix-vector kernel, which rounds
+    otherwise) still gives its last motion the bits of the motion alone."""
+    ts = np.linspace(0, 1, 26)
+    step = BLAS_ONE_THREAD // (3 * len(ts))  # rows a block: 3 Bernstein terms, 26 samples
+    count = next(c for c in range(1, 4 * step) if 4 * c % step == 1)  # 4 rows a motion
+    starts = matrices_from_quat_trans(rng.normal(size=(count, 4)), rng.normal(size=(count, 3)))
+    ends = matrices_from_quat_trans(rng.normal(size=(count, 4)), rng.normal(size=(count, 3)))
+    batch = a2b.motion(starts, ends, "darboux")
+    got = batch.derivatives(ts, 1, point=np.zeros(3))
+    for i in (count - 2, count - 1):
+        assert np.array_equal(got[i], batch[i].derivatives(ts, 1, point=np.zeros(3)))
+
+
+def test_path_rates_do_not_depend_on_the_layout_of_the_stack(rng):
+    """``R x``, ``ẋ·ẍ`` and ``ẋ·x⃛`` are summed in one order (:func:`a2b.study.dots`): a stack
+    laid out otherwise, as a batch's often is, gives the same bits (``einsum`` and ``@`` did
+    not, for a point off the origin)."""
+    stack = a2b.motion(random_pose(rng), random_pose(rng), "darboux").derivatives(
+        np.linspace(0, 1, 64), 3
+    )
+    others = (
+        np.asfortranarray(stack),
+        np.moveaxis(np.moveaxis(stack, -1, 0).copy(), 0, -1),  # component-major
+    )
+    for point in (None, rng.normal(size=3)):
+        want = path_rates(stack, point)
+        for other in others:
+            got = path_rates(other, point)
+            for name in want:
+                assert np.array_equal(got[name], want[name]), name
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_a_timed_batch_element_is_the_element_timed_alone(rng, mode):
+    """Constant speed (arc lengths, their inversion, the progress's derivatives) and a point
+    off the origin: every sampled value of a batch element is bit for bit the one alone."""
+    starts = np.stack([random_pose(rng) for _ in range(4)])
+    ends = np.stack([random_pose(rng) for _ in range(4)])
+    point = rng.normal(size=3)
+    limits = {"max_speed": 1.0, "max_accel": 2.0, "max_jerk": 5.0}
+    motion = a2b.motion(starts, ends, mode)
+    batch = timing(motion, "jerk-limited", point=point, constant_speed=True, **limits)
+    times = batch.profile.duration[:, None] * np.linspace(0, 1, 11)
+    got = (batch.parameters(times), batch.twists(times), batch.accelerations(times))
+    rates = batch.rates(times)
+    for i in range(4):
+        alone = timing(motion[i], "jerk-limited", point=point, constant_speed=True, **limits)
+        assert np.array_equal(batch.profile.coefficients[i], alone.profile.coefficients)
+        assert np.array_equal(batch.path_length[i], alone.path_length)
+        want = (alone.parameters(times[i]), alone.twists(times[i]))
+        want += (alone.accelerations(times[i]),)
+        for g, w in zip(got, want):
+            assert np.array_equal(g[i], w)
+        for name, value in alone.rates(times[i]).items():
+            assert np.array_equal(rates[name][i], value), name
 
 
 def _rng_limits(rng, names):

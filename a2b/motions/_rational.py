@@ -221,34 +221,58 @@ def table_derivatives(bases: np.ndarray, table: np.ndarray, point=None) -> np.nd
         reduced = np.stack([blocks[..., :3] @ point, blocks[..., 3]], axis=-1)
         columns = np.concatenate([reduced.reshape(shape + (k, 6)), table[..., 12:]], axis=-1)
         split, dens_of = (3, 2), slice(6, 8)
-    # column-major work arrays (columns, motions, r + 1, N): one matrix product for all
-    # motions, and every step below runs on contiguous rows of samples
+    # component-major work arrays (r + 1, columns, motions, N): each derivative of each column
+    # is one contiguous plane, so every step below runs on long rows. A product per plane, but
+    # a single sample's derivatives in one product, and no product of a single row: BLAS rounds
+    # a product of one column or one row by another kernel, and a motion must take the same
+    # alone (one basis for all) as in any batch (the screw's: a basis per motion)
     flat = np.ascontiguousarray(np.moveaxis(columns.reshape((-1, k, columns.shape[-1])), -1, 0))
-    count, n = flat.shape[1], bases.shape[-2]
+    width, count, n = flat.shape[0], flat.shape[1], bases.shape[-2]
+    values = np.empty((order + 1, width, count, n))
     if bases.ndim > 3:  # one basis per motion: a product per motion, as for one motion alone
         per_motion = np.moveaxis(bases.reshape((count,) + bases.shape[-3:]), -1, -3)
-        products = np.moveaxis(flat, 0, 1) @ per_motion.reshape(count, k, -1)
-        values = np.moveaxis(products, 0, 1).reshape(flat.shape[:2] + (order + 1, n))
-    else:  # one basis for all: one product
-        stacked = np.moveaxis(bases, -1, 0).reshape(k, -1)
-        values = (flat.reshape(-1, k) @ stacked).reshape(flat.shape[:2] + (order + 1, n))
-    width = split[0] * split[1]
-    numerators = values[:width].reshape(split + values.shape[1:])
-    dens = values[dens_of]
-    scale = 1.0 / dens[..., 0, :]
+        coefficients = np.moveaxis(flat, 0, 1)
+        if n == 1:
+            products = coefficients @ per_motion.reshape(count, k, -1)
+            values[..., 0] = products.transpose(2, 1, 0)
+        else:
+            for r in range(order + 1):
+                values[r] = np.swapaxes(coefficients @ per_motion[:, :, r], 0, 1)
+    else:  # one basis for all: products small enough for one BLAS thread each (a second
+        # thread stalls whenever another process keeps the other core busy)
+        rows = flat.reshape(-1, k)
+        if n > 1:
+            stacked = np.ascontiguousarray(np.swapaxes(bases, -1, -2))  # (r + 1, k, N)
+            planes = values.reshape(order + 1, -1, n)
+        else:
+            stacked = np.moveaxis(bases, -1, 0).reshape(1, k, order + 1)
+            planes = np.empty((1, len(rows), order + 1))
+        step = max(3, BLAS_ONE_THREAD // (k * stacked.shape[-1]))
+        edges = [*range(0, len(rows), step), len(rows)]
+        if edges[-1] - edges[-2] == 1 and len(edges) > 2:  # no product of one row either
+            edges[-2] -= 1
+        for plane, basis in zip(planes, stacked):
+            for lo, hi in zip(edges, edges[1:]):
+                np.matmul(rows[lo:hi], basis, out=plane[lo:hi])
+        if n == 1:
+            values[..., 0] = planes[0].T.reshape(values.shape[:-1])
+    numerators = values[:, : split[0] * split[1]].reshape((order + 1,) + split + (count, n))
+    dens = values[:, dens_of]
+    scale = 1.0 / dens[0]
     quotients = np.empty(numerators.shape)
-    for r in range(order + 1):
-        top = quotients[..., r, :]
-        top[...] = numerators[..., r, :]
-        for j in range(r):
-            part = quotients[..., j, :] * dens[..., r - j, :]
-            top -= part if comb(r, j) == 1 else comb(r, j) * part
+    np.multiply(numerators[0], scale, out=quotients[0])
+    for r in range(1, order + 1):  # n_r − Σ_j C(r, j) F_j d_(r−j), over d_0
+        top = np.multiply(quotients[0], dens[r], out=quotients[r])
+        np.subtract(numerators[r], top, out=top)
+        for j in range(1, r):
+            part = quotients[j] * dens[r - j]
+            top -= comb(r, j) * part
         top *= scale
-    if point is not None:  # (3, motions, r + 1, N) -> S + (r + 1, N, 3)
-        path = quotients.sum(axis=1) if split[1] > 1 else quotients[:, 0]
-        return np.moveaxis(path, 0, -1).reshape(shape + (order + 1, n, 3))
+    if point is not None:  # (r + 1, 3, motions, N) -> S + (r + 1, N, 3), a view
+        path = quotients.sum(axis=2) if split[1] > 1 else quotients[:, :, 0]
+        return path.transpose(2, 0, 3, 1).reshape(shape + (order + 1, n, 3))
     out = np.zeros((count, order + 1, n, 4, 4))
-    out[..., :3, :] = np.moveaxis(quotients, (0, 1), (-2, -1))
+    out[..., :3, :] = quotients.transpose(3, 0, 4, 1, 2)
     out[:, 0, :, 3, 3] = 1.0
     return out.reshape(shape + out.shape[1:])
 

@@ -74,9 +74,9 @@ def arc_lengths(motion, point=None) -> tuple[np.ndarray, np.ndarray]:
     own count until two counts agree to :data:`ARC_TOL` relative (at most :data:`MOST_PANELS`),
     so a smooth path costs a few dozen speeds. The cumulative lengths of a batch are padded
     with ``+inf`` past each motion's last panel edge: a motion's panel count is the number of
-    its finite entries less one. Blocks of :data:`ARC_BLOCK` motions bound memory. A length
-    within the rounding floor (1e-12 of the point's distance from the origin at the ends) is
-    0: the point does not move.
+    its finite entries less one. Each round runs over every motion still open, in blocks of
+    :data:`ARC_BLOCK` that bound memory. A length within the rounding floor (1e-12 of the
+    point's distance from the origin at the ends) is 0: the point does not move.
 
     Raises
     ------
@@ -85,51 +85,63 @@ def arc_lengths(motion, point=None) -> tuple[np.ndarray, np.ndarray]:
         panels (its point passes very close to a singular pose).
     """
     shape = getattr(motion, "shape", ())
-    if not shape:
-        total, cumulative = _arc_lengths(motion, point, 1)
-        return total[0], cumulative[0]
-    flat = int(np.prod(shape))
+    count = int(np.prod(shape))
     if len(shape) > 1:
-        motion = motion[np.unravel_index(np.arange(flat), shape)]
-    parts = [
-        _arc_lengths(motion[lo : lo + ARC_BLOCK], point, min(ARC_BLOCK, flat - lo), lo, shape)
-        for lo in range(0, flat, ARC_BLOCK)
-    ]
-    width = max(part[1].shape[-1] for part in parts)
-    total = np.concatenate([part[0] for part in parts]).reshape(shape)
-    cumulative = np.full((flat, width), np.inf)
-    row = 0
-    for _, part in parts:
-        cumulative[row : row + len(part), : part.shape[-1]] = part
-        row += len(part)
-    return total, cumulative.reshape(shape + (width,))
+        motion = motion[np.unravel_index(np.arange(count), shape)]
+    total, rows, floor = _converged(motion, point, count, shape)
+    cumulative = np.full((count, max(rows) + 1), np.inf)
+    cumulative[:, 0] = 0.0
+    for width, (which, sums) in rows.items():
+        cumulative[which, 1 : width + 1] = sums
+    # a length at the rounding floor is 0 to the accuracy reached: the point does not move
+    # (a pose to itself gives lengths of 1e-16, which would time a law of 1e-16 s)
+    still = total <= floor
+    total[still] = 0.0
+    cumulative[still] = np.where(np.isfinite(cumulative[still]), 0.0, np.inf)
+    if not shape:
+        return total[0], cumulative[0]
+    return total.reshape(shape), cumulative.reshape(shape + cumulative.shape[-1:])
 
 
-def _arc_lengths(
-    motion, point, count: int, offset: int = 0, shape: tuple = ()
-) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`arc_lengths` of ``count`` motions (a 1-D batch, or one motion for ``count = 1``
-    with no shape): ``(count,)`` and ``(count, P + 1)``, padded with ``+inf``. The block
-    starts at flat index ``offset`` of a batch of ``shape`` (to name a motion in an error)."""
-    single = not getattr(motion, "shape", ())
+def _in_blocks(motion, work):
+    """``work(part)`` on slices of :data:`ARC_BLOCK` motions of a 1-D batch (views: no copy of
+    the motions), the results joined along the first axis; one call for a single motion."""
+    size = len(motion) if getattr(motion, "shape", ()) else 0
+    if size <= ARC_BLOCK:
+        return work(motion)
+    parts = [work(motion[lo : lo + ARC_BLOCK]) for lo in range(0, size, ARC_BLOCK)]
+    if isinstance(parts[0], tuple):
+        return tuple(np.concatenate(column) for column in zip(*parts))
+    return np.concatenate(parts)
+
+
+def _converged(motion, point, count: int, shape: tuple) -> tuple[np.ndarray, dict, np.ndarray]:
+    """The lengths ``(count,)`` of :func:`arc_lengths` (a 1-D batch, or one motion for
+    ``count = 1`` with no shape), the cumulative panel lengths of the motions that converged
+    at each panel count ``{P: (motions, (m, P))}``, and the rounding floor ``(count,)``.
+
+    Each round computes the next panel count of every motion still open, the whole batch
+    together: the open motions are gathered once a round, not once a block."""
+    single = not shape
     total, rows = np.zeros(count), {}
     # a curve starts with a panel per segment: none straddles a joint, where the speed of a
     # spline is only continuous (its derivative may jump, which Gauss nodes converge on slowly)
     first = len(motion.joints()) + 1 if hasattr(motion, "joints") else 1
     todo, panels, tol = np.arange(count), first, FIRST_TOL
-    ends, coarse, fine = _first_lengths(motion, point, first)
+    ends, coarse, fine = _in_blocks(motion, lambda part: _first_lengths(part, point, first))
     # the rounding floor: a point that stands still has speeds of rounding size, about ε times
     # its distance from the origin, and no relative accuracy to reach
     floor = ARC_TOL * np.linalg.norm(ends, axis=-1).sum(axis=-1).reshape(count)
     coarse, fine = coarse.reshape(count, first), fine.reshape(count, first)
     while True:
         if fine is None:
-            fine = _panel_lengths(motion, point, panels).reshape(len(todo), panels)
+            fine = _in_blocks(motion, lambda part: _panel_lengths(part, point, panels))
+            fine = fine.reshape(len(todo), panels)
         length, gap = fine.sum(axis=-1), np.abs(fine.sum(axis=-1) - coarse.sum(axis=-1))
         done = gap <= tol * length + floor[todo]
         if panels >= MOST_PANELS:
-            relative = np.zeros(int(np.prod(shape)))
-            relative[offset + todo] = np.where(
+            relative = np.zeros(count)
+            relative[todo] = np.where(
                 gap <= 1e-9 * length + floor[todo], 0.0, gap / np.maximum(length, 1e-300)
             )
             refuse(
@@ -146,19 +158,9 @@ def _arc_lengths(
         total[todo[done]] = length[done]
         rows[panels] = (todo[done], np.cumsum(fine[done], axis=-1))
         if done.all():
-            break
+            return total, rows, floor
         todo, coarse, panels, tol = todo[~done], fine[~done], 2 * panels, ARC_TOL
         motion, fine = motion if single else motion[~done], None
-    cumulative = np.full((count, panels + 1), np.inf)
-    cumulative[:, 0] = 0.0
-    for width, (which, sums) in rows.items():
-        cumulative[which, 1 : width + 1] = sums
-    # a length at the rounding floor is 0 to the accuracy reached: the point does not move
-    # (a pose to itself gives lengths of 1e-16, which would time a law of 1e-16 s)
-    still = total <= floor
-    total[still] = 0.0
-    cumulative[still] = np.where(np.isfinite(cumulative[still]), 0.0, np.inf)
-    return total, cumulative
 
 
 def _length_to(motion, point, lo: np.ndarray, ts: np.ndarray) -> np.ndarray:

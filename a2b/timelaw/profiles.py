@@ -91,20 +91,25 @@ class Profile:
 
 def _phases(kind: str, durations: np.ndarray, accels: np.ndarray, jerks: np.ndarray) -> Profile:
     """A law from phase durations, the acceleration at the start of each phase and each phase's
-    jerk (``S + (P,)`` each), integrated from rest at 0."""
-    shape = durations.shape[:-1]
+    jerk (``(P,) + S`` each, phases first), integrated from rest at 0.
+
+    The arrays are component-major (a coefficient of a phase is one contiguous row over the
+    motions, written once); the profile's ``S + (P, 6)`` and ``S + (P + 1,)`` are views."""
+    phases, shape = durations.shape[0], durations.shape[1:]
     position = np.zeros(shape)
     speed = np.zeros(shape)
-    coefficients = np.zeros((6,) + durations.shape)  # filled by rows, returned by columns
-    for k in range(durations.shape[-1]):
-        d, a, j = durations[..., k], accels[..., k], jerks[..., k]
+    coefficients = np.zeros((6, phases) + shape)
+    for k in range(phases):
+        d, a, j = durations[k], accels[k], jerks[k]
         for row, part in enumerate((position, speed, a / 2, j / 6)):
-            coefficients[row, ..., k] = part
+            coefficients[row, k] = part
         position = position + d * (speed + d * (a / 2 + d * j / 6))
         speed = speed + d * (a + d * j / 2)
-    coefficients = np.moveaxis(coefficients, 0, -1)
-    starts = np.concatenate([np.zeros(shape + (1,)), np.cumsum(durations, axis=-1)], axis=-1)
-    return Profile(kind, starts, coefficients)
+    starts = np.zeros((phases + 1,) + shape)
+    starts[1] = durations[0]
+    for k in range(1, phases):  # the running sum, row by row (cumsum down axis 0 is slow)
+        starts[k + 1] = starts[k] + durations[k]
+    return Profile(kind, np.moveaxis(starts, 0, -1), np.moveaxis(coefficients, (0, 1), (-1, -2)))
 
 
 def trapezoid(speed, accel) -> Profile:
@@ -114,8 +119,8 @@ def trapezoid(speed, accel) -> Profile:
         cruising = speed * speed <= accel  # the speed limit is reached within the distance 1
         t_accel = np.where(cruising, speed / accel, np.sqrt(1.0 / accel))
         t_cruise = np.where(cruising, 1.0 / speed - speed / accel, 0.0)
-    durations = np.stack([t_accel, t_cruise, t_accel], axis=-1)
-    accels = np.stack([accel, np.zeros_like(accel), -accel], axis=-1)
+    durations = np.stack([t_accel, t_cruise, t_accel])
+    accels = np.stack([accel, np.zeros_like(accel), -accel])
     return _phases("trapezoid", durations, accels, np.zeros_like(durations))
 
 
@@ -147,9 +152,9 @@ def jerk_limited(speed, accel, jerk) -> Profile:
         t_v = np.where(short, 0.0, 1.0 / v - (2 * t_j + t_a))
         a_p = j * t_j
     zero = np.zeros_like(t_j)
-    durations = np.stack([t_j, t_a, t_j, t_v, t_j, t_a, t_j], axis=-1)
-    accels = np.stack([zero, a_p, a_p, zero, zero, -a_p, -a_p], axis=-1)
-    jerks = np.stack([j, zero, -j, zero, -j, zero, j], axis=-1)
+    durations = np.stack([t_j, t_a, t_j, t_v, t_j, t_a, t_j])
+    accels = np.stack([zero, a_p, a_p, zero, zero, -a_p, -a_p])
+    jerks = np.stack([j, zero, -j, zero, -j, zero, j])
     return _phases("jerk-limited", durations, accels, jerks)
 
 

@@ -9,6 +9,7 @@ from ..errors import ParameterError
 from ..kinematics import _angular, check_point, path_rates, point_derivatives, reparametrise
 from ..kinematics import accelerations as _accelerations
 from ..kinematics import twists as _twists
+from ..study import dots
 from .arclength import arc_lengths, invert_arc_length, lengths_at
 from .grid import TimeGrid
 from .profiles import PROFILES, QUINTIC_PEAKS, Profile, _profile_peaks, build, shaped
@@ -180,10 +181,8 @@ class TimedMotion:
         x = self.motion.derivatives(t, 3, point=self.point)  # the point's path only
         d1, d2, d3 = x[..., 1, :, :], x[..., 2, :, :], x[..., 3, :, :]
         g = np.linalg.norm(d1, axis=-1)
-        g1 = np.einsum("...i,...i->...", d1, d2) / g
-        g2 = (
-            np.einsum("...i,...i->...", d2, d2) + np.einsum("...i,...i->...", d1, d3) - g1 * g1
-        ) / g
+        g1 = dots(d1, d2) / g
+        g2 = (dots(d2, d2) + dots(d1, d3) - g1 * g1) / g
         length = np.asarray(total)[..., None]
         out[..., 0] = t
         out[..., 1] = length / g
