@@ -26,10 +26,14 @@ subnormals, huge numbers).
 The 17 digits ``c0 … c16`` are turned into characters four at a time through a table, in
 little-endian 64-bit words, and laid out in a cell of four words::
 
-    [sign, "0.00" | c0 | "."] [c1 … c8] [c9 … c16] [spill | "e-05" | separator]
+    [sign, "0.00", c0, "."] [c1 … c8] [c9 … c16] [spill | "e-05", separator]
 
 Digits that ``repr`` does not print (trailing zeros) are zero bytes, as are the unused
 places; one masked pass (:func:`without_zero_bytes`) removes the zero bytes of all cells at once.
+The first word ends in its text (unused places first) and the fourth word's text ends in the
+separator, so the text of a cell is two runs of bytes, everything to the last digit and the
+tail: the masked pass copies run by run, and fewer runs make it faster (0.28 against 0.33 ms a
+block of 2,048 rows of 8 numbers, with 2.9 runs a cell when each word's text came first).
 Numbers printed as ``123.456`` (exponent 1 to 15) move their digits after ``c_e`` up by one
 byte to make room for the point; the last one spills into the fourth word.
 
@@ -89,17 +93,18 @@ def _exponent_tables():
     next_p10 = np.array([_power_of_ten(e + 1)[0] for e in es])
     hi, lo = np.array([_power_of_ten(16 - e) for e in es]).T
     # the first word, at index i + 1024 (if negative) + 2048 (if c0 stands alone): the sign and
-    # "0.000" in bytes 0-5, "." in byte 7; byte 6 takes the digit c0
+    # "0.000", then c0 (here "0"), then "." if the point follows c0, ending at byte 7
     head = np.zeros(4096, _U64)
+    digit_at = np.zeros(4096, _U64)  # the bit where c0 starts: 56, or 48 before a point
     head_len = np.zeros(4096, np.int64)  # the characters of everything but c1 … c16
-    suffix = np.zeros(_NE, _U64)  # "e-05" in bytes 1-5 of the fourth word
+    suffix = np.zeros(_NE, _U64)  # "e-05" ending at byte 6 of the fourth word, before byte 7
     keep = np.ones(_NE, np.int8)  # c0, and if positional the digits to the point and one after
     for j, e in enumerate(es):
         positional = 0 <= e < 16
         small = -4 <= e < 0
         exp_text = b"" if positional or small else f"e{e:+03d}".encode()
         if exp_text:
-            suffix[j] = _word(exp_text) << 8
+            suffix[j] = _word(exp_text) << 8 * (7 - len(exp_text))
         if positional:
             keep[j] = e + 2
         for alone in (0, 1):
@@ -107,16 +112,19 @@ def _exponent_tables():
                 text = (b"-" if neg else b"") + (b"0." + b"0" * (-e - 1) if small else b"")
                 point = e == 0 or (not positional and not small and not alone)
                 at = j + 1024 * neg + 2048 * alone
-                head[at] = _word(text) | (ord(".") << 56 if point else 0)
+                first = text + b"0" + b"." * point
+                head[at] = _word(first) << 8 * (8 - len(first))
+                digit_at[at] = 56 - 8 * point
                 head_len[at] = len(text) + 1 + (point or 1 <= e < 16) + len(exp_text)
     c = 134217729.0 * hi  # Veltkamp's split of hi into two 26-bit halves
     hh = c - (c - hi)
+    # and with each digit c0 in its place: at index 16 · (the index above) + c0
+    head = (head[:, None] + (np.arange(16, dtype=_U64) << digit_at[:, None])).reshape(-1)
     return next_p10, hi, hh, hi - hh, lo, head, head_len, suffix, keep
 
 
 _NEXT_P10, _HI, _HH, _HL, _LO, _HEAD, _HEAD_LEN, _SUFFIX, _KEEP = _exponent_tables()
 _ALONE = np.where(np.arange(18) == 0, 2048, 0)  # the head's offset by significant digits
-_FIRST_DIGIT = (np.arange(10, dtype=_U64) + _U64(48)) << _U64(48)  # c0 in byte 6
 #: The table index of floor(log10 |x|), or of one less, by the biased binary exponent of x.
 _FROM_BINARY = np.clip(
     np.floor((np.arange(2048) - 1023) * _LOG10_2).astype(np.intp) - _E_MIN, 0, _NE - 2
@@ -362,8 +370,9 @@ def _cells(sign, i, c0, g1, g2, g3, g4, count, shown):
     head = ((sign >> _U64(53)) & _U64(1024)).view(np.int64)  # the sign, as 1024
     head |= i
     head |= _ALONE.take(_ix(count))
-    w0 = _HEAD.take(_ix(head))
-    w0 |= _FIRST_DIGIT.take(_ix(c0))
+    first = head << 4
+    first |= c0
+    w0 = _HEAD.take(_ix(first))
     w3 = _SUFFIX.take(_ix(i))
     positional = (i - (1 - _E_MIN)).view(_U64) < _U64(15)  # 1 <= e <= 15: "123.456"
     if positional.any():
