@@ -558,8 +558,8 @@ def format_rows(values, sep: str = ",", prefix=None) -> bytes:
             line[:, : lead.shape[1]] = lead
             line[:, lead.shape[1] :] = cells
             cells = line
-        parts.append(without_zero_bytes(cells))
-    return parts[0] if len(parts) == 1 else b"".join(parts)
+        parts.append(_nonzero(cells))
+    return parts[0].tobytes() if len(parts) == 1 else b"".join(parts)
 
 
 def without_zero_bytes(cells: np.ndarray) -> bytes:
@@ -571,8 +571,13 @@ def without_zero_bytes(cells: np.ndarray) -> bytes:
     times the text, and the MCAP messages of a 128 kB frame id doubled the peak memory
     (245 MB against 119 MB; ``tests/test_hardening.py`` caps it at 200).
     """
+    return _nonzero(cells).tobytes()
+
+
+def _nonzero(cells: np.ndarray) -> np.ndarray:
+    """:func:`without_zero_bytes` as an array of bytes (``bytes.join`` takes it uncopied)."""
     flat = np.ascontiguousarray(cells).view(np.uint8).reshape(-1)
-    return flat[flat != 0].tobytes()
+    return flat[flat != 0]
 
 
 def text_words(texts: np.ndarray) -> np.ndarray:
