@@ -79,8 +79,10 @@ def _rows(fmt: str, chunk: Samples) -> np.ndarray:
     return columns[0] if len(columns) == 1 else np.column_stack(columns)
 
 
-#: Numbers per task handed to a worker: a few of the formatter's blocks.
-TASK = 8 * BLOCK
+#: Numbers per task handed to a worker: one of the formatter's blocks. Eight blocks a task
+#: made each thread's working set eight times larger: the CSV of 10^6 samples took 1.07 to
+#: 1.10 times as long as with one, and a batch of 10,000 jobs x 101 samples 1.10 times.
+TASK = BLOCK
 
 
 def _write_rows(stream: IO, tables: Iterable[np.ndarray], sep: str = ",") -> None:
