@@ -65,3 +65,22 @@ def test_format_rows_is_repr_for_every_kind_of_double(rng):
     values = _every_kind(rng).reshape(-1, 8)
     expected = "".join(",".join(repr(float(v)) for v in row) + "\n" for row in values)
     assert format_rows(values).decode() == expected
+
+
+def test_each_cell_leaves_the_byte_before_its_text_and_its_last_byte_free(rng):
+    words = number_words(_every_kind(rng)).view(np.uint8).reshape(-1, 32)
+    text = words != 0
+    first = np.argmax(text, axis=1)
+    assert (first >= 1).all()
+    assert not text[:, 31].any()
+
+
+def test_a_row_is_one_run_of_bytes_a_number_without_exponent(rng):
+    from a2b.io.floatrepr import _row_cells
+
+    shape = (2048, 8)
+    values = rng.uniform(1, 10, shape) * rng.choice([-1.0, 1.0], shape)
+    values *= 10.0 ** rng.integers(-4, 16, shape)  # every exponent repr writes without "e"
+    text = _row_cells(values, ord(",")).view(np.uint8).reshape(-1) != 0
+    runs = np.count_nonzero(text[1:] & ~text[:-1]) + text[0]
+    assert runs == values.size + len(values)  # and the line end of each row

@@ -338,8 +338,6 @@ def time_law(motion, law: dict, duration: float | None, choices: list, always: b
     """The :class:`a2b.timelaw.TimedMotion` the options ``law`` ask for, or ``None`` (samples
     even in t, as before); with ``always`` a law even when no time-law option is given (over
     ``--duration``, else 1 s). ``duration``: ``--duration`` if given."""
-    from ..timelaw import timing
-
     limits = {
         k: law[k]
         for k in ("max_speed", "max_accel", "max_jerk", "max_angular_speed", "max_angular_accel")
@@ -350,6 +348,8 @@ def time_law(motion, law: dict, duration: float | None, choices: list, always: b
         return None
     if law.get("rate") is not None and law.get("dt") is not None:
         raise click.UsageError("give --rate or --dt, not both")
+    from ..timelaw import timing
+
     given = {k: v for k, v in limits.items() if v is not None}
     timed = timing(
         motion,
