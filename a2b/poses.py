@@ -257,8 +257,8 @@ def check_matrices(
         where = "top row"
     else:
         raise PoseError(f"unknown matrix layout {layout!r}; expected one of {LAYOUTS}")
-    residual = float(np.abs(fixed - expected).max(initial=0.0))
-    if residual > 0.0:
+    if anywhere(fixed != expected):  # exactly; the residual is measured for the message
+        residual = float(np.abs(fixed - expected).max())
         raise PoseError(
             f"the {where} of a {layout}-layout pose matrix must be exactly "
             f"{expected.tolist()}; it differs by {residual:.3g}"
