@@ -181,9 +181,12 @@ def dots(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         a = np.asarray(a, dtype=float)
     if not isinstance(b, np.ndarray) or b.dtype != float:
         b = np.asarray(b, dtype=float)
-    out = a[..., 0] * b[..., 0]
-    for k in range(1, a.shape[-1]):
-        out += a[..., k] * b[..., k]
+    products = a * b
+    if products.shape[-1] == 1:
+        return products[..., 0]
+    out = products[..., 0] + products[..., 1]
+    for k in range(2, products.shape[-1]):
+        out += products[..., k]
     return out
 
 

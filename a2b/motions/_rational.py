@@ -16,10 +16,11 @@ over blocks only. The last bits of a sample may depend on how many samples are t
 from __future__ import annotations
 
 from functools import lru_cache
-from math import comb
+from math import comb, prod
 
 import numpy as np
 
+from ..elements import anywhere
 from ..study import ROTATION, bilinear
 
 EPS = float(np.finfo(float).eps)
@@ -391,7 +392,7 @@ def _flatten(basis, table) -> tuple[np.ndarray, np.ndarray, tuple]:
     table = np.asarray(table, dtype=float)
     basis = np.asarray(basis, dtype=float)
     shape = table.shape[:-2]
-    jobs = int(np.prod(shape, dtype=np.int64))
+    jobs = prod(shape)
     k = table.shape[-2]
     columns = np.swapaxes(basis, -1, -2)  # a view: (k, N) contiguous for bernstein_basis
     columns = columns.reshape((1 if basis.ndim == 2 else jobs, k, basis.shape[-2]))
@@ -409,7 +410,7 @@ def _kinds(columns: np.ndarray, rot_den: np.ndarray, trans_den=None) -> np.ndarr
         same &= rot_den[:, i] == trans_den[:, i]
     kinds = np.where(same, 1, 2)
     unit = (columns[:, 0] == 1.0).all(axis=-1)  # False for a Bernstein basis beyond t = 0
-    if unit.any():
+    if anywhere(unit):
         unit = unit & same & (rot_den[:, 0] == 1.0)
         for i in range(1, k):
             unit &= rot_den[:, i] == 0.0

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from ..elements import refuse, value
+from ..elements import anywhere, refuse, value
 from ..errors import ParameterError
 from ..frames import ScrewFrame
 from ..parameters import SOLVERS
@@ -205,14 +205,16 @@ def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np
     of :data:`CHUNK` pairs.
     """
     shape = frame.shape
-    sign = np.where(np.reshape(long_way, -1), -1.0, 1.0)
-    ends = np.stack([np.reshape(frame.p_start, (-1, 4)), np.reshape(frame.p_end, (-1, 4))])
-    p_all = ends.transpose(2, 0, 1).copy()  # (4, 2, J)
-    p_all[:, 1] *= sign
-    t = np.stack([np.reshape(frame.t_start, (-1, 3)), np.reshape(frame.t_end, (-1, 3))])
-    t_all = t.transpose(2, 0, 1)
-    s_all = np.reshape(offsets, (-1, 2)).T
-    count = p_all.shape[-1]
+    count = math.prod(shape)
+    p_all = np.empty((4, 2, count))  # component-major: both ends of every pair
+    p_all[:, 0] = np.reshape(frame.p_start, (count, 4)).T
+    p_all[:, 1] = np.reshape(frame.p_end, (count, 4)).T
+    if anywhere(long_way):
+        p_all[:, 1] *= np.where(np.reshape(long_way, -1), -1.0, 1.0)
+    t_all = np.empty((3, 2, count))
+    t_all[:, 0] = np.reshape(frame.t_start, (count, 3)).T
+    t_all[:, 1] = np.reshape(frame.t_end, (count, 3)).T
+    s_all = np.reshape(offsets, (count, 2)).T
     table = np.empty((count, 3, 14))
     for lo in range(0, count, CHUNK):
         hi = min(lo + CHUNK, count)
