@@ -157,17 +157,24 @@ class Resampler:
                 f"to {float(t[-1])!r}; a2b does not extrapolate (--clip drops such times and "
                 "counts them)"
             )
-        new = new[inside]
-        k = np.clip(np.searchsorted(t, new, side="right") - 1, 0, len(t) - 2)
-        pose = np.where(new == t[k], k, np.where(new == t[k + 1], k + 1, -1))
+        if outside:
+            new = new[inside]
+        k = np.searchsorted(t, new, side="right") - 1
+        np.clip(k, 0, len(t) - 2, out=k)
+        before, after = t[k], t[1:][k]
+        pose = np.where(new == before, k, -1)
+        last = new == after  # only at the last stamp: side="right" puts a stamp at its start
+        if last.any():
+            pose[last] = k[last] + 1
         gap = 0
         if self.max_gap is not None:
-            long = (t[k + 1] - t[k] > self.max_gap) & (pose < 0)
+            long = (after - before > self.max_gap) & (pose < 0)
             gap = int(np.count_nonzero(long))
-            keep = ~long
-            new, k, pose = new[keep], k[keep], pose[keep]
-        u = (new - t[k]) / (t[k + 1] - t[k])
-        u = np.where(pose == k + 1, 1.0, np.where(pose == k, 0.0, u))
+            if gap:
+                keep = ~long
+                new, k, pose, before, after = (a[keep] for a in (new, k, pose, before, after))
+        # 0 at a time equal to the segment's start, 1 at one equal to its end: exactly
+        u = (new - before) / (after - before)
         return Located(new, k, u, pose, outside, gap)
 
     # -- the poses ---------------------------------------------------------------------------
@@ -222,8 +229,8 @@ class Resampler:
                 quat = out[0]
                 quat[np.einsum("ij,ij->i", quat, self._start_quaternions(k)) < 0] *= -1.0
             return out
-        rows, ts, where, order = _rows(k, u)
-        motion = self._segments(rows, where)
+        rows, ts, flat, order = _rows(k, u)
+        motion = self._segments(rows)
         out = getattr(motion, representation)(ts)
         if representation == "quat_trans":
             # a motion's quaternions are continuous from its p(0): one sign per segment, the
@@ -233,11 +240,9 @@ class Resampler:
             flip = np.einsum("ij,ij->i", motion.quat_ends[:, 0, :], start) < 0
             if flip.any():
                 out[0][flip] *= -1.0
-        return (
-            tuple(_pick(o, where, order) for o in out)
-            if isinstance(out, tuple)
-            else (_pick(out, where, order))
-        )
+        if isinstance(out, tuple):
+            return tuple(_pick(o, flat, order) for o in out)
+        return _pick(out, flat, order)
 
     def _own_quat_trans(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         from .poses import quat_trans_from_matrices
@@ -254,7 +259,7 @@ class Resampler:
             return self.study[index]
         return study_from_matrices(self._pose_matrices(index))
 
-    def _segments(self, rows: np.ndarray, where: tuple):
+    def _segments(self, rows: np.ndarray):
         """The motions of the segments ``rows`` (one per row, built in one batch)."""
         from .api import checked_motion
         from .poses import quaternions_from_rotations
@@ -266,10 +271,14 @@ class Resampler:
             if hi - lo <= 2 * len(rows) and np.all(rows[1:] >= rows[:-1]):
                 # segments in order (the usual case): each pose made once, and its quaternion
                 # found once, for both its segments
-                poses = self._pose_matrices(np.arange(lo, hi))
-                ends = poses[rows - lo], poses[rows + 1 - lo]
+                poses = self._pose_matrices(slice(lo, hi))
                 quat = quaternions_from_rotations(poses[:, :3, :3])
-                quaternions = quat[rows - lo], quat[rows + 1 - lo]
+                if len(rows) == hi - lo - 1 and np.all(rows[1:] > rows[:-1]):
+                    # every segment from lo on, one row each: its ends are views, not copies
+                    ends, quaternions = (poses[:-1], poses[1:]), (quat[:-1], quat[1:])
+                else:
+                    ends = poses[rows - lo], poses[rows + 1 - lo]
+                    quaternions = quat[rows - lo], quat[rows + 1 - lo]
             else:
                 ends = self._pose_matrices(rows), self._pose_matrices(rows + 1)
             try:
@@ -421,35 +430,41 @@ def _arrays(located: Located) -> tuple:
 
 def _rows(k: np.ndarray, u: np.ndarray):
     """Parameters ``u`` of segments ``k`` as rows of one motion each: ``(rows (R,), ts (R, W),
-    where, order)``.
+    flat, order)``.
 
     The motions of a batch share the number ``W`` of parameters, so the times of a segment
-    fill rows of ``W`` (the mean count, unused places 0): at most about twice the samples, for
-    any spread of times over segments. ``ts[where]`` are the parameters in the sorted order
-    ``order`` of ``k`` (``None`` where ``k`` is in order already).
+    fill rows of ``W`` (the mean count): at most about twice the samples, for any spread of
+    times over segments. Unused places hold ½, inside the segment, where the motion pins no
+    end pose. ``ts.ravel()[flat]`` are the parameters in the sorted order ``order`` of ``k``
+    (``None`` where ``k`` is in order already); ``flat`` is ``None`` where no place is unused.
     """
     ordered = bool(np.all(k[1:] >= k[:-1]))  # new times in order: nothing to sort
     order = None if ordered else np.argsort(k, kind="stable")
-    ks = k if ordered else k[order]
+    ks, us = (k, u) if ordered else (k[order], u[order])
     start = np.flatnonzero(np.concatenate([[True], ks[1:] != ks[:-1]]))
     segments, counts = ks[start], np.diff(np.append(start, len(ks)))
     width = -(-len(ks) // len(segments))
-    position = np.arange(len(ks)) - np.repeat(start, counts)
     per_segment = -(-counts // width)
-    row = np.repeat(np.cumsum(per_segment) - per_segment, counts) + position // width
-    column = position % width
-    ts = np.zeros((int(per_segment.sum()), width))
-    ts[row, column] = u if ordered else u[order]
-    return np.repeat(segments, per_segment), ts, (row, column), order
+    rows = np.repeat(segments, per_segment)
+    if len(rows) * width == len(ks):  # every segment fills its rows: the parameters as they are
+        return rows, us.reshape(-1, width), None, order
+    first = (np.cumsum(per_segment) - per_segment) * width  # each segment's first place
+    flat = np.repeat(first - start, counts) + np.arange(len(ks))
+    ts = np.full(len(rows) * width, 0.5)
+    ts[flat] = us
+    return rows, ts.reshape(-1, width), flat, order
 
 
-def _pick(values: np.ndarray, where: tuple, order: np.ndarray | None) -> np.ndarray:
-    """The samples ``values[where]`` back in the order of the new times (``order`` ``None``:
-    they were in order)."""
+def _pick(values: np.ndarray, flat: np.ndarray | None, order: np.ndarray | None) -> np.ndarray:
+    """The samples ``values (R, W, ...)`` at the places ``flat`` of :func:`_rows`, back in the
+    order of the new times (``order`` ``None``: they were in order)."""
+    values = values.reshape((-1,) + values.shape[2:])
+    if flat is not None:
+        values = values[flat]
     if order is None:
-        return values[where]
-    out = np.empty((len(order),) + values.shape[2:])
-    out[order] = values[where]
+        return values
+    out = np.empty_like(values)
+    out[order] = values
     return out
 
 
