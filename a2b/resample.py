@@ -28,7 +28,7 @@ __all__ = ["RESAMPLE_MODES", "Located", "NewTimes", "Resampler", "resample", "wi
 
 RESAMPLE_MODES = MODES + ("spline",)
 #: New times sampled at a time.
-BLOCK = 65536
+BLOCK = 32768
 #: Warnings about segments issued in one run; the rest are counted (:attr:`Resampler.warned`).
 WARNINGS_SHOWN = 10
 
