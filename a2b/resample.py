@@ -195,41 +195,48 @@ class Resampler:
                 return tuple(np.concatenate(p) for p in zip(*parts))
             return np.concatenate(parts)
         k, u, pose = located.segment, located.u, located.pose
-        between = pose < 0
-        if len(k) and between.all():  # no time on a stamp (the usual case): no masks
-            return self._evaluate(k, u, representation)
-        own = pose[~between]
-        values = self._evaluate(k[between], u[between], representation) if between.any() else None
+        on_stamp = pose >= 0
+        if on_stamp.all():  # (or no time at all)
+            return self._own(pose, representation)
+        if not on_stamp.any():  # the usual case
+            return _taken(*self._evaluate(k, u, representation))
+        # the samples' rows taken, in the order of the times, from those of the times between
+        # stamps followed by the poses of the times on stamps: one gather (numpy's take copies
+        # whole rows, several times faster than assigning through a mask or an index)
+        between = ~on_stamp
+        values, places = self._evaluate(k[between], u[between], representation)
+        own = self._own(pose[on_stamp], representation)
+        index = np.empty(len(k), dtype=np.intp)
+        index[between] = np.arange(np.count_nonzero(between)) if places is None else places
+        index[on_stamp] = len(_first(values)) + np.arange(len(_first(own)))
+        if isinstance(values, tuple):
+            return _taken(tuple(map(np.concatenate, zip(values, own))), index)
+        return _taken(np.concatenate([values, own]), index)
+
+    def _own(self, index: np.ndarray, representation: str):
+        """The poses ``index`` as read, in ``representation``."""
         if representation == "matrices":
-            out = np.empty((len(k), 4, 4))
-            out[~between] = self._pose_matrices(own)
-        elif representation == "study":
-            out = np.empty((len(k), 8))
-            out[~between] = self._own_study(own)
-        else:
-            quat, trans = np.empty((len(k), 4)), np.empty((len(k), 3))
-            quat[~between], trans[~between] = self._own_quat_trans(own)
-            if values is not None:
-                quat[between], trans[between] = values
-            return quat, trans
-        if values is not None:
-            out[between] = values
-        return out
+            return self._pose_matrices(index)
+        if representation == "study":
+            return self._own_study(index)
+        return self._own_quat_trans(index)
 
     def _start_quaternions(self, k: np.ndarray) -> np.ndarray:
         """The quaternions of the poses that start segments ``k``, as the file gives them."""
         return self.quat_wxyz[k] if self.quat_wxyz is not None else self._own_quat_trans(k)[0]
 
     def _evaluate(self, k: np.ndarray, u: np.ndarray, representation: str):
-        """The poses at parameters ``u`` of segments ``k``; quaternions take the sign of the
-        one at the start of their segment."""
+        """The poses at parameters ``u`` of segments ``k``, and where each is: ``(values,
+        places)``, the pose of the ``i``-th parameter the row ``places[i]`` of ``values`` (an
+        array or a tuple of arrays; ``places`` ``None``: row ``i``). Quaternions take the sign
+        of the one at the start of their segment."""
         if self.spline is not None:
             out = getattr(self.spline, representation)((k + u) / (len(self.times) - 1))
             if representation == "quat_trans":  # each sample against its segment's start
                 quat = out[0]
                 quat[np.einsum("ij,ij->i", quat, self._start_quaternions(k)) < 0] *= -1.0
-            return out
-        rows, ts, flat, order = _rows(k, u)
+            return out, None
+        rows, ts, places = _rows(k, u)
         motion = self._segments(rows)
         out = getattr(motion, representation)(ts)
         if representation == "quat_trans":
@@ -241,8 +248,8 @@ class Resampler:
             if flip.any():
                 out[0][flip] *= -1.0
         if isinstance(out, tuple):
-            return tuple(_pick(o, flat, order) for o in out)
-        return _pick(out, flat, order)
+            return tuple(o.reshape((-1,) + o.shape[2:]) for o in out), places
+        return out.reshape((-1,) + out.shape[2:]), places
 
     def _own_quat_trans(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         from .poses import quat_trans_from_matrices
@@ -430,13 +437,13 @@ def _arrays(located: Located) -> tuple:
 
 def _rows(k: np.ndarray, u: np.ndarray):
     """Parameters ``u`` of segments ``k`` as rows of one motion each: ``(rows (R,), ts (R, W),
-    flat, order)``.
+    places)``.
 
     The motions of a batch share the number ``W`` of parameters, so the times of a segment
     fill rows of ``W`` (the mean count): at most about twice the samples, for any spread of
     times over segments. Unused places hold ½, inside the segment, where the motion pins no
-    end pose. ``ts.ravel()[flat]`` are the parameters in the sorted order ``order`` of ``k``
-    (``None`` where ``k`` is in order already); ``flat`` is ``None`` where no place is unused.
+    end pose. ``ts.ravel()[places]`` are the parameters ``u``; ``places`` is ``None`` where
+    they are ``ts.ravel()`` (in order, no place unused).
     """
     ordered = bool(np.all(k[1:] >= k[:-1]))  # new times in order: nothing to sort
     order = None if ordered else np.argsort(k, kind="stable")
@@ -446,26 +453,31 @@ def _rows(k: np.ndarray, u: np.ndarray):
     width = -(-len(ks) // len(segments))
     per_segment = -(-counts // width)
     rows = np.repeat(segments, per_segment)
-    if len(rows) * width == len(ks):  # every segment fills its rows: the parameters as they are
-        return rows, us.reshape(-1, width), None, order
-    first = (np.cumsum(per_segment) - per_segment) * width  # each segment's first place
-    flat = np.repeat(first - start, counts) + np.arange(len(ks))
-    ts = np.full(len(rows) * width, 0.5)
-    ts[flat] = us
-    return rows, ts.reshape(-1, width), flat, order
-
-
-def _pick(values: np.ndarray, flat: np.ndarray | None, order: np.ndarray | None) -> np.ndarray:
-    """The samples ``values (R, W, ...)`` at the places ``flat`` of :func:`_rows`, back in the
-    order of the new times (``order`` ``None``: they were in order)."""
-    values = values.reshape((-1,) + values.shape[2:])
-    if flat is not None:
-        values = values[flat]
+    if len(rows) * width == len(ks):  # every segment fills its rows
+        flat, ts = None, us.reshape(-1, width)
+    else:
+        first = (np.cumsum(per_segment) - per_segment) * width  # each segment's first place
+        flat = np.repeat(first - start, counts) + np.arange(len(ks))
+        ts = np.full(len(rows) * width, 0.5)
+        ts[flat] = us
     if order is None:
+        return rows, ts.reshape(-1, width), flat
+    places = np.empty(len(ks), dtype=np.intp)
+    places[order] = np.arange(len(ks)) if flat is None else flat
+    return rows, ts.reshape(-1, width), places
+
+
+def _first(values) -> np.ndarray:
+    return values[0] if isinstance(values, tuple) else values
+
+
+def _taken(values, index: np.ndarray | None):
+    """The rows ``index`` of ``values`` (an array or a tuple of arrays; ``None``: all)."""
+    if index is None:
         return values
-    out = np.empty_like(values)
-    out[order] = values
-    return out
+    if isinstance(values, tuple):
+        return tuple(np.take(v, index, axis=0) for v in values)
+    return np.take(values, index, axis=0)
 
 
 def resample(
