@@ -28,7 +28,7 @@ __all__ = ["RESAMPLE_MODES", "Located", "NewTimes", "Resampler", "resample", "wi
 
 RESAMPLE_MODES = MODES + ("spline",)
 #: New times sampled at a time.
-BLOCK = 65536
+BLOCK = 32768
 #: Warnings about segments issued in one run; the rest are counted (:attr:`Resampler.warned`).
 WARNINGS_SHOWN = 10
 
@@ -157,17 +157,24 @@ class Resampler:
                 f"to {float(t[-1])!r}; a2b does not extrapolate (--clip drops such times and "
                 "counts them)"
             )
-        new = new[inside]
-        k = np.clip(np.searchsorted(t, new, side="right") - 1, 0, len(t) - 2)
-        pose = np.where(new == t[k], k, np.where(new == t[k + 1], k + 1, -1))
+        if outside:
+            new = new[inside]
+        k = np.searchsorted(t, new, side="right") - 1
+        np.clip(k, 0, len(t) - 2, out=k)
+        before, after = t[k], t[1:][k]
+        pose = np.where(new == before, k, -1)
+        last = new == after  # only at the last stamp: side="right" puts a stamp at its start
+        if last.any():
+            pose[last] = k[last] + 1
         gap = 0
         if self.max_gap is not None:
-            long = (t[k + 1] - t[k] > self.max_gap) & (pose < 0)
+            long = (after - before > self.max_gap) & (pose < 0)
             gap = int(np.count_nonzero(long))
-            keep = ~long
-            new, k, pose = new[keep], k[keep], pose[keep]
-        u = (new - t[k]) / (t[k + 1] - t[k])
-        u = np.where(pose == k + 1, 1.0, np.where(pose == k, 0.0, u))
+            if gap:
+                keep = ~long
+                new, k, pose, before, after = (a[keep] for a in (new, k, pose, before, after))
+        # 0 at a time equal to the segment's start, 1 at one equal to its end: exactly
+        u = (new - before) / (after - before)
         return Located(new, k, u, pose, outside, gap)
 
     # -- the poses ---------------------------------------------------------------------------
@@ -188,42 +195,49 @@ class Resampler:
                 return tuple(np.concatenate(p) for p in zip(*parts))
             return np.concatenate(parts)
         k, u, pose = located.segment, located.u, located.pose
-        between = pose < 0
-        if len(k) and between.all():  # no time on a stamp (the usual case): no masks
-            return self._evaluate(k, u, representation)
-        own = pose[~between]
-        values = self._evaluate(k[between], u[between], representation) if between.any() else None
+        on_stamp = pose >= 0
+        if on_stamp.all():  # (or no time at all)
+            return self._own(pose, representation)
+        if not on_stamp.any():  # the usual case
+            return _taken(*self._evaluate(k, u, representation))
+        # the samples' rows taken, in the order of the times, from those of the times between
+        # stamps followed by the poses of the times on stamps: one gather (numpy's take copies
+        # whole rows, several times faster than assigning through a mask or an index)
+        between = ~on_stamp
+        values, places = self._evaluate(k[between], u[between], representation)
+        own = self._own(pose[on_stamp], representation)
+        index = np.empty(len(k), dtype=np.intp)
+        index[between] = np.arange(np.count_nonzero(between)) if places is None else places
+        index[on_stamp] = len(_first(values)) + np.arange(len(_first(own)))
+        if isinstance(values, tuple):
+            return _taken(tuple(map(np.concatenate, zip(values, own))), index)
+        return _taken(np.concatenate([values, own]), index)
+
+    def _own(self, index: np.ndarray, representation: str):
+        """The poses ``index`` as read, in ``representation``."""
         if representation == "matrices":
-            out = np.empty((len(k), 4, 4))
-            out[~between] = self._pose_matrices(own)
-        elif representation == "study":
-            out = np.empty((len(k), 8))
-            out[~between] = self._own_study(own)
-        else:
-            quat, trans = np.empty((len(k), 4)), np.empty((len(k), 3))
-            quat[~between], trans[~between] = self._own_quat_trans(own)
-            if values is not None:
-                quat[between], trans[between] = values
-            return quat, trans
-        if values is not None:
-            out[between] = values
-        return out
+            return self._pose_matrices(index)
+        if representation == "study":
+            return self._own_study(index)
+        return self._own_quat_trans(index)
 
     def _start_quaternions(self, k: np.ndarray) -> np.ndarray:
         """The quaternions of the poses that start segments ``k``, as the file gives them."""
         return self.quat_wxyz[k] if self.quat_wxyz is not None else self._own_quat_trans(k)[0]
 
     def _evaluate(self, k: np.ndarray, u: np.ndarray, representation: str):
-        """The poses at parameters ``u`` of segments ``k``; quaternions take the sign of the
-        one at the start of their segment."""
+        """The poses at parameters ``u`` of segments ``k``, and where each is: ``(values,
+        places)``, the pose of the ``i``-th parameter the row ``places[i]`` of ``values`` (an
+        array or a tuple of arrays; ``places`` ``None``: row ``i``). Quaternions take the sign
+        of the one at the start of their segment."""
         if self.spline is not None:
             out = getattr(self.spline, representation)((k + u) / (len(self.times) - 1))
             if representation == "quat_trans":  # each sample against its segment's start
                 quat = out[0]
                 quat[np.einsum("ij,ij->i", quat, self._start_quaternions(k)) < 0] *= -1.0
-            return out
-        rows, ts, where, order = _rows(k, u)
-        motion = self._segments(rows, where)
+            return out, None
+        rows, ts, places = _rows(k, u)
+        motion = self._segments(rows)
         out = getattr(motion, representation)(ts)
         if representation == "quat_trans":
             # a motion's quaternions are continuous from its p(0): one sign per segment, the
@@ -233,11 +247,9 @@ class Resampler:
             flip = np.einsum("ij,ij->i", motion.quat_ends[:, 0, :], start) < 0
             if flip.any():
                 out[0][flip] *= -1.0
-        return (
-            tuple(_pick(o, where, order) for o in out)
-            if isinstance(out, tuple)
-            else (_pick(out, where, order))
-        )
+        if isinstance(out, tuple):
+            return tuple(o.reshape((-1,) + o.shape[2:]) for o in out), places
+        return out.reshape((-1,) + out.shape[2:]), places
 
     def _own_quat_trans(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         from .poses import quat_trans_from_matrices
@@ -254,7 +266,7 @@ class Resampler:
             return self.study[index]
         return study_from_matrices(self._pose_matrices(index))
 
-    def _segments(self, rows: np.ndarray, where: tuple):
+    def _segments(self, rows: np.ndarray):
         """The motions of the segments ``rows`` (one per row, built in one batch)."""
         from .api import checked_motion
         from .poses import quaternions_from_rotations
@@ -266,10 +278,14 @@ class Resampler:
             if hi - lo <= 2 * len(rows) and np.all(rows[1:] >= rows[:-1]):
                 # segments in order (the usual case): each pose made once, and its quaternion
                 # found once, for both its segments
-                poses = self._pose_matrices(np.arange(lo, hi))
-                ends = poses[rows - lo], poses[rows + 1 - lo]
+                poses = self._pose_matrices(slice(lo, hi))
                 quat = quaternions_from_rotations(poses[:, :3, :3])
-                quaternions = quat[rows - lo], quat[rows + 1 - lo]
+                if len(rows) == hi - lo - 1 and np.all(rows[1:] > rows[:-1]):
+                    # every segment from lo on, one row each: its ends are views, not copies
+                    ends, quaternions = (poses[:-1], poses[1:]), (quat[:-1], quat[1:])
+                else:
+                    ends = poses[rows - lo], poses[rows + 1 - lo]
+                    quaternions = quat[rows - lo], quat[rows + 1 - lo]
             else:
                 ends = self._pose_matrices(rows), self._pose_matrices(rows + 1)
             try:
@@ -421,36 +437,47 @@ def _arrays(located: Located) -> tuple:
 
 def _rows(k: np.ndarray, u: np.ndarray):
     """Parameters ``u`` of segments ``k`` as rows of one motion each: ``(rows (R,), ts (R, W),
-    where, order)``.
+    places)``.
 
     The motions of a batch share the number ``W`` of parameters, so the times of a segment
-    fill rows of ``W`` (the mean count, unused places 0): at most about twice the samples, for
-    any spread of times over segments. ``ts[where]`` are the parameters in the sorted order
-    ``order`` of ``k`` (``None`` where ``k`` is in order already).
+    fill rows of ``W`` (the mean count): at most about twice the samples, for any spread of
+    times over segments. Unused places hold ½, inside the segment, where the motion pins no
+    end pose. ``ts.ravel()[places]`` are the parameters ``u``; ``places`` is ``None`` where
+    they are ``ts.ravel()`` (in order, no place unused).
     """
     ordered = bool(np.all(k[1:] >= k[:-1]))  # new times in order: nothing to sort
     order = None if ordered else np.argsort(k, kind="stable")
-    ks = k if ordered else k[order]
+    ks, us = (k, u) if ordered else (k[order], u[order])
     start = np.flatnonzero(np.concatenate([[True], ks[1:] != ks[:-1]]))
     segments, counts = ks[start], np.diff(np.append(start, len(ks)))
     width = -(-len(ks) // len(segments))
-    position = np.arange(len(ks)) - np.repeat(start, counts)
     per_segment = -(-counts // width)
-    row = np.repeat(np.cumsum(per_segment) - per_segment, counts) + position // width
-    column = position % width
-    ts = np.zeros((int(per_segment.sum()), width))
-    ts[row, column] = u if ordered else u[order]
-    return np.repeat(segments, per_segment), ts, (row, column), order
-
-
-def _pick(values: np.ndarray, where: tuple, order: np.ndarray | None) -> np.ndarray:
-    """The samples ``values[where]`` back in the order of the new times (``order`` ``None``:
-    they were in order)."""
+    rows = np.repeat(segments, per_segment)
+    if len(rows) * width == len(ks):  # every segment fills its rows
+        flat, ts = None, us.reshape(-1, width)
+    else:
+        first = (np.cumsum(per_segment) - per_segment) * width  # each segment's first place
+        flat = np.repeat(first - start, counts) + np.arange(len(ks))
+        ts = np.full(len(rows) * width, 0.5)
+        ts[flat] = us
     if order is None:
-        return values[where]
-    out = np.empty((len(order),) + values.shape[2:])
-    out[order] = values[where]
-    return out
+        return rows, ts.reshape(-1, width), flat
+    places = np.empty(len(ks), dtype=np.intp)
+    places[order] = np.arange(len(ks)) if flat is None else flat
+    return rows, ts.reshape(-1, width), places
+
+
+def _first(values) -> np.ndarray:
+    return values[0] if isinstance(values, tuple) else values
+
+
+def _taken(values, index: np.ndarray | None):
+    """The rows ``index`` of ``values`` (an array or a tuple of arrays; ``None``: all)."""
+    if index is None:
+        return values
+    if isinstance(values, tuple):
+        return tuple(np.take(v, index, axis=0) for v in values)
+    return np.take(values, index, axis=0)
 
 
 def resample(

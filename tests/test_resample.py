@@ -276,6 +276,41 @@ def test_outside_times_and_gaps():
     assert resampler.sample(located)[:, 0, 3].tolist() == [0.5, 1.0, 5.0, 5.5]
 
 
+@pytest.mark.parametrize("representation", ["matrices", "quat_trans", "study"])
+def test_times_in_any_order_and_spread_are_sampled_as_each_time_alone(representation):
+    """Forty new times in one segment and one in each other (rows of the mean count, a segment
+    over several rows, unused places), three on stamps: shuffled, the same samples bit for bit
+    in the order given; each the stamp's pose exactly, or the sample that its time alone
+    gives (to 1e-15: the core's products round by the number of times in a row)."""
+    rng = np.random.default_rng(21)
+    times, poses = random_trajectory(rng, 12)
+    many = times[3] + np.sort(rng.uniform(0.01, 0.99, 40)) * (times[4] - times[3])
+    one = times[:-1] + rng.uniform(0.05, 0.95, 11) * np.diff(times)
+    new = np.sort(np.concatenate([many, one, times[[0, 5, 11]]]))
+    shuffled = rng.permutation(len(new))
+    resampler = Resampler(times, poses, "screw")
+
+    def sampled(at):
+        out = resampler.sample(resampler.locate(at), representation)
+        return out if isinstance(out, tuple) else (out,)
+
+    in_order, again = sampled(new), sampled(new[shuffled])
+    for ours, theirs in zip(again, in_order):
+        assert np.array_equal(ours, theirs[shuffled])
+    located = resampler.locate(new)
+    assert located.pose[-1] == 11 and located.u[-1] == 1.0  # the last stamp ends its segment
+    on_stamp = located.pose >= 0
+    assert on_stamp.sum() == 3
+    for i in range(len(new)):
+        for ours, alone in zip(in_order, sampled(new[i : i + 1])):
+            if on_stamp[i]:
+                assert np.array_equal(ours[i], alone[0])
+            else:
+                np.testing.assert_allclose(ours[i], alone[0], rtol=0, atol=1e-15)
+    if representation == "matrices":
+        assert np.array_equal(in_order[0][on_stamp], poses[located.pose[on_stamp]])
+
+
 def test_a_failing_segment_is_named_by_its_poses_and_times():
     times = np.array([0.0, 1.0, 2.0])
     poses = np.broadcast_to(np.eye(4), (3, 4, 4)).copy()
