@@ -461,9 +461,9 @@ class Motion(Kinematic):
             at = np.broadcast_to(ts == t, quat.shape[:-1])
             if not anywhere(at):
                 continue
-            end = np.broadcast_to(self.end_quaternions[..., k, None, :], quat.shape)
-            sign = np.where(np.einsum("...i,...i->...", quat, end) < 0.0, -1.0, 1.0)
-            quat[at] = (sign[..., None] * end)[at] + 0.0  # and −0.0 written as 0.0
+            end = np.broadcast_to(self.end_quaternions[..., k, None, :], quat.shape)[at]
+            sign = np.where(dots(quat[at], end) < 0.0, -1.0, 1.0)
+            quat[at] = sign[:, None] * end + 0.0  # and −0.0 written as 0.0
 
     def study(self, ts) -> np.ndarray:
         """Unit Study parameters ``S + (N, 8)`` of the samples (``|p| = 1``, ``q = −½ t p``)."""
