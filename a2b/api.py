@@ -11,7 +11,12 @@ from .motions import REGISTRY
 from .motions.base import Motion, check_ends, check_excursion, check_table
 from .names import MODES
 from .parameters import OF_MODE, TABLE
-from .poses import check_matrices, pose_matrices
+from .poses import (
+    check_matrices,
+    pose_matrices,
+    quaternions_from_rotations,
+    study_from_quat_trans,
+)
 
 #: mode -> the names of its parameters (the table of :mod:`a2b.parameters`).
 PARAMETERS = OF_MODE
@@ -74,7 +79,6 @@ def given_quaternions(poses: tuple, matrices: tuple) -> tuple | None:
 
     The motion itself is built from the matrices, as for matrices given (its quaternions
     agree with these to a few ulp); only its samples at t = 0 and 1 take these."""
-    from .poses import quaternions_from_rotations
 
     given = [pose[0] if isinstance(pose, tuple) and len(pose) == 2 else None for pose in poses]
     if all(q is None for q in given) or matrices[0].shape != matrices[1].shape:
@@ -177,7 +181,6 @@ def pin_ends(motion, ts, poses: dict) -> dict:
     translation. (The quaternions, and the Study parameters' primal part, are those the
     motion was built from already: :meth:`a2b.motions.base.Motion.quat_trans`.) Anything
     without end poses of its shape (a segment table) is returned as it is."""
-    from .poses import study_from_quat_trans
 
     start, end = getattr(motion, "start", None), getattr(motion, "end", None)
     shape = tuple(getattr(motion, "shape", (None,)))
@@ -206,7 +209,6 @@ def pin_ends(motion, ts, poses: dict) -> dict:
 def _pin_columns(poses: dict, at: np.ndarray, pose: np.ndarray) -> None:
     """:func:`pin_ends` for parameters ``(N,)`` shared by every motion: the samples ``at``
     (a mask ``(N,)``) of every field take ``pose`` ``S + (1, 4, 4)``."""
-    from .poses import study_from_quat_trans
 
     (found,) = np.nonzero(at)
     if len(found) == 1:  # one sample at t: a basic index, cheaper than a mask
