@@ -380,11 +380,15 @@ def canonical_sign(p: np.ndarray) -> np.ndarray:
     """Flip vectors ``(..., n)`` (quaternions, axis directions) so that the first non-zero
     component is positive; zero vectors stay as they are."""
     p = np.asarray(p, dtype=float)
-    if everywhere(p[..., 0] > 0.0):  # the common case: nothing to flip
+    first = p[..., 0]
+    if everywhere(first > 0.0):  # the common case: nothing to flip
         return p
-    flip = p[..., -1] < 0.0  # the sign of the last component, unless an earlier one is non-zero
-    for i in range(p.shape[-1] - 2, -1, -1):
-        flip = np.where(p[..., i] == 0.0, flip, p[..., i] < 0.0)
+    if everywhere(first != 0.0):  # the first component decides everywhere
+        flip = first < 0.0
+    else:
+        flip = p[..., -1] < 0.0  # the last component's sign, unless an earlier one is non-zero
+        for i in range(p.shape[-1] - 2, -1, -1):
+            flip = np.where(p[..., i] == 0.0, flip, p[..., i] < 0.0)
     return p * np.where(flip, -1.0, 1.0)[..., None]  # × −1 is negation, bit for bit
 
 
