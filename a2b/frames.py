@@ -241,8 +241,8 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
     p_a, p_b = quaternions
     t_a, t_b = start[:, :3, 3].T.copy(), end[:, :3, 3].T.copy()  # (3, J)
     r = bilinear(TURN, p_b.T, p_a.T)
-    same = (p_a == p_b).all(axis=-1)  # identical rotations: no rounding residue from p p̄
-    if anywhere(same):
+    if not everywhere(p_a[:, 0] != p_b[:, 0]):  # identical rotations: no residue from p p̄
+        same = (p_a == p_b).all(axis=-1)
         r[:, same] = [[1.0], [0.0], [0.0], [0.0]]
     s = np.sqrt(dots(r[1:].T, r[1:].T))
     rotating = s > ROTATION_NOISE
