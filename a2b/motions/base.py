@@ -578,6 +578,8 @@ def boolean_parameter(values, shape: tuple, name: str) -> np.ndarray:
     arr = np.asarray(values)
     if arr.dtype.kind != "b":
         raise ParameterError(f"{name} must be True or False (or an array of them), got {values!r}")
+    if arr.shape == shape:
+        return arr.copy()
     try:
         return np.broadcast_to(arr, shape).copy()
     except ValueError:

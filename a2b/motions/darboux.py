@@ -292,18 +292,26 @@ class DarbouxMotion(Motion):
         self.long_way = boolean_parameter(long_way, shape, "long_way")
         phi, d = np.asarray(frame.phi), np.asarray(frame.d)
         turning = phi > 0
-        self.phi_eff = np.where(
-            self.long_way, np.where(turning, phi - 2 * math.pi, -2 * math.pi), phi
-        )
-        phi_e = np.where(turning, self.phi_eff, 0.0)
+        if anywhere(self.long_way):
+            self.phi_eff = np.where(
+                self.long_way, np.where(turning, phi - 2 * math.pi, -2 * math.pi), phi
+            )
+        else:
+            self.phi_eff = phi.copy()
+        phi_e = np.where(turning, self.phi_eff, 0.0) if given else None  # for solving only
         solved_from = next(iter(given), "delta")
         delta_v = self._solve(solved_from, given, branch, phi_e, d)
-        self.delta = np.broadcast_to(np.asarray(delta_v, dtype=float), shape) + 0.0
+        delta_v = np.asarray(delta_v, dtype=float)
+        if delta_v.shape != shape:
+            delta_v = np.broadcast_to(delta_v, shape)
+        self.delta = delta_v + 0.0
         self.solved_from = solved_from
         self.notes.add("δ has no effect on a pure translation", (phi == 0.0) & (self.delta != 0.0))
         self.notes.add("long way round: flipped the sign of hB", self.long_way)
 
-        self.fiber_offsets = np.stack([0.0 - self.delta / 2, self.delta / 2], axis=-1)
+        self.fiber_offsets = np.empty(shape + (2,))
+        np.multiply(self.delta, 0.5, out=self.fiber_offsets[..., 1])
+        np.subtract(0.0, self.fiber_offsets[..., 1], out=self.fiber_offsets[..., 0])
         self.quat_ends, self.table = darboux_tables(frame, self.long_way, self.fiber_offsets)
         self._check_interval(0.0, 1.0)
         if not shape:
