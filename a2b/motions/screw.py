@@ -16,7 +16,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..frames import ScrewFrame
-from ..poses import rotations_from_quaternions
 from ..study import CROSS, bilinear, quat_mul
 from ._rational import CHUNK
 from .base import Motion
@@ -27,7 +26,7 @@ from .text import number_text
 HALF_ANGLE_TAN = 1.6
 
 
-def screw_tables(frame: ScrewFrame) -> np.ndarray:
+def screw_tables(frame: ScrewFrame, start: np.ndarray) -> np.ndarray:
     """The tables ``S + (4, 14)``: rows ``(1, t, sin tφ, vers tφ)`` of ``[R | t]`` and the
     denominators 1 (see the module's docstring).
 
@@ -36,7 +35,7 @@ def screw_tables(frame: ScrewFrame) -> np.ndarray:
     ``K² X = u (u·X) − X`` three elementwise steps over all of them (``|u| = 1``), not 3x3
     products per pair.
     """
-    rot = rotations_from_quaternions(np.reshape(frame.p_start, (-1, 4)))
+    rot = np.reshape(start, (-1, 4, 4))[:, :3, :3]  # A's rotation block, as given
     given = (
         rot,
         np.reshape(frame.t_start, (-1, 3)),
@@ -83,7 +82,7 @@ class ScrewMotion(Motion):
 
     def __init__(self, start, end, frame: ScrewFrame):
         super().__init__(start, end, frame)
-        self.table = screw_tables(frame)
+        self.table = screw_tables(frame, start)
         # p(t) = cos(tφ/2) pA + sin(tφ/2) u pA: the "ends" of this path are pA and u pA
         u = np.asarray(frame.axis_direction)
         u_quat = np.concatenate([np.zeros(u.shape[:-1] + (1,)), u], axis=-1)
