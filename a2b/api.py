@@ -59,11 +59,14 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
         motion that is singular for some ``t ∈ [0, 1]``.
     """
     a, b = pose_matrices(start), pose_matrices(end)
+    quaternions = None
     if isinstance(a, np.ndarray) and isinstance(b, np.ndarray) and a.shape == b.shape:
-        a, b = check_matrices(np.stack([a, b]))  # both in one pass: the same checks
+        both = check_matrices(np.stack([a, b]))  # both in one pass: the same checks,
+        a, b = both
+        quaternions = tuple(quaternions_from_rotations(both[..., :3, :3]))  # and quaternions
     else:
         a, b = check_matrices(a), check_matrices(b)
-    result = checked_motion(a, b, mode, **parameters)
+    result = checked_motion(a, b, mode, quaternions=quaternions, **parameters)
     given = given_quaternions((start, end), (a, b))
     if given is not None and given[0].shape == result.shape + (4,):
         result.given_ends = np.stack(given, axis=-2)

@@ -61,7 +61,12 @@ def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndar
     if r.shape[-2:] != (3, 3):
         raise PoseError(f"a rotation block must be 3x3, got shape {r.shape}")
     _finite(r, "the rotation block")
-    entries = _entries(r)
+    _check_rotation_entries(_entries(r), tol)
+    return r
+
+
+def _check_rotation_entries(entries: np.ndarray, tol: float) -> None:
+    """:func:`check_rotations` of finite rotation blocks, from their :func:`_entries`."""
     residual = float(_orthogonality(entries).max(initial=0.0))
     if residual > tol:
         raise PoseError(
@@ -86,7 +91,6 @@ def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndar
         raise PoseError(
             f"the rotation block has |det R − 1| = {det_residual:.3g}, exceeding tolerance {tol:g}"
         )
-    return r
 
 
 #: How far from orthogonal a rotation block may be for :func:`orthonormalize` to repair it:
@@ -270,7 +274,7 @@ def check_matrices(
         )
     if layout == "paper":
         m = robotics_from_paper(m)
-    check_rotations(m[..., :3, :3], tol=tol)
+    _check_rotation_entries(_entries(m[..., :3, :3]), tol)  # finite already
     return m
 
 
