@@ -20,7 +20,7 @@ from math import comb, prod
 
 import numpy as np
 
-from ..elements import anywhere
+from ..elements import anywhere, everywhere
 from ..study import ROTATION, bilinear
 
 EPS = float(np.finfo(float).eps)
@@ -422,8 +422,12 @@ def _by_kind(kinds: np.ndarray, columns, tables: np.ndarray, out: np.ndarray, ev
     """``evaluate(kind, columns, tables, out)`` with each job's own kind (:func:`_kinds`): the
     most common kind on every job in place, then the jobs of each other kind gathered, again,
     and put in their place (a mixed batch costs the few others twice, not a copy of all)."""
+    first = int(kinds[0]) if len(kinds) else 0
+    if everywhere(kinds == first):  # one kind (and always for one motion)
+        evaluate(first, columns, tables, out)
+        return
     counts = np.bincount(kinds, minlength=3)
-    main = int(np.argmax(counts))
+    main = int(counts.argmax())
     evaluate(main, columns, tables, out)
     for kind in np.flatnonzero(counts):
         if kind == main:
