@@ -303,10 +303,12 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
 
 
 def _notes(flip, s, rotating, half_turn, moving, d, c) -> list:
-    """The choices :func:`_frames` made, as (mask, text) rules for :class:`Notes`."""
-    notes: list = [(flip, _FLIP)]
-    noise = (s > 0.0) & ~rotating
-    if anywhere(noise):
+    """The choices :func:`_frames` made, as (mask, text) rules for :class:`Notes`: only those
+    that hold somewhere, in this order."""
+    notes: list = [(flip, _FLIP)] if anywhere(flip) else []
+    still = ~rotating
+    noise = (s > 0.0) & still if anywhere(still) else None
+    if noise is not None and anywhere(noise):
         texts = np.full(len(s), None, dtype=object)
         for j in np.flatnonzero(noise).tolist():
             texts[j] = (
@@ -323,6 +325,8 @@ def _notes(flip, s, rotating, half_turn, moving, d, c) -> list:
                 f"orientations are short; chose the one with {side}"
             )
         notes.append((half_turn, texts))
-    notes.append((~rotating & moving, _PURE_TRANSLATION))
-    notes.append((~rotating & ~moving, _SAME_POSE))
+    if noise is not None:  # somewhere no rotation
+        for mask, text in ((still & moving, _PURE_TRANSLATION), (still & ~moving, _SAME_POSE)):
+            if anywhere(mask):
+                notes.append((mask, text))
     return notes
