@@ -406,10 +406,15 @@ def _kinds(columns: np.ndarray, rot_den: np.ndarray, trans_den=None) -> np.ndarr
     given), 2 else. ``columns`` is the basis ``(1 or J, k, N)``, the denominators ``(J, k)``."""
     jobs, k = rot_den.shape
     same = np.ones(jobs, dtype=bool)
-    for i in range(0 if trans_den is None else k):  # column by column: 3x faster than all()
-        same &= rot_den[:, i] == trans_den[:, i]
+    if trans_den is not None and not everywhere(rot_den == trans_den):
+        for i in range(k):  # column by column: 3x faster than all()
+            same &= rot_den[:, i] == trans_den[:, i]
     kinds = np.where(same, 1, 2)
-    unit = (columns[:, 0] == 1.0).all(axis=-1)  # False for a Bernstein basis beyond t = 0
+    first = columns[:, 0]  # False below for a Bernstein basis beyond t = 0
+    if len(first) == 1:  # one basis for every job
+        unit = np.full(jobs, everywhere(first == 1.0))
+    else:
+        unit = (first == 1.0).all(axis=-1)
     if anywhere(unit):
         unit = unit & same & (rot_den[:, 0] == 1.0)
         for i in range(1, k):
