@@ -59,7 +59,8 @@ def _screw_chunk(rot, t_a, u, t_perp, phi, d, table) -> None:
     columns[:, :3] = rot.transpose(1, 2, 0)
     columns[:, 3] = t_a.T
     k_cols = bilinear(CROSS, u[:, None], columns)  # (3, 4, J)
-    k2_cols = u[:, None] * np.add.reduce(u[:, None] * columns, axis=0)
+    along = u[:, None] * columns  # u·X, its terms added in order
+    k2_cols = u[:, None] * (along[0] + along[1] + along[2])
     k2_cols -= columns
     u_cross_t = bilinear(CROSS, u, t_perp)
     turning = phi > 0.0
