@@ -48,7 +48,10 @@ def check_ts(ts, one_dimensional: bool = True) -> np.ndarray:
 
 def check_table(table: np.ndarray, shape: tuple) -> None:
     """Raise if a motion's coefficients overflowed (huge parameters or translations)."""
-    finite = np.isfinite(table).reshape(shape + (-1,))
+    finite = np.isfinite(table)
+    if everywhere(finite):
+        return
+    finite = finite.reshape(shape + (-1,))
     refuse(
         ParameterError,
         ~finite.all(axis=-1),

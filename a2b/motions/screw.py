@@ -64,8 +64,9 @@ def _screw_chunk(rot, t_a, u, t_perp, phi, d, table) -> None:
     k2_cols -= columns
     u_cross_t = bilinear(CROSS, u, t_perp)
     turning = phi > 0.0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        half_cot = np.where(turning, 0.5 * np.cos(phi / 2) / np.sin(phi / 2), 0.0)
+    half_cot = np.divide(  # ½ cot(φ/2) where φ > 0, else 0 (not divided)
+        0.5 * np.cos(phi / 2), np.sin(phi / 2), out=np.zeros(phi.shape), where=turning
+    )
     k_cols[:, 3] += np.where(turning, half_cot * t_perp - 0.5 * u_cross_t, 0.0)
     k2_cols[:, 3] += np.where(turning, 0.5 * t_perp + half_cot * u_cross_t, 0.0)
     blocks = table[:, :, :12].reshape(count, 4, 3, 4)
