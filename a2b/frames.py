@@ -206,9 +206,10 @@ def screw_frame(start: np.ndarray, end: np.ndarray, quaternions=None) -> ScrewFr
         quaternions = [np.asarray(p, dtype=float).reshape(-1, 4) for p in quaternions]
     with np.errstate(over="ignore", invalid="ignore"):
         fields, notes = _frames(start.reshape(-1, 4, 4), end.reshape(-1, 4, 4), quaternions)
-    fields = {
-        name: _scalar(array.reshape(shape + array.shape[1:])) for name, array in fields.items()
-    }
+    if not shape:  # one pair: element 0 of each (a float for phi and d)
+        fields = {name: array[0] for name, array in fields.items()}
+    elif len(shape) > 1:
+        fields = {name: array.reshape(shape + array.shape[1:]) for name, array in fields.items()}
     frame = ScrewFrame(**fields, notes=Notes(shape, [(
         None if mask is None else mask.reshape(shape),
         text if isinstance(text, str) else text.reshape(shape),
