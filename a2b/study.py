@@ -427,6 +427,11 @@ def kappa_fiber_direction(h: np.ndarray) -> np.ndarray:
 
 #: ``(a, b) ↦ a b``: the Hamilton product of quaternions ``(4, ...)``.
 HAMILTON = structure_matrix(_hamilton, 4, 4)
+#: ``(u, p) ↦ (0, u) p``: a pure quaternion of the vector ``u`` times ``p`` (the screw's
+#: second end ``u pA``).
+AXIS_TIMES = structure_matrix(
+    lambda u, p: _hamilton(np.concatenate([np.zeros(u.shape[:-1] + (1,)), u], axis=-1), p), 3, 4
+)
 #: ``(b, a) ↦ b ā``: the rotation ``pB p̄A`` from A's to B's, of quaternions ``(4, ...)``.
 TURN = structure_matrix(lambda b, a: _hamilton(b, quat_conj(a)), 4, 4)
 #: ``(a, b) ↦ a × b`` of vectors ``(3, ...)``.

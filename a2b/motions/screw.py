@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..frames import ScrewFrame
-from ..study import CROSS, bilinear, quat_mul
+from ..study import AXIS_TIMES, CROSS, bilinear, vector_form
 from ._rational import CHUNK
 from .base import Motion
 from .text import number_text
@@ -86,9 +86,9 @@ class ScrewMotion(Motion):
         super().__init__(start, end, frame)
         self.table = screw_tables(frame, start)
         # p(t) = cos(tφ/2) pA + sin(tφ/2) u pA: the "ends" of this path are pA and u pA
-        u = np.asarray(frame.axis_direction)
-        u_quat = np.concatenate([np.zeros(u.shape[:-1] + (1,)), u], axis=-1)
-        self.quat_ends = np.stack([frame.p_start, quat_mul(u_quat, frame.p_start)], axis=-2)
+        self.quat_ends = np.empty(self.shape + (2, 4))
+        self.quat_ends[..., 0, :] = frame.p_start
+        self.quat_ends[..., 1, :] = vector_form(AXIS_TIMES, frame.axis_direction, frame.p_start)
 
     def _basis(self, ts):
         """Rows ``(1, t, sin tφ, vers tφ)``: ``(N, 4)`` for one motion, ``S + (N, 4)`` else."""
@@ -101,7 +101,7 @@ class ScrewMotion(Motion):
         out[0] = 1.0
         out[1] = t
         half = np.multiply(t, 0.5 * phi, out=out[3])
-        if t.size and max(-float(half.min()), float(half.max())) <= HALF_ANGLE_TAN:
+        if t.size and float(np.abs(half).max()) <= HALF_ANGLE_TAN:
             # τ = tan(tφ/2): sin = 2τ / (1 + τ²) and vers = 2 sin²(tφ/2) = τ sin. numpy
             # vectorises tan but not sin: one tan takes a fifth of the time of two sines,
             # and on |tφ/2| ≤ 1.6 (t ∈ [0, 1] and a little beyond) sin and vers stay within
@@ -118,7 +118,7 @@ class ScrewMotion(Motion):
             np.multiply(half, half, out=half)
             half *= 2.0
             np.sin(angle, out=angle)
-        return np.moveaxis(out, 0, -1)
+        return out.transpose(tuple(range(1, out.ndim)) + (0,))
 
     def _basis_derivatives(self, ts, order):
         """``(1, t, sin tφ, vers tφ)`` and its derivatives ``(0, 1, φ cos, φ sin)``, … in t."""
