@@ -187,7 +187,7 @@ def pin_ends(motion, ts, poses: dict) -> dict:
 
     start, end = getattr(motion, "start", None), getattr(motion, "end", None)
     shape = tuple(getattr(motion, "shape", (None,)))
-    if start is None or end is None or np.shape(start) != shape + (4, 4):
+    if start is None or end is None or getattr(start, "shape", None) != shape + (4, 4):
         return poses
     ts = np.asarray(ts, dtype=float)
     for t, pose in ((0.0, start), (1.0, end)):
@@ -213,7 +213,7 @@ def _pin_columns(poses: dict, at: np.ndarray, pose: np.ndarray) -> None:
     """:func:`pin_ends` for parameters ``(N,)`` shared by every motion: the samples ``at``
     (a mask ``(N,)``) of every field take ``pose`` ``S + (1, 4, 4)``."""
 
-    (found,) = np.nonzero(at)
+    (found,) = at.nonzero()
     if len(found) == 1:  # one sample at t: a basic index, cheaper than a mask
         at = int(found[0])
         pose = pose[..., 0, :, :]
