@@ -188,15 +188,17 @@ def path_minimum(ends: np.ndarray, lo: float, hi: float) -> tuple[np.ndarray, np
     """
     p_a, p_b = ends[..., 0, :], ends[..., 1, :]
     diff = p_b - p_a
-    dd = dots(diff, diff)
+    rows = np.concatenate([ends, diff[..., None, :]], axis=-2)  # pA, pB, pB − pA
+    gram = dots(rows[..., :, None, :], rows[..., None, :, :])  # every product in one call
+    dd = gram[..., 2, 2]
     flat = dd == 0.0
     if anywhere(flat):
         dd = np.where(flat, 1.0, dd)
-    t_min = np.minimum(np.maximum(-dots(p_a, diff) / dd, lo), hi)
+    t_min = np.minimum(np.maximum(-gram[..., 0, 2] / dd, lo), hi)
     if anywhere(flat):
         t_min = np.where(flat, 0.0, t_min)
     p_min = p_a + t_min[..., None] * diff
-    scale = np.maximum(dots(p_a, p_a), dots(p_b, p_b))
+    scale = np.maximum(gram[..., 0, 0], gram[..., 1, 1])
     return t_min, dots(p_min, p_min) / scale
 
 
