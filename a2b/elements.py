@@ -76,15 +76,22 @@ def warn(where, message: Callable[[int], str], shape: tuple, notes: Notes) -> No
     notes.add(texts, mask)
 
 
+_SCALAR_BOOLS = (bool, np.bool_)
+
+
 def anywhere(mask) -> bool:
     """Whether a boolean mask (an array or a bool) holds anywhere: the quick test before the
     work. ``numpy.count_nonzero`` costs a fifth of ``mask.any()`` on the small arrays of one
     motion, where a ufunc reduction's setup is most of the time."""
+    if mask.__class__ in _SCALAR_BOOLS:  # one motion's test: a bool already
+        return bool(mask)
     return np.count_nonzero(mask) > 0
 
 
 def everywhere(mask) -> bool:
     """Whether a boolean mask (an array or a bool) holds everywhere (as :func:`anywhere`)."""
+    if mask.__class__ in _SCALAR_BOOLS:
+        return bool(mask)
     return np.count_nonzero(mask) == (mask.size if isinstance(mask, np.ndarray) else 1)
 
 
