@@ -53,7 +53,11 @@ def quadratic_rows(p: np.ndarray) -> np.ndarray:
     """The Bernstein coefficients ``B(pA, pA), B(pA, pB), B(pB, pB)`` of eq. 4's nine rotation
     numerators and of the denominator ``|p(t)|²`` along ``p(t) = (1−t) pA + t pB``: ``(10, 3,
     ...)`` for ends ``(4, 2, ...)``, components first (:func:`a2b.study.bilinear`)."""
-    return bilinear(ROTATION, p[:, [0, 0, 1]], p[:, [0, 1, 1]])
+    return bilinear(ROTATION, p.take(_FIRST, axis=1), p.take(_SECOND, axis=1))
+
+
+#: The ends of the three products of :func:`quadratic_rows`: ``(A, A), (A, B), (B, B)``.
+_FIRST, _SECOND = np.array([0, 0, 1]), np.array([0, 1, 1])
 
 
 def bernstein_basis(ts: np.ndarray, degree: int) -> np.ndarray:

@@ -215,12 +215,14 @@ def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np
     t_all[:, 0] = np.reshape(frame.t_start, (count, 3)).T
     t_all[:, 1] = np.reshape(frame.t_end, (count, 3)).T
     s_all = np.reshape(offsets, (count, 2)).T
+    offset = anywhere(s_all)  # δ ≠ 0 somewhere
     table = np.empty((count, 3, 14))
     for lo in range(0, count, CHUNK):
         hi = min(lo + CHUNK, count)
         p = p_all[..., lo:hi]
         q = bilinear(_DUAL, t_all[..., lo:hi], p)
-        q += s_all[:, lo:hi] * p
+        if offset:
+            q += s_all[:, lo:hi] * p
         rows = quadratic_rows(p)  # (10, 3, J)
         trans = bilinear(_TRANSLATION, p[:, :, None], q[:, None])  # (3, 2, 2, J)
         entries = np.empty((13, 3, hi - lo))  # eq. 4's ten rows, then eq. 5's three
