@@ -686,3 +686,23 @@ def test_overflow_is_an_error_not_nan(rng):
         a2b.interpolate(a, far, TS)
     with pytest.raises(a2b.A2bError, match="overflows float64 at t = 1e\\+200"):
         a2b.interpolate(a, b, [0.0, 1e200], "cubic")
+
+
+def test_darboux_short_way_stays_half_away_from_the_origin(rng):
+    """The short way round skips the singularity check on [0, 1] (docs/math.md): |p(t)|² ≥ ½
+    there for every pair, half-turns and equal rotations included; the long way is checked."""
+    from a2b.motions.base import path_minimum
+
+    starts = matrices_from_quat_trans(rng.normal(size=(2000, 4)), rng.normal(size=(2000, 3)))
+    ends = matrices_from_quat_trans(rng.normal(size=(2000, 4)), rng.normal(size=(2000, 3)))
+    ends[:50, :3, :3] = starts[:50, :3, :3]  # equal rotations
+    half = np.diag([1.0, -1.0, -1.0])  # half-turns about x
+    ends[50:100, :3, :3] = starts[50:100, :3, :3] @ half
+    motion = a2b.motion(starts, ends, "darboux")
+    _, ratio = path_minimum(motion.quat_ends, 0.0, 1.0)
+    assert ratio.min() >= 0.5 - 1e-15
+    assert not motion._rotation_is_fragile(0.0, 1.0).any()
+    shifted = np.eye(4)
+    shifted[0, 3] = 1.0
+    with pytest.raises(SingularMotionError):  # the long way round is still checked
+        a2b.motion(np.eye(4), shifted, "darboux", long_way=True)

@@ -315,7 +315,8 @@ class DarbouxMotion(Motion):
         np.multiply(self.delta, 0.5, out=self.fiber_offsets[..., 1])
         np.subtract(0.0, self.fiber_offsets[..., 1], out=self.fiber_offsets[..., 0])
         self.quat_ends, self.table = darboux_tables(frame, self.long_way, self.fiber_offsets)
-        self._check_interval(0.0, 1.0)
+        if anywhere(self.long_way):  # the short way round, |p(t)|² ≥ ½ on [0, 1]: see below
+            self._check_interval(0.0, 1.0)
         if not shape:
             self.delta = self.delta[()]
             self.phi_eff = self.phi_eff[()]
@@ -359,6 +360,14 @@ class DarbouxMotion(Motion):
         else:
             delta_v = np.zeros(shape)
         return delta_v
+
+    def _rotation_is_fragile(self, lo, hi):
+        """Never on ``[0, 1]`` the short way round: there ``p(t) = (1−t) pA + t pB`` with unit
+        ``pA``, ``pB`` and ``c = pA·pB ≥ 0`` has ``|p(t)|² = 1 − 2t(1−t)(1 − c) ≥ ½``
+        (``docs/math.md``), far from every tolerance of the singularity checks."""
+        if lo == 0.0 and hi == 1.0 and not anywhere(self.long_way):
+            return np.zeros(self.shape, dtype=bool)
+        return super()._rotation_is_fragile(lo, hi)
 
     def _basis(self, ts):
         return bernstein_basis(ts, 2)
