@@ -13,6 +13,7 @@ from .names import MODES
 from .parameters import OF_MODE, TABLE
 from .poses import (
     check_matrices,
+    check_matrices_and_quaternions,
     pose_matrices,
     quaternions_from_rotations,
     study_from_quat_trans,
@@ -61,9 +62,9 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
     a, b = pose_matrices(start), pose_matrices(end)
     quaternions = None
     if isinstance(a, np.ndarray) and isinstance(b, np.ndarray) and a.shape == b.shape:
-        both = check_matrices(np.stack([a, b]))  # both in one pass: the same checks,
+        both, quaternions = check_matrices_and_quaternions(np.stack([a, b]))  # in one pass
         a, b = both
-        quaternions = tuple(quaternions_from_rotations(both[..., :3, :3]))  # and quaternions
+        quaternions = tuple(quaternions)
     else:
         a, b = check_matrices(a), check_matrices(b)
     result = checked_motion(a, b, mode, quaternions=quaternions, **parameters)

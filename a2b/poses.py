@@ -247,7 +247,12 @@ def check_matrices(
         For a wrong shape, NaN or infinity, a bad constant row or column, a non-orthogonal
         rotation block or ``det R = −1``.
     """
-    m = as_numbers(matrices, "a pose matrix", PoseError)
+    return _checked(as_numbers(matrices, "a pose matrix", PoseError), layout, tol)
+
+
+def _checked(m: np.ndarray, layout: str, tol: float, entries=None) -> np.ndarray:
+    """:func:`check_matrices` of a float array; ``entries``, the rotation blocks'
+    :func:`_entries` where the caller has them already."""
     if m.shape[-2:] != (4, 4):
         raise PoseError(f"a pose matrix must be 4x4, got shape {m.shape}")
     _finite(m, "the pose matrix")
@@ -274,8 +279,22 @@ def check_matrices(
         )
     if layout == "paper":
         m = robotics_from_paper(m)
-    _check_rotation_entries(_entries(m[..., :3, :3]), tol)  # finite already
+    if entries is None:
+        entries = _entries(m[..., :3, :3])
+    _check_rotation_entries(entries, tol)  # finite already
     return m
+
+
+def check_matrices_and_quaternions(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`check_matrices` (robotics layout) and the :func:`quaternions_from_rotations` of
+    the poses, ``(..., 4)``, from one component-major copy of the rotation blocks: what
+    :func:`a2b.motion` needs of its poses."""
+    m = as_numbers(matrices, "a pose matrix", PoseError)
+    if m.shape[-2:] != (4, 4):
+        raise PoseError(f"a pose matrix must be 4x4, got shape {m.shape}")
+    rows = _shepperd_input(m[..., :3, :3])
+    m = _checked(m, "robotics", ORTHO_TOL, rows[1:])
+    return m, _quaternions(rows, m.shape[:-2])
 
 
 def robotics_from_paper(matrices: np.ndarray) -> np.ndarray:
@@ -368,11 +387,22 @@ def quaternions_from_rotations(rotations: np.ndarray) -> np.ndarray:
     Schröcker, *From A to B*, eq. 7–9.
     """
     r = np.asarray(rotations, dtype=float)
-    shape = r.shape[:-2]
-    count = math.prod(shape)
+    return _quaternions(_shepperd_input(r), r.shape[:-2])
+
+
+def _shepperd_input(r: np.ndarray) -> np.ndarray:
+    """``(1, a11, a12, …, a33)`` of rotation blocks ``(..., 3, 3)`` as contiguous rows
+    ``(10, N)``: Shepperd's map's input, and below its first row the blocks' entries."""
+    count = math.prod(r.shape[:-2])
     x = np.empty((10, count))
     x[0] = 1.0
-    x[1:] = r.reshape(count, 9).T
+    x[1:].reshape(3, 3, count)[...] = r.reshape(count, 3, 3).transpose(1, 2, 0)
+    return x
+
+
+def _quaternions(x: np.ndarray, shape: tuple) -> np.ndarray:
+    """:func:`quaternions_from_rotations` from :func:`_shepperd_input`."""
+    count = x.shape[1]
     terms = linear(_SHEPPERD, x)  # (20, count)
     best = terms[16:].argmax(axis=0)  # the first largest, as a strict > from the first row
     p = terms[:16].reshape(4, 4, count)[best, :, np.arange(count)]  # (count, 4)
