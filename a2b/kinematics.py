@@ -73,12 +73,18 @@ def _vee(skew: np.ndarray) -> np.ndarray:
 def _angular(stack: np.ndarray, order: int) -> np.ndarray:
     """``ω`` (order 1) or ``α`` (order 2) in fixed-frame coordinates, ``(..., N, 3)``."""
     rot = stack[..., 0, :, :3, :3]
-    return _vee(stack[..., order, :, :3, :3] @ np.swapaxes(rot, -1, -2))
+    rate = stack[..., order, :, :3, :3]
+    # Ṙ Rᵀ entry by entry (rows of Ṙ against rows of R), each summed in one order by dots:
+    # a stacked ``@`` sums in an order that depends on the layout in older numpy
+    product = dots(rate[..., :, None, :], rot[..., None, :, :])
+    return _vee(product)
 
 
 def _to_body(stack: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     """Fixed-frame vectors ``(..., N, 3)`` in the moving frame: ``Rᵀ v``."""
-    return (vectors[..., None, :] @ stack[..., 0, :, :3, :3])[..., 0, :]
+    rot = stack[..., 0, :, :3, :3]
+    # (Rᵀ v)_j = Σ_i R_ij v_i: each column of R against v, summed in one order
+    return dots(np.swapaxes(rot, -1, -2), vectors[..., None, :])
 
 
 def twists(stack: np.ndarray, frame: str = "world", point=None) -> np.ndarray:

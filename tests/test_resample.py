@@ -173,8 +173,10 @@ def test_per_motion_parameters_equal_each_motion_alone(mode):
         quat, _ = motion.quat_trans(ts)
         for index in np.ndindex(shape):
             alone = a2b.motion(starts[index], ends[index], mode)
-            assert np.allclose(got[index], alone.matrices(ts[index]), rtol=0, atol=1e-15)
-            assert np.allclose(quat[index], alone.quat_trans(ts[index])[0], rtol=0, atol=1e-15)
+            # a few ulp of entries up to about 2: with parameters of its own per motion the
+            # products of a batch and of one motion may take different BLAS kernels (numpy < 2)
+            assert np.allclose(got[index], alone.matrices(ts[index]), rtol=0, atol=2e-15)
+            assert np.allclose(quat[index], alone.quat_trans(ts[index])[0], rtol=0, atol=2e-15)
     with pytest.raises(A2bError, match="one row per motion"):
         motion.matrices(np.zeros((4, 3, 2)))
 
