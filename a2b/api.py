@@ -18,6 +18,7 @@ from .poses import (
     quaternions_from_rotations,
     study_from_quat_trans,
 )
+from .study import dots
 
 #: mode -> the names of its parameters (the table of :mod:`a2b.parameters`).
 PARAMETERS = OF_MODE
@@ -68,13 +69,13 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
     else:
         a, b = check_matrices(a), check_matrices(b)
     result = checked_motion(a, b, mode, quaternions=quaternions, **parameters)
-    given = given_quaternions((start, end), (a, b))
+    given = given_quaternions((start, end), (a, b), quaternions)
     if given is not None and given[0].shape == result.shape + (4,):
         result.given_ends = np.stack(given, axis=-2)
     return result
 
 
-def given_quaternions(poses: tuple, matrices: tuple) -> tuple | None:
+def given_quaternions(poses: tuple, matrices: tuple, made: tuple | None = None) -> tuple | None:
     """The unit quaternions of A and B where a pose was given as a tuple
     ``(quat_wxyz, translation)``, for :attr:`a2b.motions.base.Motion.given_ends`: the
     quaternion as given (divided by its norm only if that differs from 1 by more than 4 ulp,
@@ -82,21 +83,22 @@ def given_quaternions(poses: tuple, matrices: tuple) -> tuple | None:
     pose's from its matrix. ``None`` if neither was given so, or the shapes differ.
 
     The motion itself is built from the matrices, as for matrices given (its quaternions
-    agree with these to a few ulp); only its samples at t = 0 and 1 take these."""
-
+    agree with these to a few ulp); only its samples at t = 0 and 1 take these. ``made``:
+    the matrices' own quaternions, where the caller has them already."""
     given = [pose[0] if isinstance(pose, tuple) and len(pose) == 2 else None for pose in poses]
     if all(q is None for q in given) or matrices[0].shape != matrices[1].shape:
         return None
     out = []
-    for q, m in zip(given, matrices):
-        made = quaternions_from_rotations(m[..., :3, :3])
-        if q is None or np.shape(q) != made.shape:
-            out.append(made)
+    if made is None:
+        made = tuple(quaternions_from_rotations(m[..., :3, :3]) for m in matrices)
+    for q, own in zip(given, made):
+        if q is None or np.shape(q) != own.shape:
+            out.append(own)
             continue
         q = np.asarray(q, dtype=float)
-        norm = np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
+        norm = np.sqrt(dots(q, q))[..., None]
         q = np.where(np.abs(norm - 1.0) > 4 * np.finfo(float).eps, q / norm, q)
-        sign = np.where(np.einsum("...i,...i->...", q, made) < 0.0, -1.0, 1.0)
+        sign = np.where(dots(q, own) < 0.0, -1.0, 1.0)
         out.append(sign[..., None] * q + 0.0)
     return tuple(out)
 

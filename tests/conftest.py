@@ -80,24 +80,47 @@ TOOLS = Path(os.environ.get("A2B_TOOLS", Path.home() / ".cache" / "a2b-test-tool
 CLIENTS = ("evo", "mcap-ros2-support")
 
 
-@pytest.fixture(scope="session")
-def clients() -> Path:
-    """The ``bin`` directory of a venv with :data:`CLIENTS`, installed once from the package
-    index; the test is skipped, with the reason, when they cannot be installed."""
-    home = TOOLS / "evo"
+def tool_venv(name: str, packages: tuple, check: str) -> Path:
+    """The ``bin`` directory of the venv ``TOOLS/name`` with ``packages``, installed once from
+    the package index (``check`` is Python that imports them); the calling test is skipped,
+    with the reason, when they cannot be installed."""
+    home = TOOLS / name
     python = home / "bin" / "python"
-    check = [str(python), "-c", "import evo, rosbags, mcap_ros2"]
-    if python.exists() and subprocess.run(check, capture_output=True).returncode == 0:
+    probe = [str(python), "-c", check]
+    if python.exists() and subprocess.run(probe, capture_output=True).returncode == 0:
         return home / "bin"
     try:
         if not python.exists():
             venv.create(home, with_pip=True)
-        subprocess.run([str(home / "bin" / "pip"), "install", "-q", *CLIENTS], check=True,
+        subprocess.run([str(home / "bin" / "pip"), "install", "-q", *packages], check=True,
                        capture_output=True, timeout=900)  # fmt: skip
     except (subprocess.SubprocessError, OSError) as e:
         shutil.rmtree(home, ignore_errors=True)
-        pytest.skip(f"{', '.join(CLIENTS)} could not be installed from the package index: {e}")
+        pytest.skip(f"{', '.join(packages)} could not be installed from the package index: {e}")
     return home / "bin"
+
+
+@pytest.fixture(scope="session")
+def clients() -> Path:
+    """The ``bin`` directory of a venv with :data:`CLIENTS` (:func:`tool_venv`)."""
+    return tool_venv("evo", CLIENTS, "import evo, rosbags, mcap_ros2")
+
+
+def evo_full_check(clients: Path, bag: Path, tmp_path: Path) -> str:
+    """``evo_traj bag2 BAG /a2b/pose --full_check``: asserts that evo read the file and that
+    every check it makes passed, and returns what it printed (for the counts)."""
+    env = dict(os.environ, MPLBACKEND="Agg", HOME=str(tmp_path))
+    done = subprocess.run(
+        [str(clients / "evo_traj"), "bag2", str(bag), "/a2b/pose", "--full_check",
+         "--no_warnings"],
+        capture_output=True, text=True, env=env, timeout=300, cwd=tmp_path,
+    )  # fmt: skip
+    out = done.stdout + done.stderr
+    assert done.returncode == 0, out
+    for check in ("SE(3) conform", "array shapes", "nr. of stamps", "quaternions", "timestamps"):
+        line = next(line for line in out.splitlines() if line.strip().startswith(check))
+        assert line.split()[-1] in ("yes", "ok"), line
+    return out
 
 
 #: The heavy tests, each a pytest marker: README's `pytest` leaves them out (pyproject.toml's

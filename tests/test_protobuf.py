@@ -5,10 +5,8 @@ files written by foxglove-sdk read back exactly. Needs the extra a2b-motions[pro
 from __future__ import annotations
 
 import json
-import shutil
 import subprocess
 import sys
-import venv
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +15,7 @@ from click.testing import CliRunner
 
 from a2b.cli import cli
 from a2b.io.trajectories import read_trajectory
-from tests.conftest import TOOLS
+from tests.conftest import tool_venv
 
 pytest.importorskip("foxglove_schemas_protobuf")
 
@@ -170,22 +168,8 @@ print(json.dumps(found))
 
 @pytest.fixture(scope="session")
 def rerun_bin() -> Path:
-    """The ``bin`` directory of a venv with :data:`RERUN`, installed once from the package
-    index; the test is skipped, with the reason, when it cannot be installed."""
-    home = TOOLS / "rerun"
-    python = home / "bin" / "python"
-    check = [str(python), "-c", "import rerun.chunk"]
-    if python.exists() and subprocess.run(check, capture_output=True).returncode == 0:
-        return home / "bin"
-    try:
-        if not python.exists():
-            venv.create(home, with_pip=True)
-        subprocess.run([str(home / "bin" / "pip"), "install", "-q", RERUN], check=True,
-                       capture_output=True, timeout=900)  # fmt: skip
-    except (subprocess.SubprocessError, OSError) as e:
-        shutil.rmtree(home, ignore_errors=True)
-        pytest.skip(f"{RERUN} could not be installed from the package index: {e}")
-    return home / "bin"
+    """The ``bin`` directory of a venv with :data:`RERUN` (:func:`conftest.tool_venv`)."""
+    return tool_venv("rerun", (RERUN,), "import rerun.chunk")
 
 
 @pytest.mark.clients

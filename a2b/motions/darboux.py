@@ -315,8 +315,7 @@ class DarbouxMotion(Motion):
         np.multiply(self.delta, 0.5, out=self.fiber_offsets[..., 1])
         np.subtract(0.0, self.fiber_offsets[..., 1], out=self.fiber_offsets[..., 0])
         self.quat_ends, self.table = darboux_tables(frame, self.long_way, self.fiber_offsets)
-        if anywhere(self.long_way):  # the short way round, |p(t)|² ≥ ½ on [0, 1]: see below
-            self._check_interval(0.0, 1.0)
+        self._check_interval(0.0, 1.0)
         if not shape:
             self.delta = self.delta[()]
             self.phi_eff = self.phi_eff[()]
@@ -361,11 +360,19 @@ class DarbouxMotion(Motion):
             delta_v = np.zeros(shape)
         return delta_v
 
+    def _short_way_on(self, lo: float, hi: float) -> bool:
+        """Whether ``[lo, hi]`` is ``[0, 1]`` and every motion goes the short way round: there
+        ``p(t) = (1−t) pA + t pB`` with unit ``pA``, ``pB`` and ``c = pA·pB ≥ 0`` has
+        ``|p(t)|² = 1 − 2t(1−t)(1 − c) ≥ ½`` (``docs/math.md``), far from every tolerance of
+        the singularity checks, which then have nothing to find."""
+        return lo == 0.0 and hi == 1.0 and not anywhere(self.long_way)
+
+    def _check_interval(self, lo, hi):
+        if not self._short_way_on(lo, hi):
+            super()._check_interval(lo, hi)
+
     def _rotation_is_fragile(self, lo, hi):
-        """Never on ``[0, 1]`` the short way round: there ``p(t) = (1−t) pA + t pB`` with unit
-        ``pA``, ``pB`` and ``c = pA·pB ≥ 0`` has ``|p(t)|² = 1 − 2t(1−t)(1 − c) ≥ ½``
-        (``docs/math.md``), far from every tolerance of the singularity checks."""
-        if lo == 0.0 and hi == 1.0 and not anywhere(self.long_way):
+        if self._short_way_on(lo, hi):
             return np.zeros(self.shape, dtype=bool)
         return super()._rotation_is_fragile(lo, hi)
 
