@@ -69,11 +69,11 @@ def _screw_chunk(rot, t_a, u, t_perp, phi, d, table) -> None:
     )
     k_cols[:, 3] += np.where(turning, half_cot * t_perp - 0.5 * u_cross_t, 0.0)
     k2_cols[:, 3] += np.where(turning, 0.5 * t_perp + half_cot * u_cross_t, 0.0)
-    blocks = table[:, :, :12].reshape(count, 4, 3, 4)
-    blocks[:, 0] = columns.transpose(2, 0, 1)
-    blocks[:, 1, :, 3] = (d * u + np.where(turning, 0.0, t_perp)).T
-    blocks[:, 2] = k_cols.transpose(2, 0, 1)
-    blocks[:, 3] = k2_cols.transpose(2, 0, 1)
+    # rows 0, 2, 3 of the tables, each one 2-d transposing copy (twice as fast as a 3-d one)
+    table[:, 0, :12] = columns.reshape(12, count).T
+    table[:, 1, 3:12:4] = (d * u + np.where(turning, 0.0, t_perp)).T
+    table[:, 2, :12] = k_cols.reshape(12, count).T
+    table[:, 3, :12] = k2_cols.reshape(12, count).T
 
 
 class ScrewMotion(Motion):
