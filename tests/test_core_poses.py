@@ -307,3 +307,31 @@ def test_canonical_sign_makes_the_first_nonzero_component_positive(rng, n):
         assert np.array_equal(after, sign * before)
         assert not len(nonzero) or after[nonzero[0]] > 0
     assert canonical_sign(np.array([0.0, -2.0, 1.0])).tolist() == [-0.0, 2.0, -1.0]
+
+
+def test_a_large_batch_is_checked_in_chunks_with_the_message_of_the_whole(rng):
+    """a2b.motion checks 2·10⁴ poses in chunks (poses.POSE_CHUNK): the quaternions are those of
+    one pass bit for bit, and an error names the worst residual of all the chunks, or the
+    first check that fails over the whole batch, as check_matrices does."""
+    from a2b.poses import POSE_CHUNK, check_matrices_and_quaternions
+
+    count = 2 * POSE_CHUNK + 6
+    mats = matrices_from_quat_trans(rng.normal(size=(count, 4)), rng.normal(size=(count, 3)))
+    checked, quat = check_matrices_and_quaternions(mats.reshape(2, -1, 4, 4))
+    assert quat.shape == (2, count // 2, 4) and checked.shape == (2, count // 2, 4, 4)
+    assert np.array_equal(quat.reshape(-1, 4), quaternions_from_rotations(mats[:, :3, :3]))
+    bad = mats.copy()
+    bad[3, 1, 2] += 2e-8  # first chunk
+    bad[2 * POSE_CHUNK + 1, 0, 1] += 5e-6  # last chunk: the worst
+    with pytest.raises(PoseError) as whole:
+        check_matrices(bad)
+    assert "max |R Rᵀ − I| = " in str(whole.value)
+    assert float(str(whole.value).split(" = ")[1].split()[0]) > 1e-6  # the last chunk's
+    with pytest.raises(PoseError) as chunked:
+        check_matrices_and_quaternions(bad)
+    assert str(chunked.value) == str(whole.value)
+    bad[POSE_CHUNK + 3, 3, 0] = 1e-3  # middle chunk: the bottom row fails before any rotation
+    with pytest.raises(PoseError, match=r"bottom row .* differs by 0.001"):
+        check_matrices_and_quaternions(bad)
+    with pytest.raises(PoseError, match=r"bottom row .* differs by 0.001"):
+        check_matrices(bad)
