@@ -383,19 +383,19 @@ def _shepperd_map() -> Structure:
     x_y, x_z, y_z = ((1, "a21"), (1, "a12")), ((1, "a31"), (1, "a13")), ((1, "a32"), (1, "a23"))
     signs = ((1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1))
     diagonals = [tuple(zip(sign, ("a11", "a22", "a33"))) for sign in signs]
-    ratios = [
-        [((1, "1"),) + diagonals[0], w_x, w_y, w_z],
-        [w_x, ((1, "1"),) + diagonals[1], x_y, x_z],
-        [w_y, x_y, ((1, "1"),) + diagonals[2], y_z],
-        [w_z, x_z, y_z, ((1, "1"),) + diagonals[3]],
-    ]
-    rows = [row(*terms) for ratio in ratios for terms in ratio] + [row(*d) for d in diagonals]
+    # the ratio rows' distinct entries (the 4x4 of eq. 9 is symmetric): see _RATIO_ROWS
+    entries = [((1, "1"),) + d for d in diagonals] + [w_x, w_y, w_z, x_y, x_z, y_z]
+    rows = [row(*terms) for terms in entries] + [row(*d) for d in diagonals]
     return sparse_rows(np.array(rows), padding=-0.0)
 
 
-#: :func:`_shepperd_map` as a :class:`a2b.study.Structure`: one contraction gives every ratio
-#: row and diagonal term of all rotations at once, each sum in the order eq. 7 and 9 write it.
+#: :func:`_shepperd_map` as a :class:`a2b.study.Structure`: one contraction gives every entry
+#: of the ratio rows and every diagonal term of all rotations at once, each sum in the order
+#: eq. 7 and 9 write it.
 _SHEPPERD = _shepperd_map()
+#: Row ``k`` of eq. 9 as rows of :data:`_SHEPPERD`'s output: its diagonal entry ``k``, the
+#: off-diagonal ones 4–9 (``wx, wy, wz, xy, xz, yz``) elsewhere.
+_RATIO_ROWS = np.array([[0, 4, 5, 6], [4, 1, 7, 8], [5, 7, 2, 9], [6, 8, 9, 3]])
 
 
 def quaternions_from_rotations(rotations: np.ndarray) -> np.ndarray:
@@ -427,9 +427,9 @@ def _shepperd_input(r: np.ndarray) -> np.ndarray:
 def _quaternions(x: np.ndarray, shape: tuple) -> np.ndarray:
     """:func:`quaternions_from_rotations` from :func:`_shepperd_input`."""
     count = x.shape[1]
-    terms = linear(_SHEPPERD, x)  # (20, count)
-    best = terms[16:].argmax(axis=0)  # the first largest, as a strict > from the first row
-    p = terms[:16].reshape(4, 4, count)[best, :, np.arange(count)]  # (count, 4)
+    terms = linear(_SHEPPERD, x)  # (14, count)
+    best = terms[10:].argmax(axis=0)  # the first largest, as a strict > from the first row
+    p = terms.reshape(-1).take(_RATIO_ROWS[best] * count + np.arange(count)[:, None])  # (count, 4)
     p /= np.sqrt(dots(p, p))[:, None]
     return canonical_sign(p.reshape(shape + (4,)))
 
