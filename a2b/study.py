@@ -56,6 +56,9 @@ class Structure(NamedTuple):
     #: components ``a_i b_j`` of each term (``column = i n_b + j``).
     left: np.ndarray | None = None
     right: np.ndarray | None = None
+    #: ``left`` and ``right``, each ``(m, 1)`` where a term takes the same component for
+    #: every output (:func:`_narrow`).
+    narrow: tuple | None = None
 
 
 def structure_matrix(form, n_a: int, n_b: int) -> Structure:
@@ -70,7 +73,16 @@ def structure_matrix(form, n_a: int, n_b: int) -> Structure:
     a = np.repeat(np.eye(n_a), n_b, axis=0)
     b = np.tile(np.eye(n_b), (n_a, 1))
     rows = sparse_rows(np.asarray(form(a, b), dtype=float).T)
-    return rows._replace(left=rows.columns // n_b, right=rows.columns % n_b)
+    left, right = rows.columns // n_b, rows.columns % n_b
+    return rows._replace(left=left, right=right, narrow=(_narrow(left), _narrow(right)))
+
+
+def _narrow(indices: np.ndarray) -> np.ndarray:
+    """Term indices ``(m, n_out)`` as ``(m, 1)`` where each term takes the same component for
+    every output row (as the left factor of a quaternion product does): :func:`_terms` then
+    gathers ``m`` rows, not ``m n_out``, and broadcasts them (for many columns; on a few, the
+    broadcasting costs more than the gather saves)."""
+    return indices[:, :1] if (indices == indices[:, :1]).all() else indices
 
 
 def sparse_rows(matrix: np.ndarray, padding: float = 0.0) -> Structure:
@@ -110,7 +122,7 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         return _terms(form, a, b, len(shape))
     a = np.broadcast_to(a, a.shape[:1] + shape).reshape(len(a), size)
     b = np.broadcast_to(b, b.shape[:1] + shape).reshape(len(b), size)
-    out = np.empty((len(form.left[0]), size))
+    out = np.empty((len(form.matrix), size))
     for lo in range(0, size, BILINEAR_CHUNK):  # work arrays that stay in cache
         hi = min(lo + BILINEAR_CHUNK, size)
         out[:, lo:hi] = _terms(form, a[:, lo:hi], b[:, lo:hi], 1)
@@ -127,9 +139,12 @@ def _aligned(x: np.ndarray, trailing: int) -> np.ndarray:
 def _terms(form: Structure, a: np.ndarray, b: np.ndarray, trailing: int) -> np.ndarray:
     """:func:`bilinear` of arrays with ``trailing`` dimensions after the components: each term
     ``w a_i b_j`` of each output row gathered, multiplied, and added in order."""
-    terms = a.take(form.left, axis=0) * b.take(form.right, axis=0)  # (m, n_out, ...)
+    left, right = (form.left, form.right) if a.size <= NARROW_FROM else form.narrow
+    terms = a.take(left, axis=0) * b.take(right, axis=0)  # (m, n_out, ...)
     terms *= (
-        form.weights if trailing == 1 else form.weights.reshape(form.left.shape + (1,) * trailing)
+        form.weights
+        if trailing == 1
+        else form.weights.reshape(form.columns.shape + (1,) * trailing)
     )
     out = terms[0]
     for term in terms[1:]:
@@ -149,6 +164,9 @@ def linear(form: Structure, x: np.ndarray) -> np.ndarray:
         out[:, lo : lo + BILINEAR_CHUNK] = contract(form, x[:, lo : lo + BILINEAR_CHUNK])
     return out
 
+
+#: Numbers in ``a`` from which :func:`_terms` broadcasts the terms' constant factors.
+NARROW_FROM = 256
 
 #: Columns of :func:`bilinear` at a time: an outer product of two quaternions' components over
 #: 8,192 columns is 1 MiB; over 10⁵ pairs at once, it ran slower, out of cache.
