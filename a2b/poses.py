@@ -429,10 +429,13 @@ def _quaternions(x: np.ndarray, shape: tuple) -> np.ndarray:
     count = x.shape[1]
     terms = linear(_SHEPPERD, x)  # (14, count)
     best = terms[10:].argmax(axis=0)  # the first largest, as a strict > from the first row
-    chosen = _RATIO_ROWS.T[:, best]  # (4, count): the row of terms of each component
-    chosen *= count
-    chosen += np.arange(count)
-    p = terms.reshape(-1).take(chosen).T  # (count, 4), component-major in memory
+    if count <= 64:  # a few rotations: one index, the fewest numpy calls
+        p = terms[_RATIO_ROWS[best], np.arange(count)[:, None]]  # (count, 4)
+    else:  # many: contiguous passes, component-major
+        chosen = _RATIO_ROWS.T[:, best]  # (4, count): the row of terms of each component
+        chosen *= count
+        chosen += np.arange(count)
+        p = terms.reshape(-1).take(chosen).T  # (count, 4), component-major in memory
     p /= np.sqrt(dots(p, p))[:, None]
     return canonical_sign(p.reshape(shape + (4,)))
 

@@ -117,15 +117,18 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     if b.shape[1:] != shape:
         shape = np.broadcast_shapes(shape, b.shape[1:])
     size = math.prod(shape)
+    if size <= NARROW_FROM:
+        a, b = _aligned(a, len(shape)), _aligned(b, len(shape))
+        return _terms(form, a, b, len(shape), form.left, form.right)
     if size <= BILINEAR_CHUNK:
         a, b = _aligned(a, len(shape)), _aligned(b, len(shape))
-        return _terms(form, a, b, len(shape))
+        return _terms(form, a, b, len(shape), *form.narrow)
     a = np.broadcast_to(a, a.shape[:1] + shape).reshape(len(a), size)
     b = np.broadcast_to(b, b.shape[:1] + shape).reshape(len(b), size)
     out = np.empty((len(form.matrix), size))
     for lo in range(0, size, BILINEAR_CHUNK):  # work arrays that stay in cache
         hi = min(lo + BILINEAR_CHUNK, size)
-        out[:, lo:hi] = _terms(form, a[:, lo:hi], b[:, lo:hi], 1)
+        out[:, lo:hi] = _terms(form, a[:, lo:hi], b[:, lo:hi], 1, *form.narrow)
     return out.reshape(out.shape[:1] + shape)
 
 
@@ -136,10 +139,10 @@ def _aligned(x: np.ndarray, trailing: int) -> np.ndarray:
     return x.reshape(x.shape[:1] + (1,) * missing + x.shape[1:]) if missing else x
 
 
-def _terms(form: Structure, a: np.ndarray, b: np.ndarray, trailing: int) -> np.ndarray:
+def _terms(form: Structure, a, b, trailing: int, left, right) -> np.ndarray:
     """:func:`bilinear` of arrays with ``trailing`` dimensions after the components: each term
-    ``w a_i b_j`` of each output row gathered, multiplied, and added in order."""
-    left, right = (form.left, form.right) if a.size <= NARROW_FROM else form.narrow
+    ``w a_i b_j`` of each output row gathered (by ``left`` and ``right``, those of ``form`` or
+    its :attr:`Structure.narrow`), multiplied, and added in order."""
     terms = a.take(left, axis=0) * b.take(right, axis=0)  # (m, n_out, ...)
     terms *= (
         form.weights
@@ -165,8 +168,8 @@ def linear(form: Structure, x: np.ndarray) -> np.ndarray:
     return out
 
 
-#: Numbers in ``a`` from which :func:`_terms` broadcasts the terms' constant factors.
-NARROW_FROM = 256
+#: Columns from which :func:`bilinear` broadcasts the terms' constant factors.
+NARROW_FROM = 64
 
 #: Columns of :func:`bilinear` at a time: an outer product of two quaternions' components over
 #: 8,192 columns is 1 MiB; over 10⁵ pairs at once, it ran slower, out of cache.
