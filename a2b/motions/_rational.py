@@ -409,6 +409,11 @@ def _kinds(columns: np.ndarray, rot_den: np.ndarray, trans_den=None) -> np.ndarr
     motion), 1 where the rotation and the translation share one (or only ``rot_den`` is
     given), 2 else. ``columns`` is the basis ``(1 or J, k, N)``, the denominators ``(J, k)``."""
     jobs, k = rot_den.shape
+    if jobs == 1 and len(columns) == 1:  # one motion: the same tests on Python floats
+        rot = rot_den[0].tolist()
+        same = trans_den is None or rot == trans_den[0].tolist()  # NaN ≠ NaN, as below
+        unit = same and rot[0] == 1.0 and not any(rot[1:]) and everywhere(columns[0, 0] == 1.0)
+        return np.array([0 if unit else 1 if same else 2])
     same = np.ones(jobs, dtype=bool)
     if trans_den is not None and not everywhere(rot_den == trans_den):
         for i in range(k):  # column by column: 3x faster than all()
