@@ -8,8 +8,12 @@ import numpy as np
 import a2b
 from a2b.motions._rational import CHUNK
 from a2b.study import (
-    BILINEAR_CHUNK,
+    IN_TURN_CHUNK,
+    IN_TURN_FROM,
+    NARROW_FROM,
+    Structure,
     bilinear,
+    linear,
     quat_mul,
     rotation_numerators,
     structure_matrix,
@@ -105,11 +109,76 @@ def test_a_batch_larger_than_a_chunk_is_its_elements_bit_for_bit(rng):
 
 def test_bilinear_gives_an_element_of_a_batch_bit_for_bit_as_alone(rng):
     form = structure_matrix(rotation_numerators, 4, 4)
-    count = BILINEAR_CHUNK + 100  # in two chunks
+    count = IN_TURN_CHUNK + 100  # in two chunks
     a, b = rng.normal(size=(4, count)), rng.normal(size=(4, count))
     full = bilinear(form, a, b)
-    for j in (0, 1, 7, BILINEAR_CHUNK - 1, BILINEAR_CHUNK, count - 2):
+    for j in (0, 1, 7, IN_TURN_CHUNK - 1, IN_TURN_CHUNK, count - 2):
         np.testing.assert_array_equal(full[:, j], bilinear(form, a[:, j], b[:, j]))
         np.testing.assert_array_equal(
             full[:, j : j + 2], bilinear(form, a[:, j : j + 2], b[:, j : j + 2])
         )
+
+
+def _every_structure():
+    import a2b.motions.cubic
+    import a2b.motions.darboux
+    import a2b.poses
+
+    for module in (a2b.study, a2b.poses, a2b.motions.darboux, a2b.motions.cubic):
+        for name, value in vars(module).items():
+            if isinstance(value, Structure):
+                yield f"{module.__name__}.{name}", value
+    # rows of 3, 1 and 2 terms: the padding terms are evaluated too (0 · a₀b₀ is ±0 or NaN)
+    yield "padded", structure_matrix(
+        lambda a, b: np.stack(
+            [a[..., 0] * b[..., 1] - a[..., 2] * b[..., 0] + 2 * a[..., 1] * b[..., 1],
+             a[..., 2] * b[..., 2],
+             a[..., 1] * b[..., 0] + a[..., 0] * b[..., 2]],
+            axis=-1,
+        ),
+        3,
+        3,
+    )  # fmt: skip
+
+
+def _awkward(rng, shape):
+    """Random numbers with signed zeros, infinities, NaN, subnormals and huge ones among them."""
+    x = rng.normal(size=shape)
+    special = np.array([0.0, -0.0, np.inf, -np.inf, np.nan, 5e-324, -1e-310, 1e300, -1e300])
+    where = rng.random(shape) < 0.3
+    x[where] = rng.choice(special, size=int(where.sum()))
+    return x
+
+
+def test_every_way_of_evaluating_a_structure_gives_the_same_bits(rng):
+    """bilinear and linear gather every term for a few columns (and broadcast a term's constant
+    factor from NARROW_FROM), and go row by row and term by term from IN_TURN_FROM: the same
+    bits every way, signed zeros, infinities and NaN included, so that an element of a batch
+    is the element alone."""
+    count = IN_TURN_FROM + 37
+    found = 0
+    for name, form in _every_structure():
+        found += 1
+        n_in = form.matrix.shape[1]
+        if form.left is None:  # a linear map: its input row 0 is the constant 1
+            x = _awkward(rng, (n_in, count))
+            x[0] = 1.0
+            with np.errstate(all="ignore"):
+                full = linear(form, x)
+                for lo, hi in ((0, 1), (5, 5 + NARROW_FROM + 1), (3, IN_TURN_FROM - 1)):
+                    part = linear(form, x[:, lo:hi])
+                    assert np.array_equal(full[:, lo:hi], part, equal_nan=True), name
+                    assert np.array_equal(np.signbit(full[:, lo:hi]), np.signbit(part)), name
+            continue
+        n_a, n_b = int(form.left.max()) + 1, int(form.right.max()) + 1
+        a, b = _awkward(rng, (n_a, count)), _awkward(rng, (n_b, count))
+        with np.errstate(all="ignore"):
+            full = bilinear(form, a, b)
+            for lo, hi in ((0, 1), (5, 5 + NARROW_FROM + 1), (3, IN_TURN_FROM - 1)):
+                part = bilinear(form, a[:, lo:hi], b[:, lo:hi])
+                assert np.array_equal(full[:, lo:hi], part, equal_nan=True), name
+                assert np.array_equal(np.signbit(full[:, lo:hi]), np.signbit(part)), name
+            one = bilinear(form, a[:, 9], b[:, 9])
+        assert np.array_equal(full[:, 9], one, equal_nan=True), name
+        assert np.array_equal(np.signbit(full[:, 9]), np.signbit(one)), name
+    assert found >= 10
