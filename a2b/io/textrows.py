@@ -221,12 +221,19 @@ class TextLayout:
     fmt: str = ""
 
 
-def read_rows(data: bytes, name: str, layout: TextLayout, offset: int = 0, skip: bool = True):
+def read_rows(
+    data: bytes, name: str, layout: TextLayout, offset: int = 0, skip: bool = True,
+    bulk: bool = False,
+):  # fmt: skip
     """The numbers of some lines of a text trajectory ``(N, len(columns))``, and their
     :class:`Lines`; ``offset`` lines of the file come before ``data``, whose first
-    ``layout.skip`` lines are skipped if ``skip``."""
+    ``layout.skip`` lines are skipped if ``skip``. ``bulk``: ``data`` is a piece of a large
+    file, which pyarrow parses where it is installed (:func:`_arrow_rows`)."""
     first = layout.skip if skip else 0
     lines = Lines(data, first, offset)
+    rows = _arrow_rows(data, layout, first) if bulk else None
+    if rows is not None:
+        return rows, lines
     body = io.BytesIO(data)
     try:
         with warnings.catch_warnings():
@@ -251,6 +258,66 @@ def read_rows(data: bytes, name: str, layout: TextLayout, offset: int = 0, skip:
         column = layout.columns[int(np.argmax(~np.isfinite(rows[i])))]
         _raise_at(lines.numbered()[i], layout.sep, column, name, "expected a finite number")
     return rows, lines
+
+
+#: Files from this many bytes are read with :func:`_arrow_rows` (``bulk``), where pyarrow's
+#: import (about 0.1 s) pays for itself.
+ARROW_FROM = 1 << 24
+
+#: Bytes that a plain text, which pyarrow and ``numpy.loadtxt`` read alike, has none of.
+_NOT_PLAIN = (b"#", b"\r", b"\t", b"\x0b", b"\x0c", b'"')
+
+
+def _arrow_rows(data: bytes, layout: TextLayout, first: int) -> np.ndarray | None:
+    """The rows of a plain text as pyarrow's CSV reader parses them: the doubles of
+    ``numpy.loadtxt`` (both round correctly), three to four times as fast, and without the GIL.
+    ``None`` where pyarrow is not installed (it comes with the ``parquet`` extra) or the text
+    is not plain: other than ASCII numbers separated by one blank (or a comma) in rows of one
+    width, after the ``first`` lines, with no comment, no other blank and no non-finite
+    number. Then :func:`read_rows` reads it with ``numpy.loadtxt``, and any error is its."""
+    if layout.nanoseconds or layout.sep not in (None, ","):
+        return None
+    try:
+        import pyarrow as pa
+        import pyarrow.csv as csv
+    except ImportError:
+        return None
+    start = 0
+    for _ in range(first):
+        start = data.find(b"\n", start) + 1
+        if not start:
+            return None
+    body = data[start:]
+    if not body.isascii() or any(byte in body for byte in _NOT_PLAIN):
+        return None
+    if layout.sep is None and (
+        b"  " in body or b"\n " in body or b" \n" in body or body[:1] == b" " or body[-1:] == b" "
+    ):
+        return None
+    width = layout.width or max(layout.columns) + 1
+    names = [f"f{k}" for k in range(width)]
+    try:
+        table = csv.read_csv(
+            pa.py_buffer(body),
+            read_options=csv.ReadOptions(column_names=names, use_threads=False),
+            parse_options=csv.ParseOptions(delimiter=layout.sep or " ", quote_char=False),
+            convert_options=csv.ConvertOptions(
+                column_types=dict.fromkeys(names, pa.float64()),
+                include_columns=[names[k] for k in layout.columns],
+                null_values=[],
+                strings_can_be_null=False,
+            ),
+        )
+    except (pa.ArrowException, ValueError):  # not plain after all: a row of another width, …
+        return None
+    rows = np.empty((table.num_rows, table.num_columns))
+    for k, column in enumerate(table.columns):
+        lo = 0
+        for chunk in column.chunks:  # the doubles as they are (to_numpy imports pandas)
+            values = np.frombuffer(chunk.buffers()[1], dtype=np.float64)
+            rows[lo : lo + len(chunk), k] = values[chunk.offset : chunk.offset + len(chunk)]
+            lo += len(chunk)
+    return rows if len(rows) and np.isfinite(rows).all() else None
 
 
 def _loadtxt(body, layout: TextLayout, first: int, usecols=None) -> np.ndarray:

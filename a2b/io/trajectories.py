@@ -52,6 +52,7 @@ from .mcapposes import channel_topics, mcap_tf_poses, pick_topic
 from .mcapreader import MAGIC, McapFile
 from .sqlitebag import SQLITE_MAGIC
 from .textrows import (
+    ARROW_FROM,
     BOM,
     check_text,
     first_line,
@@ -330,7 +331,9 @@ def _text_pieces(data: bytes, name: str, fmt: str, rate, orthonormalize, size):
         stop = data.find(b"\n", start + size) + 1 if len(data) - start > size else 0
         stop = stop or len(data)
         text = data[start:stop]
-        rows, lines = read_rows(text, name, layout, line, skip=start == 0)
+        rows, lines = read_rows(
+            text, name, layout, line, skip=start == 0, bulk=len(data) >= ARROW_FROM
+        )
         piece = reader.trajectory(rows, lines, name, fmt, rate, orthonormalize, row)
         written = written_times(lines, layout) if "times" in BY_NAME[fmt].holds else None
         check_times(piece.times, name, lines, previous, written)
