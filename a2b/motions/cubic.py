@@ -143,24 +143,27 @@ def cubic_tables(frame: ScrewFrame, weights, psi, given: bool) -> tuple:
     eq. 12 over ``Δ · x0`` (canonical frame, ``given`` false) or ``x0`` (given frame).
 
     Component-major: the numbers of the pairs are read as ``(k, J)`` views of the screw
-    frame's arrays, and each chunk of :data:`CHUNK` pairs is built in work arrays that every
-    chunk reuses (:class:`_Work`) and written into the table by one transposing copy.
+    frame's arrays, the ends are ``(4, 2, J)`` (returned as a view, as Darboux motions' are),
+    and each chunk of :data:`CHUNK` pairs is built in work arrays that every chunk reuses
+    (:class:`_Work`) and written into the table by one transposing copy.
     """
     count = weights.shape[1]
-    inputs = [_rows(frame.p_start, 4, count), _rows(frame.p_end, 4, count), weights, psi]
-    inputs.append(_rows(frame.t_start, 3, count))
+    ends = np.empty((4, 2, count))  # p(t)'s: components, A and B, pairs
+    np.multiply(_rows(frame.p_start, 4, count), weights[0], out=ends[:, 0])
+    np.multiply(_rows(frame.p_end, 4, count), weights[1], out=ends[:, 1])
+    inputs = [ends, weights, psi, _rows(frame.t_start, 3, count)]
     if given:
         inputs.append(_rows(frame.t_end, 3, count))
     else:
         slide = (np.reshape(frame.d, count) * psi[1]) * _rows(frame.axis_direction, 3, count)
         inputs += [_rows(frame.r, 4, count), _rows(frame.t_perp, 3, count), slide]  # d ψB u
-    quat_ends = np.empty((count, 2, 4))
     table = np.empty((count, 4, 14))
     work = _Work(min(count, CHUNK), given)
     for lo in range(0, count, CHUNK):
         hi = min(lo + CHUNK, count)
-        _cubic_chunk([x[:, lo:hi] for x in inputs], work, quat_ends[lo:hi], table[lo:hi])
-    return quat_ends.reshape(frame.shape + (2, 4)), table.reshape(frame.shape + (4, 14))
+        _cubic_chunk([x[..., lo:hi] for x in inputs], work, table[lo:hi])
+    quat_ends = ends.transpose(2, 1, 0).reshape(frame.shape + (2, 4))  # a view, as the table's
+    return quat_ends, table.reshape(frame.shape + (4, 14))
 
 
 def _rows(field, width: int, count: int) -> np.ndarray:
@@ -171,17 +174,16 @@ def _rows(field, width: int, count: int) -> np.ndarray:
 
 class _Work:
     """The work arrays of :func:`_cubic_chunk` for chunks of up to ``n`` pairs, made once per
-    build with their constant entries: the ends of ``p(t)``, ``(4, 2, n)``, and the two
-    factors of the table's Bernstein product, ``(3, width, n)`` and ``(2, width, n)``.
+    build with their constant entries: the two factors of the table's Bernstein product,
+    ``(3, width, n)`` and ``(2, width, n)``.
 
     Their rows are ``n + 8`` doubles long: rows exactly 4,096 doubles (32 KiB) apart fall into
-    the same cache sets, and the transposing copies into the table ran four times slower.
+    the same cache sets, and the transposing copy into the table ran four times slower.
     """
 
     def __init__(self, n: int, given: bool):
         row = n + 8
         width = 14 if given else 17  # the table's columns (and the canonical slide's three)
-        self.ends = np.empty((4, 2, row))
         self.first = np.zeros((3, width, row))
         self.second = np.zeros((2, width, row))
         #: eq. 4's rows in the table's columns, (coefficient, row, column, pairs)
@@ -193,9 +195,9 @@ class _Work:
             self.first[:, 13] = 1.0
 
 
-def _cubic_chunk(inputs: list, work: _Work, quat_ends: np.ndarray, table: np.ndarray):
-    """:func:`cubic_tables` of one chunk of ``n`` pairs: ``inputs`` ``(k, n)`` as gathered
-    there, written into its ``quat_ends`` ``(n, 2, 4)`` and ``table`` ``(n, 4, 14)``.
+def _cubic_chunk(inputs: list, work: _Work, table: np.ndarray):
+    """:func:`cubic_tables` of one chunk of ``n`` pairs: ``inputs`` ``(..., n)`` as gathered
+    there, written into its ``table`` ``(n, 4, 14)``.
 
     The whole table is one Bernstein product of degree 2 by 1 (:func:`bern_mul`), column by
     column in the table's order: the rotation rows of ``p(t)`` and Δ by the constant 1 (which
@@ -204,13 +206,8 @@ def _cubic_chunk(inputs: list, work: _Work, quat_ends: np.ndarray, table: np.nda
     translation's denominator ``Δ · x0`` is then the rotation's to the bit, and sampling
     divides by one denominator instead of two.
     """
-    p_a, p_b, weights = inputs[:3]
-    n = p_a.shape[1]
-    ends = work.ends[..., :n]  # components, A and B, pairs
-    np.multiply(p_a, weights[0], out=ends[:, 0])
-    np.multiply(p_b, weights[1], out=ends[:, 1])
-    quat_ends[...] = ends.transpose(2, 1, 0)
-    rows = quadratic_rows(ends)  # (10, 3, n)
+    n = table.shape[0]
+    rows = quadratic_rows(inputs[0])  # (10, 3, n)
     work.rotation[..., :n] = rows[:9].reshape(3, 3, 3, n).transpose(2, 0, 1, 3)
     first, second = work.first[..., :n], work.second[..., :n]
     first[:, 12] = rows[9]  # Δ
@@ -236,13 +233,13 @@ def _translation_factors(inputs: list, rows, first, second) -> None:
     ``B(wA, wB r)`` and ``B(wB r, wB r)`` (eq. 4): the first two act on ``tA`` as a scaling
     and as :data:`_MIDDLE_TURN`.
     """
-    weights, psi, t_a = inputs[2], inputs[3], inputs[4]
-    if len(inputs) == 6:  # the given frame
+    weights, psi, t_a = inputs[1:4]
+    if len(inputs) == 5:  # the given frame
         np.multiply(t_a, psi[0], out=second[0, 3:12:4])
-        np.multiply(inputs[5], psi[1], out=second[1, 3:12:4])
+        np.multiply(inputs[4], psi[1], out=second[1, 3:12:4])
         second[:, 13] = psi
         return
-    r, t_perp, slide = inputs[5:]
+    r, t_perp, slide = inputs[4:]
     turned = first[:, 3:12:4]  # R_D(t) Δ(t) tA, then the part across the axis
     rho_b = r * weights[1]
     np.multiply(weights[0] * weights[0], t_a, out=turned[0])
