@@ -82,8 +82,13 @@ def default_m(frame: ScrewFrame, which: str, s=None) -> np.ndarray:
         out = np.zeros((4,) + r.shape[:-1])
         out[0] = 1.0 + r[..., 0]
         out[3] = np.linalg.norm(r[..., 1:], axis=-1) if s is None else s
-        return np.moveaxis(out, 0, -1)
+        return _last(out)
     return np.asarray(frame.p_start) + frame.p_end
+
+
+def _last(x: np.ndarray) -> np.ndarray:
+    """Components first, ``(k,) + S``, as a view ``S + (k,)`` (components last)."""
+    return x.reshape(len(x), -1).T.reshape(x.shape[1:] + x.shape[:1])
 
 
 #: The smallest ratio ``min(|wA|, |wB|) / max(|wA|, |wB|)`` for which :func:`_bounded_away`
@@ -93,8 +98,8 @@ WEIGHT_RATIO = 0.15
 
 
 def _bounded_away(weights: np.ndarray, c) -> bool:
-    """Whether every ``p(t) = (1−t) wA pA + t wB pB`` (weights ``(2,) + S``, unit ``pA``,
-    ``pB`` with ``c = pA·pB``) keeps ``|p(t)|² / max(wA², wB²) > 2 FRAGILE_TOL`` on [0, 1].
+    """Whether every ``p(t) = (1−t) wA pA + t wB pB`` (weights ``(2, J)``, unit ``pA``, ``pB``
+    with ``c = pA·pB``, ``(J,)``) keeps ``|p(t)|² / max(wA², wB²) > 2 FRAGILE_TOL`` on [0, 1].
 
     ``|p(t)|² = (1−t)² wA² + t² wB² + 2t(1−t) wA wB c``: where ``wA wB c ≥ 0`` it is at least
     ``wA² wB² / (wA² + wB²)``, which is ``q² / (1 + q²)`` of ``max(wA², wB²)`` for
@@ -155,8 +160,9 @@ def cubic_tables(frame: ScrewFrame, weights, psi, given: bool) -> tuple:
     if given:
         inputs.append(_rows(frame.t_end, 3, count))
     else:
-        slide = (np.reshape(frame.d, count) * psi[1]) * _rows(frame.axis_direction, 3, count)
-        inputs += [_rows(frame.r, 4, count), _rows(frame.t_perp, 3, count), slide]  # d ψB u
+        d_psi = np.asarray(frame.d).reshape(count) * psi[1]
+        slide = d_psi * _rows(frame.axis_direction, 3, count)  # d ψB u
+        inputs += [_rows(frame.r, 4, count), _rows(frame.t_perp, 3, count), slide]
     table = np.empty((count, 4, 14))
     work = _Work(min(count, CHUNK), given)
     for lo in range(0, count, CHUNK):
@@ -169,7 +175,7 @@ def cubic_tables(frame: ScrewFrame, weights, psi, given: bool) -> tuple:
 def _rows(field, width: int, count: int) -> np.ndarray:
     """A frame's field ``S + (width,)`` as components ``(width, J)``: for a batch, a view of
     the component-major array that :func:`a2b.frames.screw_frame` made."""
-    return np.reshape(field, (count, width)).T
+    return np.asarray(field).reshape(count, width).T
 
 
 class _Work:
@@ -314,15 +320,14 @@ class CubicMotion(Motion):
         psi[0] = _psi(m_arr, alpha, a, "alpha", "a", shape)
         psi[1] = _psi(m_arr, beta, b, "beta", "b", shape)
         self.psi_a, self.psi_b = psi
-        weights = self._weights(m_arr, r[..., 0], s)
-        self.weights = np.moveaxis(weights, 0, -1)
+        weights = self._weights(m_arr, r[..., 0], s)  # (2, J)
+        self.weights = weights.T.reshape(shape + (2,))
         root = linear_root(self.psi_a, self.psi_b)
         self._check_psi(root)
-        count = math.prod(shape)
         self.quat_ends, self.table = cubic_tables(
-            frame, weights.reshape(2, count), psi.reshape(2, count), frame_name == "given"
+            frame, weights, psi.reshape(2, -1), frame_name == "given"
         )
-        self._bounded = _bounded_away(weights, r[..., 0])
+        self._bounded = _bounded_away(weights, r[..., 0].reshape(-1))
         self._check_interval(0.0, 1.0, root)
         if frame_name == "canonical":
             self._check_axis_sensitivity(s)
@@ -330,21 +335,25 @@ class CubicMotion(Motion):
             self.psi_a, self.psi_b = self.psi_a[()], self.psi_b[()]
 
     def _weights(self, m_arr, c, s) -> np.ndarray:
-        """``4 (m·pA)`` and ``4 (m·pB)``, components first ``(2,) + S``, in the motion's frame
+        """``4 (m·pA)`` and ``4 (m·pB)``, components first ``(2, J)``, in the motion's frame
         (refused where 0)."""
-        quats = np.zeros((4, 2) + np.shape(c))  # components, A and B
+        shape = self.shape
+        count = math.prod(shape)
+        quats = np.zeros((2, 4) + shape)  # A and B, components
         if self.frame_name == "canonical":  # pA = 1 and pB = (c, 0, 0, s)
             quats[0, 0] = 1.0
-            quats[0, 1] = c
-            quats[3, 1] = s
+            quats[1, 0] = c
+            quats[1, 3] = s
             where = " (canonical coordinates)"
         else:
-            quats[:, 0] = np.moveaxis(self.frame.p_start, -1, 0)
-            quats[:, 1] = np.moveaxis(self.frame.p_end, -1, 0)
+            quats[0] = _rows(self.frame.p_start, 4, count).reshape((4,) + shape)
+            quats[1] = _rows(self.frame.p_end, 4, count).reshape((4,) + shape)
             where = ""
-        dot = dots(m_arr[..., None, :], np.moveaxis(quats, (0, 1), (-1, -2)))
+        dot = dots(m_arr[..., None, :], quats.reshape(8, count).T.reshape(shape + (2, 4)))
         refuse_orthogonal(m_arr, dot, ("start pose" + where, "end pose" + where))
-        return 4.0 * np.moveaxis(dot, -1, 0)
+        weights = np.empty((2, count))
+        np.multiply(dot.reshape(count, 2).T, 4.0, out=weights)
+        return weights
 
     def _check_axis_sensitivity(self, s) -> None:
         """Warn when a nearly pure translation makes the canonical motion depend on rounding.
