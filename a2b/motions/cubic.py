@@ -61,8 +61,9 @@ SENSITIVITY_WARNING = 1e-9
 
 
 #: ``(t, r) ↦ B(1, r) t``: eq. 4's symmetric bilinear form of the quaternion 1 and ``r``
-#: (:func:`a2b.study.rotation_numerators`), a 3x3 matrix, times the vector ``t``. With
-#: ``r = wA wB r`` it is the middle Bernstein coefficient of ``R_D(t) Δ(t) tA``.
+#: (:func:`a2b.study.rotation_numerators`), a 3x3 matrix, times the vector ``t``. Of ``tA`` and
+#: ``wA wB r``, it is the middle Bernstein coefficient of ``R_D(t) Δ(t) tA``
+#: (:func:`_translation_factors`).
 _MIDDLE_TURN = structure_matrix(
     lambda t, r: (
         rotation_numerators(np.broadcast_to([1.0, 0.0, 0.0, 0.0], r.shape), r).reshape(-1, 3, 3)
