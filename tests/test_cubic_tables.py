@@ -7,8 +7,10 @@ import numpy as np
 import pytest
 
 import a2b
-from a2b.errors import ParameterError
-from a2b.motions._rational import CHUNK
+from a2b.errors import A2bWarning, ParameterError
+from a2b.motions._rational import CHUNK, FRAGILE_TOL
+from a2b.motions.base import path_minimum
+from a2b.motions.cubic import WEIGHT_RATIO, _bounded_away
 from a2b.poses import quaternions_from_rotations
 
 from .conftest import random_pose
@@ -110,3 +112,59 @@ def test_with_x0_constant_one_both_denominators_are_the_same(rng):
     assert np.array_equal(table[..., 12], table[..., 13])
     table = a2b.motion(start, end, "cubic", a=0.1, b=0.2).table
     assert not np.array_equal(table[..., 1:3, 12], table[..., 1:3, 13])
+
+
+def test_weights_within_the_ratio_keep_p_away_from_the_origin(rng):
+    """Where ``wA wB c ≥ 0`` and the weights are within WEIGHT_RATIO of each other,
+    ``|p(t)|² / max|p|²`` on [0, 1] is at least ``q² / (1 + q²) > 2 FRAGILE_TOL``: the bound
+    by which the build skips the singularity checks (docs/math.md)."""
+    count = 20000
+    quats = rng.normal(size=(count, 2, 4))
+    quats /= np.linalg.norm(quats, axis=-1, keepdims=True)
+    c = np.sum(quats[:, 0] * quats[:, 1], axis=-1)
+    quats[:, 1] *= np.where(c < 0, -1.0, 1.0)[:, None]  # the short way, as screw_frame
+    c = np.abs(c)
+    q = WEIGHT_RATIO + (1.0 - WEIGHT_RATIO) * rng.random(count) ** 4  # many near the edge
+    q[:100] = WEIGHT_RATIO
+    scale = 10.0 ** rng.uniform(-3, 3, count) * np.where(rng.random(count) < 0.5, -1.0, 1.0)
+    weights = np.stack([scale, scale * q])
+    swap = rng.random(count) < 0.5
+    weights[:, swap] = weights[::-1, swap]
+    assert _bounded_away(weights, c)
+    ends = quats * np.moveaxis(weights, 0, -1)[..., None]
+    _, ratio = path_minimum(ends, 0.0, 1.0)
+    bound = q**2 / (1 + q**2)
+    assert np.all(ratio >= bound * (1 - 1e-12))
+    assert ratio.min() > 2 * FRAGILE_TOL
+    # one pair outside: weights further apart, or of opposite signs with c > 0
+    weights[1, 7] = weights[0, 7] * 0.14
+    assert not _bounded_away(weights, c)
+    weights[1, 7] = -weights[0, 7]
+    assert not _bounded_away(weights, c)
+
+
+@pytest.mark.filterwarnings("ignore::a2b.errors.A2bWarning")
+def test_a_batch_with_one_unbounded_pair_is_checked_as_each_pair_alone(rng):
+    """The default motions are bounded and skip the singularity checks on [0, 1]; one pair of
+    weights far apart in a batch brings the checks back for the whole batch, and its warning
+    (p(t) close to 0) names that element as it is named alone."""
+    start = np.stack([random_pose(rng, 2.0) for _ in range(6)])
+    end = np.stack([random_pose(rng, 2.0) for _ in range(6)])
+    default = a2b.motion(start, end, "cubic")
+    assert default._bounded
+    assert not np.any(default._rotation_is_fragile(0.0, 1.0))
+    _, ratio = path_minimum(default.quat_ends, 0.0, 1.0)
+    assert ratio.min() >= 0.5 * (1 - 1e-12)  # equal weights: as a Darboux motion's
+    # m nearly orthogonal to pB in element 4: wB ≪ wA, p(t) passes close to 0 near t = 1
+    m = np.tile([1.0, 0.0, 0.0, 0.0], (6, 1))
+    quats = quaternions_from_rotations(np.stack([start[4], end[4]])[:, :3, :3])
+    p_b = quats[1] * np.sign(np.dot(quats[0], quats[1]))
+    m[4] = quats[0] - (np.dot(quats[0], p_b) - 1e-5) * p_b
+    with pytest.warns(A2bWarning, match=r"^motion 4: the cubic motion passes close to p"):
+        batch = a2b.motion(start, end, "cubic", m=m, frame="given")
+    assert not batch._bounded
+    with pytest.warns(A2bWarning, match=r"^the cubic motion passes close to p"):
+        alone = a2b.motion(start[4], end[4], "cubic", m=m[4], frame="given")
+    assert batch.warnings[4] == alone.warnings
+    ts = np.linspace(0.0, 1.0, 7)
+    assert np.array_equal(batch.matrices(ts)[4], alone.matrices(ts))
