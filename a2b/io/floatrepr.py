@@ -516,7 +516,7 @@ def _row_cells(a: np.ndarray, sep: int) -> np.ndarray:
     return cells.reshape(n, 4 * k)
 
 
-def format_rows(values, sep: str = ",", prefix=None) -> bytes:
+def format_rows(values, sep: str = ",", prefix=None, array: bool = False):
     """Render a 2-d float array as delimited text, one line per row, ``repr`` of every entry.
 
     Parameters
@@ -530,10 +530,13 @@ def format_rows(values, sep: str = ",", prefix=None) -> bytes:
         get a separator after them. An ``S`` array is taken as already encoded, separators
         included, and so is a ``uint64`` array ``(n, w)`` of text words as
         :func:`number_words` makes them (little-endian, zero bytes skipped).
+    array : bool
+        Return the text as an array of bytes (``uint8``), as it is made, rather than copied
+        into ``bytes``: a stream writes either.
 
     Returns
     -------
-    bytes
+    bytes, or ndarray of uint8
         ``n`` lines, each ending in ``"\\n"``; ``float(field) == value`` for every entry.
     """
     sep_b = sep.encode()
@@ -544,7 +547,7 @@ def format_rows(values, sep: str = ",", prefix=None) -> bytes:
         raise ValueError(f"format_rows takes a 2-d array, got shape {a.shape}")
     n, k = a.shape
     if n == 0:
-        return b""
+        return np.empty(0, np.uint8) if array else b""
     head = None if prefix is None else _prefix_words(prefix, sep_b)
     if head is not None and len(head) != n:
         raise ValueError(f"{len(head)} prefixes for {n} rows")
@@ -559,7 +562,9 @@ def format_rows(values, sep: str = ",", prefix=None) -> bytes:
             line[:, lead.shape[1] :] = cells
             cells = line
         parts.append(_nonzero(cells))
-    return parts[0].tobytes() if len(parts) == 1 else b"".join(parts)
+    if len(parts) > 1:
+        return np.concatenate(parts) if array else b"".join(parts)
+    return parts[0] if array else parts[0].tobytes()
 
 
 def without_zero_bytes(cells: np.ndarray) -> bytes:

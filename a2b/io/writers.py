@@ -100,9 +100,10 @@ def _write_rows(stream: IO, tables: Iterable[np.ndarray], sep: str = ",") -> Non
     first = list(islice(tasks, 2))
     if len(first) < 2:
         if first:
-            stream.write(format_rows(first[0], sep=sep))
+            stream.write(format_rows(first[0], sep=sep, array=True))
         return
-    for piece in in_order(partial(format_rows, sep=sep), chain(first, tasks)):  # noqa: FURB122
+    text = partial(format_rows, sep=sep, array=True)  # the text as made, not copied into bytes
+    for piece in in_order(text, chain(first, tasks)):  # noqa: FURB122 - each as it is done
         stream.write(piece)
 
 
@@ -135,8 +136,8 @@ class _Marking:
     def __init__(self, stream: IO):
         self.stream = stream
 
-    def write(self, text: bytes) -> None:
-        self.stream.write(_marked(text))
+    def write(self, text) -> None:
+        self.stream.write(_marked(bytes(text)))
 
 
 #: The velocity columns of the CSV layouts.
