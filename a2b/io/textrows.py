@@ -227,9 +227,6 @@ def read_rows(data: bytes, name: str, layout: TextLayout, offset: int = 0, skip:
     ``layout.skip`` lines are skipped if ``skip``."""
     first = layout.skip if skip else 0
     lines = Lines(data, first, offset)
-    rows = _blank_separated(data, layout, first)
-    if rows is not None:
-        return rows, lines
     body = io.BytesIO(data)
     try:
         with warnings.catch_warnings():
@@ -254,61 +251,6 @@ def read_rows(data: bytes, name: str, layout: TextLayout, offset: int = 0, skip:
         column = layout.columns[int(np.argmax(~np.isfinite(rows[i])))]
         _raise_at(lines.numbered()[i], layout.sep, column, name, "expected a finite number")
     return rows, lines
-
-
-def _blank_separated(data: bytes, layout: TextLayout, first: int) -> np.ndarray | None:
-    """The rows of a text of blank-separated numbers in plain shape, read by one
-    ``numpy.fromstring`` (in C, and without holding the GIL, unlike ``numpy.loadtxt``, so the
-    writer's threads run on meanwhile); ``None`` for any other text, which :func:`read_rows`
-    then reads, and words any error of, as before.
-
-    Plain shape: ASCII, no ``#`` after the first ``first`` lines and the comment and blank
-    lines that follow them, exactly ``layout.width`` fields on every line that is not blank,
-    and every number finite. The fields of each line are counted from the bytes (a field
-    starts where a byte above the blank ``b" "`` follows one at or below it), so a line of
-    too few fields is never made up by the next line's; the values are those of
-    ``numpy.loadtxt`` bit for bit (both round correctly).
-    """
-    if layout.sep is not None or layout.width is None or layout.nanoseconds:
-        return None
-    start = _first_row(data, first)
-    body = data[start:] if start else data
-    if b"#" in body or not body.isascii():
-        return None
-    try:
-        values = np.fromstring(body, sep=" ")
-    except ValueError:  # a field that is no number, or no separator after it
-        return None
-    chars = np.frombuffer(body, dtype=np.uint8)
-    blank = chars <= 32
-    starts = np.flatnonzero(blank[:-1] & ~blank[1:]) + 1
-    if len(chars) and not blank[0]:
-        starts = np.concatenate([[0], starts])
-    ends = np.append(np.flatnonzero(chars == 10), len(chars))
-    fields = np.diff(np.searchsorted(starts, ends), prepend=0)
-    fields = fields[fields > 0]  # blank lines hold no row
-    if values.size != len(starts) or not (fields == layout.width).all():
-        return None  # (whitespace alone reads as [-1.0]: its count of fields, 0, tells)
-    rows = values.reshape(-1, layout.width)
-    if not np.isfinite(values).all():
-        return None  # nan(1), say: loadtxt refuses it as no number, and the message says so
-    if layout.columns != tuple(range(layout.width)):
-        rows = rows[:, layout.columns]
-    return rows
-
-
-def _first_row(data: bytes, first: int) -> int:
-    """The offset of the line after the first ``first`` lines and the comment and blank lines
-    that follow them (the end of the text if there is none)."""
-    at, line = 0, 0
-    while at < len(data):
-        end = data.find(b"\n", at)
-        end = len(data) if end < 0 else end + 1
-        text = data[at:end].strip()
-        if line >= first and text and not text.startswith(b"#"):
-            return at
-        at, line = end, line + 1
-    return at
 
 
 def _loadtxt(body, layout: TextLayout, first: int, usecols=None) -> np.ndarray:

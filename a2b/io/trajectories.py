@@ -40,7 +40,6 @@ from __future__ import annotations
 import importlib
 import os
 from collections.abc import Iterator
-from functools import partial
 from typing import IO
 
 import numpy as np
@@ -322,43 +321,23 @@ def _topics(data, name: str) -> list[tuple[str, str, bool]]:
 
 
 def _text_pieces(data: bytes, name: str, fmt: str, rate, orthonormalize, size):
-    """:func:`trajectory_pieces` of a text format. The pieces' rows are parsed ahead, on the
-    threads of :func:`a2b.io.parallel.in_order` (the parse of blank-separated numbers holds no
-    GIL), while the caller works on the pieces before; any error is raised at its piece, in
-    order."""
-    from .parallel import in_order
-
+    """:func:`trajectory_pieces` of a text format."""
     data = check_text(data, name)
     reader = importlib.import_module(BY_NAME[fmt].trajectory)
     layout = reader.layout(data, name, fmt)
-    row, previous = 0, None
-    parse = partial(_piece_rows, name=name, layout=layout)
-    for rows, lines in in_order(parse, _piece_texts(data, size)):
+    start, line, row, previous = 0, 0, 0, None
+    while start < len(data):
+        stop = data.find(b"\n", start + size) + 1 if len(data) - start > size else 0
+        stop = stop or len(data)
+        text = data[start:stop]
+        rows, lines = read_rows(text, name, layout, line, skip=start == 0)
         piece = reader.trajectory(rows, lines, name, fmt, rate, orthonormalize, row)
         written = written_times(lines, layout) if "times" in BY_NAME[fmt].holds else None
         check_times(piece.times, name, lines, previous, written)
         if len(piece):
             yield piece
             previous = piece.times[-1]
-        row += len(piece)
-
-
-def _piece_texts(data: bytes, size: int) -> Iterator[tuple[bytes, int, bool]]:
-    """The text in pieces of whole lines, about ``size`` bytes each: ``(text, lines before
-    it, whether it is the first)``."""
-    start, line = 0, 0
-    while start < len(data):
-        stop = data.find(b"\n", start + size) + 1 if len(data) - start > size else 0
-        stop = stop or len(data)
-        text = data[start:stop]
-        yield text, line, start == 0
-        start, line = stop, line + text.count(b"\n")
-
-
-def _piece_rows(piece: tuple[bytes, int, bool], name: str, layout) -> tuple:
-    """The rows and :class:`~a2b.io.textrows.Lines` of one piece of :func:`_piece_texts`."""
-    text, line, first = piece
-    return read_rows(text, name, layout, line, skip=first)
+        start, line, row = stop, line + text.count(b"\n"), row + len(piece)
 
 
 def sniff_format(data: bytes, name: str) -> str:
