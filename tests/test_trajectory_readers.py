@@ -227,3 +227,16 @@ def test_a_file_name_cannot_forge_a_second_line(tmp_path):
     assert "\n" not in str(e.value) and "a\\nError: forged.tum:2:1: the time 0.0 repeats" in str(
         e.value
     )
+
+
+# -- a line's count of fields ---------------------------------------------------------------
+
+_ROW = "1.5 0.1 -2e-3 3 0 0 0.7071067811865476 0.7071067811865476"
+
+
+def test_a_line_of_too_few_fields_is_not_made_up_by_the_next():
+    data = f"{_ROW}\n1 2 3 4 5 6 7\n{_ROW} 9\n".encode()
+    result = CliRunner().invoke(cli, ["resample", "-", "--input-format", "tum", "--rate", "1"],
+                                input=data)  # fmt: skip
+    assert result.exit_code == 1
+    assert result.output == "Error: <stdin>:2:1: expected 8 numbers per line (tum), got 7\n"
