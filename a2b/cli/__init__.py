@@ -25,6 +25,37 @@ import click
 from .. import __version__
 from ..errors import A2bError, A2bWarning, OptionError, printable
 
+#: glibc's ``mallopt`` parameters, and the values a command sets (see
+#: :func:`_keep_freed_memory`): what glibc's own adaptive thresholds reach at most.
+_M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
+_MMAP_THRESHOLD, _TRIM_THRESHOLD = 32 << 20, 64 << 20
+
+
+def _keep_freed_memory() -> None:
+    """Let the C allocator of this process (glibc) keep memory that is freed, up to what its
+    own adaptive thresholds reach at most (32 MiB blocks from the heap, 64 MiB free at its
+    top), from the start of a command.
+
+    By default glibc maps every block of 128 KiB or more afresh and returns it when freed,
+    so the formatter's temporaries of a few MiB were faulted in again for every block of
+    text: with the allocator keeping them, 10^6 CSV rows took 0.46 s instead of 0.55 s (0.47 s
+    with the code of a727f64). Elsewhere (no glibc), or where the environment sets the
+    allocator already (``MALLOC_*_`` or ``GLIBC_TUNABLES``), nothing changes.
+    """
+    if any(key in os.environ for key in _ALLOCATOR_ENVIRONMENT):
+        return
+    try:
+        import ctypes
+
+        mallopt = ctypes.CDLL(None).mallopt
+    except (OSError, AttributeError):  # pragma: no cover - not glibc
+        return
+    mallopt(_M_MMAP_THRESHOLD, _MMAP_THRESHOLD)
+    mallopt(_M_TRIM_THRESHOLD, _TRIM_THRESHOLD)
+
+
+_ALLOCATOR_ENVIRONMENT = ("MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_", "GLIBC_TUNABLES")
+
 #: name -> (module defining ``command``, short help shown by ``a2b --help``)
 COMMANDS = {
     "interpolate": (
@@ -86,6 +117,7 @@ class LazyGroup(click.Group):
             formatter.write_dl(rows)
 
     def invoke(self, ctx):
+        _keep_freed_memory()
         try:
             with warnings.catch_warnings():
                 warnings.filterwarnings("ignore", _NUMPY_FLOAT_WARNINGS, RuntimeWarning)

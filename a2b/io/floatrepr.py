@@ -53,9 +53,11 @@ import numpy as np
 
 __all__ = ["BLOCK", "format_rows", "integer_words", "number_words", "text_words"]
 
-#: Numbers formatted per pass: large enough to amortise numpy's per-call cost, small enough
-#: for the temporaries to stay in the processor's cache.
-BLOCK = 16384
+#: Numbers formatted per pass: large enough to amortise numpy's per-call cost, which is also
+#: the part of the work done under the GIL. Two threads formatted 10^6 rows of 8 numbers 1.15×
+#: as fast as one with 16,384, 1.47× with 65,536 (one thread the same), where the allocator
+#: keeps the few-MB temporaries (see ``a2b.cli``).
+BLOCK = 65536
 
 _U64 = np.uint64
 
