@@ -137,3 +137,33 @@ def test_a_sensitive_result_is_one_warning_line_and_the_run_goes_on(tmp_path):
         "Warning: the Darboux motion passes close to p(t) = 0"
     )
     assert (tmp_path / "o.csv").exists()
+
+
+def test_a_command_lets_glibc_keep_freed_memory_unless_the_environment_says(monkeypatch):
+    """Every command raises glibc's mmap and trim thresholds to the limits of its own adaptive
+    ones (the formatter's temporaries are then not mapped afresh for each block); an
+    allocator setting in the environment wins, and without glibc nothing happens."""
+    import ctypes
+
+    import a2b.cli as cli_module
+
+    calls = []
+
+    class Libc:
+        def mallopt(self, parameter, value):
+            calls.append((parameter, value))
+            return 1
+
+    monkeypatch.setattr(ctypes, "CDLL", lambda name: Libc())
+    for key in ("MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_", "GLIBC_TUNABLES"):
+        monkeypatch.delenv(key, raising=False)
+    cli_module._keep_freed_memory()
+    assert calls == [(-3, 32 << 20), (-1, 64 << 20)]
+    calls.clear()
+    monkeypatch.setenv("GLIBC_TUNABLES", "glibc.malloc.trim_threshold=0")
+    cli_module._keep_freed_memory()
+    assert calls == []
+    monkeypatch.delenv("GLIBC_TUNABLES")
+    monkeypatch.setattr(ctypes, "CDLL", lambda name: object())  # no mallopt: not glibc
+    cli_module._keep_freed_memory()
+    assert calls == []
