@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import importlib
 import os
+import sys
 import warnings
 
 # One BLAS thread: a2b's products are small and blocked, and a second OpenBLAS thread stalls
@@ -39,16 +40,16 @@ def _keep_freed_memory() -> None:
     By default glibc maps every block of 128 KiB or more afresh and returns it when freed,
     so the formatter's temporaries of a few MiB were faulted in again for every block of
     text: with the allocator keeping them, 10^6 CSV rows took 0.46 s instead of 0.55 s (0.47 s
-    with the code of a727f64). Elsewhere (no glibc), or where the environment sets the
-    allocator already (``MALLOC_*_`` or ``GLIBC_TUNABLES``), nothing changes.
+    with the code of a727f64). Elsewhere (not Linux, or no glibc), or where the environment
+    sets the allocator already (``MALLOC_*_`` or ``GLIBC_TUNABLES``), nothing changes.
     """
-    if any(key in os.environ for key in _ALLOCATOR_ENVIRONMENT):
+    if not sys.platform.startswith("linux") or any(k in os.environ for k in _ALLOCATOR_ENVIRONMENT):
         return
     try:
         import ctypes
 
         mallopt = ctypes.CDLL(None).mallopt
-    except (OSError, AttributeError):  # pragma: no cover - not glibc
+    except (OSError, AttributeError, TypeError):  # pragma: no cover - not glibc
         return
     mallopt(_M_MMAP_THRESHOLD, _MMAP_THRESHOLD)
     mallopt(_M_TRIM_THRESHOLD, _TRIM_THRESHOLD)
