@@ -127,6 +127,9 @@ class Resampler:
         self.parameters = parameters
         self.choices: Counter = Counter()
         self.segments_built = 0
+        #: Which segments a block has built already: a segment whose new times fall in two
+        #: blocks is built in both, but counted, and its choices and warnings stated, once.
+        self._built = np.zeros(max(n - 1, 0), dtype=bool)
         #: Segments warned about (the first :data:`WARNINGS_SHOWN` are issued).
         self.warned = 0
         self.spline = None
@@ -298,6 +301,8 @@ class Resampler:
                 raise type(e)(f"{self._segment(rows[e.index])}: {e.reason}") from None
         first = np.ones(len(rows), dtype=bool)  # the first row of each segment: count it once
         first[1:] = rows[1:] != rows[:-1]
+        first &= ~self._built[rows]
+        self._built[rows] = True
         for w in caught:  # say which segment, not which element of this block
             index = getattr(w.message, "index", None)
             if index is None:

@@ -167,3 +167,25 @@ def test_a_command_lets_glibc_keep_freed_memory_unless_the_environment_says(monk
     monkeypatch.setattr(ctypes, "CDLL", lambda name: object())  # no mallopt: not glibc
     cli_module._keep_freed_memory()
     assert calls == []
+
+
+def test_fiber_states_the_repair_of_orthonormalize(tmp_path):
+    """--orthonormalize repairs only when asked, and says so among the choices (table and
+    JSON), with the largest residual."""
+    import json
+
+    import numpy as np
+
+    from a2b.poses import matrices_from_quat_trans
+
+    rough = np.round(matrices_from_quat_trans([0.9, 0.1, -0.3, 0.2], [0.5, 1.0, 2.0]), 7)
+    path = tmp_path / "rough.yaml"
+    path.write_text("matrix: " + json.dumps(rough.tolist()) + "\n")
+    refused = CliRunner().invoke(cli, ["fiber", str(path)])
+    assert refused.exit_code == 1 and "--orthonormalize" in refused.output
+    result = CliRunner().invoke(cli, ["fiber", str(path), "--orthonormalize", "--json"])
+    assert result.exit_code == 0, result.output
+    choices = json.loads(result.output)["choices"]
+    assert choices and choices[0].startswith("orthonormalized 1 matrix pose: largest max |R Rᵀ")
+    table = CliRunner().invoke(cli, ["fiber", str(path), "--orthonormalize"])
+    assert "orthonormalized 1 matrix pose" in table.output

@@ -816,3 +816,35 @@ def test_a_json_job_name_of_true_is_no_name(tmp_path, suffix):
     done = subprocess.run(a2b_cmd("batch", path), capture_output=True, timeout=60)
     assert done.returncode == 1
     assert b"name: expected a string, got the boolean true" in done.stderr
+
+
+# -- the tables of describe and fiber, and the help, on a closed pipe or a full disk ----------
+
+TABLES = [("describe", QUARTER), ("fiber", SAMPLES / "pose.yaml")]
+
+
+@pytest.mark.parametrize("command, sample", TABLES)
+def test_a_table_into_a_closed_pipe_ends_quietly_with_status_0(command, sample):
+    """rich ends a closed pipe with status 1 on its own; a2b's tables end like every command."""
+    producer = subprocess.Popen(a2b_cmd(command, sample), stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE)  # fmt: skip
+    producer.stdout.close()  # nobody reads: the first write meets a closed pipe
+    _, err = producer.communicate(timeout=60)
+    assert producer.returncode == 0 and err == b"", err.decode()[-2000:]
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+@pytest.mark.parametrize(
+    "args",
+    [*[(c, s) for c, s in TABLES], *[(c, s, "--json") for c, s in TABLES], ("--help",),
+     ("--version",)],
+)  # fmt: skip
+def test_a_table_json_or_help_on_a_full_disk_is_one_line_of_writing(args):
+    with open("/dev/full", "wb") as full:
+        result = subprocess.run(a2b_cmd(*args), stdout=full, stderr=subprocess.PIPE,
+                                timeout=60, check=False)  # fmt: skip
+    assert result.returncode == 1
+    assert (
+        one_error_line(result.stderr)
+        == "Error: cannot write standard output: No space left on device"
+    )

@@ -685,3 +685,21 @@ def test_the_command_line_knows_every_trajectory_format():
     from a2b.formats import INPUT_NAMES
 
     assert set(INPUT_NAMES) == set(trajectories.TRAJECTORY_FORMATS)
+
+
+def test_a_segment_whose_times_fall_in_two_blocks_is_counted_once(rng):
+    """Blocks of BLOCK new times build their segments together; a segment split between two
+    blocks is built in both but counted once (``-v``: built N − 1 segment motions)."""
+    from a2b.resample import BLOCK, Resampler
+
+    from .conftest import random_pose
+
+    n = BLOCK // 5  # ten new times a segment: about two blocks
+    times = np.arange(n) * 0.01
+    poses = np.stack([random_pose(rng) for _ in range(n)])
+    resampler = Resampler(times, poses, "screw")
+    new_times = np.linspace(0.0, times[-1], 10 * n)[1:-1] + 1e-7  # none on a stamp
+    new_times = new_times[new_times < times[-1]]
+    resampler.sample(resampler.locate(new_times))
+    assert len(new_times) > BLOCK
+    assert resampler.segments_built == n - 1

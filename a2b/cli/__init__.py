@@ -117,6 +117,16 @@ class LazyGroup(click.Group):
         with formatter.section("Commands"):
             formatter.write_dl(rows)
 
+    def main(self, *args, **kwargs):
+        try:
+            return super().main(*args, **kwargs)
+        except OSError as e:  # printing the help or the version (the commands: see invoke)
+            from ..io.atomic import silence_stdout
+
+            silence_stdout()
+            click.echo(f"Error: cannot write standard output: {e.strerror or e}", err=True)
+            sys.exit(1)
+
     def invoke(self, ctx):
         _keep_freed_memory()
         try:

@@ -50,11 +50,10 @@ def _number(value) -> str:
 
 def render(description: dict, defaults: list | None = None) -> None:
     """Print ``description`` as a rich table, then the choices a2b made (``defaults`` first)."""
-    from rich.console import Console
     from rich.table import Table
     from rich.text import Text
 
-    console = Console()
+    console = options.console()
     what = f"{description['mode']} motion" if "mode" in description else description.get("kind", "")
     table = Table(title=Text(f"a2b describe: {what}"), show_header=True)
     table.add_column("quantity")
@@ -105,7 +104,6 @@ def law_figures(motion, law: dict, duration) -> dict:
 
 def render_law(columns: dict) -> None:
     """One table of the time-law figures, a column per motion."""
-    from rich.console import Console
     from rich.table import Table
     from rich.text import Text
 
@@ -115,7 +113,7 @@ def render_law(columns: dict) -> None:
         table.add_column(name, overflow="fold")
     for key, label in LAW_ROWS.items():
         table.add_row(Text(label), *(Text(_number(c[key])) for c in columns.values()))
-    Console().print(table)
+    options.console().print(table)
 
 
 @click.command(context_settings=CONTEXT_SETTINGS)
@@ -203,14 +201,17 @@ def command(poses, mode, space, as_json, orthonormalize, duration, compare, **pa
         else:
             out["time_law"] = next(iter(figures.values()))
     options.check_finite(out, "describe")
-    if as_json:
-        click.echo(json.dumps(out, indent=2, allow_nan=False))
-        return
-    if description is not None:
-        out.pop("time_law", None)
-        render(out, defaults)
-    if timed:
-        render_law(figures)
+    from ..io.atomic import writing_stdout
+
+    with writing_stdout():
+        if as_json:
+            click.echo(json.dumps(out, indent=2, allow_nan=False))
+            return
+        if description is not None:
+            out.pop("time_law", None)
+            render(out, defaults)
+        if timed:
+            render_law(figures)
 
 
 def parameters_given(parameters: dict) -> bool:

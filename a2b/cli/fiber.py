@@ -14,11 +14,10 @@ def _fmt(values) -> str:
 
 def render(result: dict) -> None:
     """Print the basis, the points and their residuals as rich tables."""
-    from rich.console import Console
     from rich.table import Table
     from rich.text import Text
 
-    console = Console()
+    console = options.console()
     if result["map"] == "kappa":
         console.print(Text(f"κ-fiber: points h + s εp; basis {result['basis_name']}"))
         console.print(Text(f"  h  = ({_fmt(result['basis'][0])})"))
@@ -107,11 +106,16 @@ def command(pose, kind, offsets, m, alphas, basis, as_json, orthonormalize):
         ]
     from ..fibers import fiber
 
-    with options.repairing(orthonormalize, []):
+    repairs: list[str] = []
+    with options.repairing(orthonormalize, repairs):
         pose = read_pose(*options.read_pose_file(pose))
     result = fiber(pose, kind, s=offsets, m=m, alphas=alphas, basis=basis)
+    result["choices"] = repairs + result["choices"]  # the repair is a choice the user sees
     options.check_finite(result, "fiber")
-    if as_json:
-        click.echo(json.dumps(result, indent=2, allow_nan=False))
-    else:
-        render(result)
+    from ..io.atomic import writing_stdout
+
+    with writing_stdout():
+        if as_json:
+            click.echo(json.dumps(result, indent=2, allow_nan=False))
+        else:
+            render(result)

@@ -577,8 +577,22 @@ orthonormalize_option = click.option(
     "--orthonormalize",
     is_flag=True,
     help="Project rotation blocks that are orthogonal only to a few digits "
-    "(max |R Rᵀ − I| ≤ 1e-4) onto the nearest rotations; -v states the residual.",
+    "(max |R Rᵀ − I| ≤ 1e-4) onto the nearest rotations, stating the largest residual among "
+    "the choices a2b made (-v, or the table of describe and fiber).",
 )
+
+
+def console():
+    """A rich console on standard output whose closed pipe raises :class:`BrokenPipeError`, so
+    that the command ends quietly with status 0 as every command does (rich's own way exits
+    with status 1)."""
+    from rich.console import Console
+
+    class _Console(Console):
+        def on_broken_pipe(self) -> None:
+            raise BrokenPipeError
+
+    return _Console()
 
 
 @contextlib.contextmanager

@@ -266,6 +266,16 @@ def _write_errors(what: str, on_error=None) -> Iterator[None]:
         raise OutputFileError(f"cannot write {what}: {e.strerror or e}") from e
 
 
+@contextmanager
+def writing_stdout() -> Iterator[None]:
+    """Text printed to standard output within (a table, JSON): a failed write is an
+    :class:`OutputFileError` ``cannot write standard output: …``, what is left goes to
+    ``/dev/null``; a closed pipe stays a :class:`BrokenPipeError`, which ``a2b.cli`` ends
+    quietly with status 0."""
+    with _write_errors("standard output", on_error=silence_stdout):
+        yield
+
+
 def silence_stdout() -> None:
     """After a :class:`BrokenPipeError` or a failed write on stdout: send what is left to
     ``/dev/null``.
