@@ -61,14 +61,17 @@ _ALLOCATOR_ENVIRONMENT = ("MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_", "G
 COMMANDS = {
     "interpolate": (
         "a2b.cli.interpolate",
-        "Sample the motion between two poses to CSV, TUM, KITTI or MCAP.",
+        "Sample the motion between two poses to CSV, TUM, KITTI, MCAP, ROS 2 or Parquet.",
     ),
     "describe": (
         "a2b.cli.describe",
         "Show the essential parameters of a motion or curve and every choice made.",
     ),
     "fiber": ("a2b.cli.fiber", "Show points of the fiber of a pose under κ or μ_[m]."),
-    "batch": ("a2b.cli.batch", "Sample many motions from a jobs file (CSV, TUM, KITTI, MCAP)."),
+    "batch": (
+        "a2b.cli.batch",
+        "Sample many motions from a jobs file (CSV, TUM, KITTI, MCAP, ROS 2, Parquet).",
+    ),
     "plot": (
         "a2b.cli.plot",
         "Draw a motion or curve: moving frame, trajectories, transmission curve.",

@@ -424,7 +424,11 @@ def _rows_one_by_one(numbers: list, name: str, layout: TextLayout) -> np.ndarray
     for i, numbered in enumerate(numbers):
         count = _count_fields(numbered[1], layout.sep)
         if count != layout.width and (layout.width is not None or count < need):
-            expected = f"{layout.width} numbers" if layout.width else f"at least {need} fields"
+            expected = (
+                f"{layout.width} number{'s' * (layout.width != 1)}"
+                if layout.width
+                else f"at least {need} fields"
+            )
             raise InputFileError(
                 f"{name}:{numbered[0]}:1: expected {expected} per line ({layout.fmt}), got {count}"
             )
