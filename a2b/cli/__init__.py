@@ -174,8 +174,9 @@ def cli():
     """Interpolate two rigid-body poses: vertical Darboux motions, cubic circular motions and
     screw motions (H.-P. Schröcker, From A to B: New Methods to Interpolate Two Poses).
 
-    Poses come from JSON or YAML files, trajectories from TUM, KITTI, EuRoC, CSV or MCAP
-    files; samples go to CSV, TUM, KITTI or MCAP (Foxglove).
+    Poses come from JSON or YAML files, trajectories from TUM, KITTI, EuRoC, CSV, MCAP files
+    or ROS 2 bags; samples go to CSV, TUM, KITTI, MCAP (Foxglove or ROS 2), ROS 2 bags or
+    Parquet.
 
     \b
     Example:
