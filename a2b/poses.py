@@ -304,21 +304,24 @@ def check_matrices_and_quaternions(matrices: np.ndarray) -> tuple[np.ndarray, np
     if m.shape[-2:] != (4, 4):
         raise PoseError(f"a pose matrix must be 4x4, got shape {m.shape}")
     if m.size <= 16 * POSE_CHUNK:
-        rows = _shepperd_input(m[..., :3, :3])
-        m = _checked(m, "robotics", ORTHO_TOL, rows[1:])
-        return m, _quaternions(rows, m.shape[:-2])
+        return m, _checked_quaternions(m)
     flat = m.reshape(-1, 4, 4)
     quaternions = np.empty((len(flat), 4))
     try:
         for lo in range(0, len(flat), POSE_CHUNK):
-            part = flat[lo : lo + POSE_CHUNK]
-            rows = _shepperd_input(part[:, :3, :3])
-            _checked(part, "robotics", ORTHO_TOL, rows[1:])
-            quaternions[lo : lo + POSE_CHUNK] = _quaternions(rows, part.shape[:-2])
+            quaternions[lo : lo + POSE_CHUNK] = _checked_quaternions(flat[lo : lo + POSE_CHUNK])
     except PoseError:
         _checked(m, "robotics", ORTHO_TOL)  # the message of the whole
         raise
     return m, quaternions.reshape(m.shape[:-2] + (4,))
+
+
+def _checked_quaternions(m: np.ndarray) -> np.ndarray:
+    """:func:`check_matrices` of robotics matrices ``(..., 4, 4)`` of floats, and their
+    quaternions ``(..., 4)``, from one component-major copy of the rotation blocks."""
+    rows = _shepperd_input(m[..., :3, :3])
+    _checked(m, "robotics", ORTHO_TOL, rows[1:])
+    return _quaternions(rows, m.shape[:-2])
 
 
 def robotics_from_paper(matrices: np.ndarray) -> np.ndarray:

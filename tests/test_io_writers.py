@@ -382,3 +382,19 @@ def test_long_names_go_out_in_bounded_pieces(monkeypatch):
     names, values = csvtable.read_batch_csv(stream)
     assert names == list(runs)
     assert np.array_equal(values[:, 0], t)
+
+
+def test_in_order_does_a_single_item_in_the_calling_thread(monkeypatch):
+    """A command of one block (101 samples) starts no thread; more items go to the pool, in
+    order."""
+    import threading
+
+    from a2b.io import parallel
+
+    monkeypatch.setattr(parallel, "WORKERS", 2)
+    here = threading.current_thread()
+    assert list(parallel.in_order(lambda x: threading.current_thread(), [0])) == [here]
+    assert list(parallel.in_order(lambda x: x * 2, [])) == []
+    threads = list(parallel.in_order(lambda x: threading.current_thread(), range(4)))
+    assert here not in threads
+    assert list(parallel.in_order(lambda x: x * 2, range(50))) == [2 * x for x in range(50)]

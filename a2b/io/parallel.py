@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator
+from itertools import chain, islice
 
 __all__ = ["WORKERS", "in_order"]
 
@@ -35,18 +36,21 @@ def in_order(function: Callable, items: Iterable) -> Iterator:
     """``function(item)`` for every item, on :func:`workers` threads, yielded in order.
 
     At most two items per thread are in flight, so memory stays bounded. An exception in
-    ``function`` is raised here, at its item.
+    ``function`` is raised here, at its item. A single item (a command of 101 samples) is
+    done in the calling thread, with no thread started.
     """
     count = workers()
-    if count == 1:
-        yield from map(function, items)
+    items = iter(items)
+    first = list(islice(items, 2))
+    if count == 1 or len(first) < 2:
+        yield from map(function, chain(first, items))
         return
     from concurrent.futures import ThreadPoolExecutor
 
     with ThreadPoolExecutor(count, thread_name_prefix="a2b-writer") as pool:
         window: deque = deque()
         try:
-            for item in items:
+            for item in chain(first, items):
                 window.append(pool.submit(function, item))
                 if len(window) > 2 * count:
                     yield window.popleft().result()

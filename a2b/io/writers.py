@@ -31,7 +31,7 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable, Iterator
 from functools import partial
-from itertools import chain, islice
+from itertools import chain
 from typing import IO
 
 import numpy as np
@@ -87,8 +87,7 @@ TASK = BLOCK
 
 def _write_rows(stream: IO, tables: Iterable[np.ndarray], sep: str = ",") -> None:
     """Write tables of numbers as text, :data:`TASK` numbers at a time, formatted on a second
-    thread (:func:`a2b.io.parallel.in_order`); a single task (101 samples) in this thread,
-    with no threads started."""
+    thread (:func:`a2b.io.parallel.in_order`, which does a single task in this thread)."""
 
     def blocks():
         for rows in tables:
@@ -96,14 +95,8 @@ def _write_rows(stream: IO, tables: Iterable[np.ndarray], sep: str = ",") -> Non
             for lo in range(0, len(rows), size):
                 yield rows[lo : lo + size]
 
-    tasks = blocks()
-    first = list(islice(tasks, 2))
-    if len(first) < 2:
-        if first:
-            stream.write(format_rows(first[0], sep=sep, array=True))
-        return
     text = partial(format_rows, sep=sep, array=True)  # the text as made, not copied into bytes
-    for piece in in_order(text, chain(first, tasks)):  # noqa: FURB122 - each as it is done
+    for piece in in_order(text, blocks()):  # noqa: FURB122 - each as it is done
         stream.write(piece)
 
 
