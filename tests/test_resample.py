@@ -313,6 +313,21 @@ def test_times_in_any_order_and_spread_are_sampled_as_each_time_alone(representa
         assert np.array_equal(in_order[0][on_stamp], poses[located.pose[on_stamp]])
 
 
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(2, 40), st.integers(1, 300))
+def test_segments_of_in_order_times_are_searchsorted_s(seed, stamps, count):
+    """The stamps found among new times in order (and counted) place each time as a binary
+    search of the stamps does: new times on stamps, repeated, between, at both ends."""
+    from a2b.resample import _segments_of
+
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.choice([0.25, 0.5, 1.0], stamps))
+    new = np.concatenate([rng.choice(t, count), rng.uniform(t[0], t[-1], count), t[[0, -1]]])
+    for times in (np.sort(new), new):  # in order, and (by binary search) in any order
+        expected = np.searchsorted(t, times, side="right") - 1
+        assert np.array_equal(_segments_of(t, times), expected)
+
+
 def test_a_failing_segment_is_named_by_its_poses_and_times():
     times = np.array([0.0, 1.0, 2.0])
     poses = np.broadcast_to(np.eye(4), (3, 4, 4)).copy()

@@ -17,6 +17,7 @@ pytest.importorskip("pyarrow", reason="pyarrow (the parquet extra) parses large 
 TUM = TextLayout(None, 0, 8, (0, 1, 2, 3, 7, 4, 5, 6), fmt="tum")
 PLAIN = TextLayout(None, 0, 3, (0, 1, 2), fmt="plain")
 CSV = TextLayout(",", 1, None, (2, 0), fmt="csv")  # named columns, by the header
+SOME = TextLayout(None, 0, 3, (2, 0), fmt="some")  # field 1 is not read
 
 
 def both(text: bytes, layout: TextLayout, monkeypatch):
@@ -92,6 +93,20 @@ def test_pyarrow_parses_a_plain_text_and_leaves_the_rest_to_loadtxt(monkeypatch)
         (b"a,b,c\n1,2,3,9\n4,5,6\n", CSV),  # more fields than named: loadtxt takes them
         (b"a,b,c\n1, 2,3\n4,5,6\n", CSV),
         (b"a,b,c\n1,,3\n", CSV),
+        # blanks next to blanks or line ends: pyarrow refuses them where every field is read,
+        # and they are looked for where one is not (a blank standing in for its number)
+        (b"1 2 3\n4  5 6\n", PLAIN),
+        (b"1 2 3\n4  6\n", PLAIN),
+        (b" 1 2 3\n4 5 6\n", PLAIN),
+        (b"1 2 3\n \n4 5 6\n", PLAIN),
+        (b"1 2 3\n  \n4 5 6\n", PLAIN),
+        (b"1 2 3\n4 5 6 ", PLAIN),
+        (b"1 2 3\n4 5 \n", PLAIN),
+        (b"1 2 3\n4 5 6\n", SOME),
+        (b"1 2 3\n4  6\n", SOME),
+        (b"1 2 3\n4 5 \n", SOME),
+        (b"1 2 3\n 5 6\n", SOME),
+        (b"1 2 3\n4 5 6 \n", SOME),
     ],
 )
 def test_both_ways_give_the_same_rows_or_the_same_error(text, layout, monkeypatch):
