@@ -10,10 +10,12 @@ without the index), so that a caller such as ``a2b batch`` can name the element 
 
 from __future__ import annotations
 
+import contextvars
 import reprlib
 import warnings
 from collections import Counter
 from collections.abc import Callable
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -60,10 +62,29 @@ def refuse(error: type[A2bError], bad, message: Callable[[int], str], shape: tup
     raise exception
 
 
+#: Set by :func:`noted_only`, in this thread (or task) only.
+_NOTED_ONLY = contextvars.ContextVar("a2b_noted_only", default=False)
+
+
+@contextmanager
+def noted_only():
+    """Within, :func:`warn` notes its warnings (on the motion, ``warning_notes``) and does not
+    issue them: for a caller that issues them itself, in its own words and order, as the
+    resampler names its segments. It holds for this thread only, where
+    ``warnings.catch_warnings`` would change the warning state of the whole process."""
+    token = _NOTED_ONLY.set(True)
+    try:
+        yield
+    finally:
+        _NOTED_ONLY.reset(token)
+
+
 def warn(where, message: Callable[[int], str], shape: tuple, notes: Notes) -> None:
-    """Issue an :class:`A2bWarning` for every element where ``where`` holds, and note it."""
+    """Issue an :class:`A2bWarning` for every element where ``where`` holds (not within
+    :func:`noted_only`), and note it."""
     if not anywhere(where):
         return
+    issue = not _NOTED_ONLY.get()
     mask = np.broadcast_to(where, shape)
     texts = np.full(shape, None, dtype=object)
     for flat in np.flatnonzero(mask.ravel()).tolist() if shape else [0]:
@@ -72,7 +93,8 @@ def warn(where, message: Callable[[int], str], shape: tuple, notes: Notes) -> No
         warning = A2bWarning(label(shape, flat) + reason)
         warning.index = flat
         warning.reason = reason
-        warnings.warn(warning, stacklevel=4)
+        if issue:
+            warnings.warn(warning, stacklevel=4)
     notes.add(texts, mask)
 
 

@@ -186,35 +186,67 @@ class Resampler:
         (``(M, 4)`` w, x, y, z and ``(M, 3)``) or unit ``study (M, 8)``.
 
         Times are taken :data:`BLOCK` at a time: the segments of a block are built together,
-        small enough to stay in cache."""
+        small enough to stay in cache. The segments are counted, and their warnings issued
+        (:meth:`account`)."""
+        values, built = self.sample_apart(located, representation)
+        self.account(built)
+        return values
+
+    def sample_apart(self, located: Located, representation: str = "matrices"):
+        """:meth:`sample`, without counting the segments or issuing their warnings: ``(values,
+        built)``, where ``built`` goes to :meth:`account`. Blocks of times may be sampled so on
+        several threads at once, and accounted for in their order."""
         if len(located.times) > BLOCK:
             parts = [
-                self.sample(
+                self.sample_apart(
                     Located(*(a[lo : lo + BLOCK] for a in _arrays(located))), representation
                 )
                 for lo in range(0, len(located.times), BLOCK)
             ]
-            if isinstance(parts[0], tuple):
-                return tuple(np.concatenate(p) for p in zip(*parts))
-            return np.concatenate(parts)
+            built = [entry for _, entries in parts for entry in entries]
+            if isinstance(parts[0][0], tuple):
+                return tuple(np.concatenate(p) for p in zip(*(v for v, _ in parts))), built
+            return np.concatenate([v for v, _ in parts]), built
         k, u, pose = located.segment, located.u, located.pose
         on_stamp = pose >= 0
         if on_stamp.all():  # (or no time at all)
-            return self._own(pose, representation)
+            return self._own(pose, representation), []
         if not on_stamp.any():  # the usual case
-            return _taken(*self._evaluate(k, u, representation))
+            values, places, built = self._evaluate(k, u, representation)
+            return _taken(values, places), built
         # the samples' rows taken, in the order of the times, from those of the times between
         # stamps followed by the poses of the times on stamps: one gather (numpy's take copies
         # whole rows, several times faster than assigning through a mask or an index)
         between = ~on_stamp
-        values, places = self._evaluate(k[between], u[between], representation)
+        values, places, built = self._evaluate(k[between], u[between], representation)
         own = self._own(pose[on_stamp], representation)
         index = np.empty(len(k), dtype=np.intp)
         index[between] = np.arange(np.count_nonzero(between)) if places is None else places
         index[on_stamp] = len(_first(values)) + np.arange(len(_first(own)))
         if isinstance(values, tuple):
-            return _taken(tuple(map(np.concatenate, zip(values, own))), index)
-        return _taken(np.concatenate([values, own]), index)
+            return _taken(tuple(map(np.concatenate, zip(values, own))), index), built
+        return _taken(np.concatenate([values, own]), index), built
+
+    def account(self, built: list) -> None:
+        """Count the segments that :meth:`sample_apart` built (``built``: what it returned, in
+        the order of the blocks) and issue their warnings, naming the segment: a segment whose
+        times fall in two blocks is counted, and warned about, once. The first
+        :data:`WARNINGS_SHOWN` warnings of the resampler are issued, the rest counted
+        (:attr:`warned`)."""
+        for rows, notes, warned in built:
+            first = np.ones(len(rows), dtype=bool)  # the first row of each segment
+            first[1:] = rows[1:] != rows[:-1]
+            first &= ~self._built[rows]
+            self._built[rows] = True
+            for index, reason in _noted(warned):
+                if first[index]:
+                    self.warned += 1
+                    if self.warned <= WARNINGS_SHOWN:
+                        warnings.warn(
+                            A2bWarning(f"{self._segment(rows[index])}: {reason}"), stacklevel=3
+                        )
+            self.segments_built += int(np.count_nonzero(first))
+            self.choices.update(notes.counts(first))
 
     def _own(self, index: np.ndarray, representation: str):
         """The poses ``index`` as read, in ``representation``."""
@@ -232,13 +264,14 @@ class Resampler:
         """The poses at parameters ``u`` of segments ``k``, and where each is: ``(values,
         places)``, the pose of the ``i``-th parameter the row ``places[i]`` of ``values`` (an
         array or a tuple of arrays; ``places`` ``None``: row ``i``). Quaternions take the sign
-        of the one at the start of their segment."""
+        of the one at the start of their segment. And what :meth:`account` takes of the
+        segments built."""
         if self.spline is not None:
             out = getattr(self.spline, representation)((k + u) / (len(self.times) - 1))
             if representation == "quat_trans":  # each sample against its segment's start
                 quat = out[0]
                 quat[np.einsum("ij,ij->i", quat, self._start_quaternions(k)) < 0] *= -1.0
-            return out, None
+            return out, None, []
         rows, ts, places = _rows(k, u)
         motion = self._segments(rows)
         out = getattr(motion, representation)(ts)
@@ -250,9 +283,10 @@ class Resampler:
             flip = np.einsum("ij,ij->i", motion.quat_ends[:, 0, :], start) < 0
             if flip.any():
                 out[0][flip] *= -1.0
+        built = [(rows, motion.notes, motion.warning_notes)]
         if isinstance(out, tuple):
-            return tuple(o.reshape((-1,) + o.shape[2:]) for o in out), places
-        return out.reshape((-1,) + out.shape[2:]), places
+            return tuple(o.reshape((-1,) + o.shape[2:]) for o in out), places, built
+        return out.reshape((-1,) + out.shape[2:]), places, built
 
     def _own_quat_trans(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         from .poses import quat_trans_from_matrices
@@ -270,53 +304,34 @@ class Resampler:
         return study_from_matrices(self._pose_matrices(index))
 
     def _segments(self, rows: np.ndarray):
-        """The motions of the segments ``rows`` (one per row, built in one batch)."""
+        """The motions of the segments ``rows`` (one per row, built in one batch), their
+        warnings noted, not issued (:meth:`account` issues them)."""
         from .api import checked_motion
+        from .elements import noted_only
         from .poses import quaternions_from_rotations
 
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", A2bWarning)
-            lo, hi = int(rows[0]), int(rows[-1]) + 2
-            quaternions = None
-            if hi - lo <= 2 * len(rows) and np.all(rows[1:] >= rows[:-1]):
-                # segments in order (the usual case): each pose made once, and its quaternion
-                # found once, for both its segments
-                poses = self._pose_matrices(slice(lo, hi))
-                quat = quaternions_from_rotations(poses[:, :3, :3])
-                if len(rows) == hi - lo - 1 and np.all(rows[1:] > rows[:-1]):
-                    # every segment from lo on, one row each: its ends are views, not copies
-                    ends, quaternions = (poses[:-1], poses[1:]), (quat[:-1], quat[1:])
-                else:
-                    ends = poses[rows - lo], poses[rows + 1 - lo]
-                    quaternions = quat[rows - lo], quat[rows + 1 - lo]
+        lo, hi = int(rows[0]), int(rows[-1]) + 2
+        quaternions = None
+        if hi - lo <= 2 * len(rows) and np.all(rows[1:] >= rows[:-1]):
+            # segments in order (the usual case): each pose made once, and its quaternion
+            # found once, for both its segments
+            poses = self._pose_matrices(slice(lo, hi))
+            quat = quaternions_from_rotations(poses[:, :3, :3])
+            if len(rows) == hi - lo - 1 and np.all(rows[1:] > rows[:-1]):
+                # every segment from lo on, one row each: its ends are views, not copies
+                ends, quaternions = (poses[:-1], poses[1:]), (quat[:-1], quat[1:])
             else:
-                ends = self._pose_matrices(rows), self._pose_matrices(rows + 1)
-            try:
-                motion = checked_motion(
-                    *ends, self.mode, quaternions=quaternions, **self.parameters
-                )
-            except A2bError as e:
-                if getattr(e, "index", None) is None:
-                    raise
-                raise type(e)(f"{self._segment(rows[e.index])}: {e.reason}") from None
-        first = np.ones(len(rows), dtype=bool)  # the first row of each segment: count it once
-        first[1:] = rows[1:] != rows[:-1]
-        first &= ~self._built[rows]
-        self._built[rows] = True
-        for w in caught:  # say which segment, not which element of this block
-            index = getattr(w.message, "index", None)
-            if index is None:
-                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-            elif first[index]:
-                self.warned += 1
-                if self.warned <= WARNINGS_SHOWN:
-                    warnings.warn(
-                        A2bWarning(f"{self._segment(rows[index])}: {w.message.reason}"),
-                        stacklevel=3,
-                    )
-        self.segments_built += int(np.count_nonzero(first))
-        self.choices.update(motion.notes.counts(first))
-        return motion
+                ends = poses[rows - lo], poses[rows + 1 - lo]
+                quaternions = quat[rows - lo], quat[rows + 1 - lo]
+        else:
+            ends = self._pose_matrices(rows), self._pose_matrices(rows + 1)
+        try:
+            with noted_only():
+                return checked_motion(*ends, self.mode, quaternions=quaternions, **self.parameters)
+        except A2bError as e:
+            if getattr(e, "index", None) is None:
+                raise
+            raise type(e)(f"{self._segment(rows[e.index])}: {e.reason}") from None
 
     def _pose_matrices(self, index) -> np.ndarray:
         """The robotics matrices of poses ``index``: given, or made from their quaternions."""
@@ -450,6 +465,16 @@ def _segments_of(t: np.ndarray, new: np.ndarray) -> np.ndarray:
     k = np.cumsum(np.bincount(np.searchsorted(new, t[lo:hi]), minlength=len(new)))
     k += lo - 1
     return k
+
+
+def _noted(notes) -> Iterator[tuple[int, str]]:
+    """The element and text of each warning noted (:func:`a2b.elements.warn`), in the order
+    they would have been issued."""
+    size = int(np.prod(notes.shape, dtype=np.int64))
+    for mask, texts in notes.rules:
+        where = np.ones(size, dtype=bool) if mask is None else np.reshape(mask, -1)
+        for index in np.flatnonzero(where).tolist():
+            yield index, texts if isinstance(texts, str) else np.reshape(texts, -1)[index]
 
 
 def _arrays(located: Located) -> tuple:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections import Counter
+from functools import partial
 
 import click
 
@@ -156,6 +157,7 @@ class _Run:
         of segments; the new times up to its end go through it (a spline needs every pose
         first: one window)."""
         from ..errors import InputFileError
+        from ..io.parallel import in_order
         from ..resample import Resampler, windows
 
         counts, resampler = self.counts, None
@@ -167,32 +169,42 @@ class _Run:
             resampler = Resampler(mode=self.mode, max_gap=self.max_gap, checked=True, **window,
                                   **self.parameters)  # fmt: skip
             resampler.warned = counts["warned"]  # the first ten of the whole run are shown
-            for block in new_times.upto(float(window["times"][-1]), float(window["times"][0])):
-                yield self._samples(resampler, block, representation, new_times)
+            # each block sampled on the writers' threads, and accounted for here, in order
+            blocks = new_times.upto(float(window["times"][-1]), float(window["times"][0]))
+            sample = partial(self._sampled, resampler, representation, new_times)
+            for samples, located, built in in_order(sample, blocks):
+                resampler.account(built)
+                yield self._counted(samples, located)
             counts["built"] += resampler.segments_built
             counts["warned"] = resampler.warned
             self.made.update(resampler.choices)
         if counts["poses"] < 2:
             raise InputFileError(f"{self.name}: expected at least 2 poses, got {counts['poses']}")
         for block in new_times.upto(None, None):  # after the end: outside the trajectory
-            yield self._samples(resampler, block, representation, new_times)
+            samples, located, built = self._sampled(resampler, representation, new_times, block)
+            resampler.account(built)
+            yield self._counted(samples, located)
 
-    def _samples(self, resampler, block, representation, new_times):
-        """The samples at the new times ``block``, with their exact nanosecond stamps."""
-        from ..samples import FIELDS, Samples
-
-        located = resampler.locate(block, self.clip)
+    def _counted(self, samples, located):
         self.counts["outside"] += located.outside
         self.counts["gap"] += located.gap
         self.counts["written"] += len(located.times)
-        values = resampler.sample(located, representation)
+        return samples
+
+    def _sampled(self, resampler, representation, new_times, block):
+        """The samples at the new times ``block``, with their exact nanosecond stamps; where
+        they are, and what :meth:`a2b.resample.Resampler.account` takes (on any thread)."""
+        from ..samples import FIELDS, Samples
+
+        located = resampler.locate(block, self.clip)
+        values, built = resampler.sample_apart(located, representation)
         samples = Samples(located.times, stamps_ns=new_times.stamps_ns(located.times))
         for key, value in zip(FIELDS[representation], values if isinstance(values, tuple)
                               else (values,)):  # fmt: skip
             setattr(samples, key, value)
         if self.mark:
             samples.original = (located.pose >= 0).astype(float)
-        return samples
+        return samples, located, built
 
 
 def _new_times(rate, reference, times_file, choices):
