@@ -360,7 +360,8 @@ class Motion(Kinematic):
             )
         if not arr.size:
             return arr, None
-        span = min(0.0, float(arr.min())), max(1.0, float(arr.max()))
+        lo, hi = float(np.minimum.reduce(arr, axis=None)), float(np.maximum.reduce(arr, axis=None))
+        span = min(0.0, lo), max(1.0, hi)
         if span != (0.0, 1.0):
             self._check_interval(*span)
         return arr, span
