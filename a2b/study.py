@@ -126,14 +126,17 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """
     shape = a.shape[1:]
     if b.shape[1:] != shape:
-        shape = np.broadcast_shapes(shape, b.shape[1:])
+        shape = _broadcast(shape, b.shape[1:])
     size = math.prod(shape)
-    if size <= NARROW_FROM:
-        a, b = _aligned(a, len(shape)), _aligned(b, len(shape))
-        return _terms(form, a, b, len(shape), form.left, form.right)
     if size < IN_TURN_FROM:
-        a, b = _aligned(a, len(shape)), _aligned(b, len(shape))
-        return _terms(form, a, b, len(shape), *form.narrow)
+        trailing = len(shape)
+        if a.ndim <= trailing:
+            a = _aligned(a, trailing)
+        if b.ndim <= trailing:
+            b = _aligned(b, trailing)
+        if size <= NARROW_FROM:
+            return _terms(form, a, b, trailing, form.left, form.right)
+        return _terms(form, a, b, trailing, *form.narrow)
     a = np.broadcast_to(a, a.shape[:1] + shape).reshape(len(a), size)
     b = np.broadcast_to(b, b.shape[:1] + shape).reshape(len(b), size)
     out = np.empty((len(form.matrix), size))
@@ -142,6 +145,14 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         hi = min(lo + IN_TURN_CHUNK, size)
         _in_turn(form.plan, a[:, lo:hi], b[:, lo:hi], out[:, lo:hi], scratch[: hi - lo])
     return out.reshape(out.shape[:1] + shape)
+
+
+def _broadcast(one: tuple, other: tuple) -> tuple:
+    """:func:`numpy.broadcast_shapes` of two shapes, for the common case of shapes of one
+    length in a few operations (``numpy.broadcast_shapes`` costs microseconds)."""
+    if len(one) == len(other) and all(x == y or x == 1 or y == 1 for x, y in zip(one, other)):
+        return tuple(y if x == 1 else x for x, y in zip(one, other))
+    return np.broadcast_shapes(one, other)
 
 
 def _aligned(x: np.ndarray, trailing: int) -> np.ndarray:
@@ -161,6 +172,22 @@ def _terms(form: Structure, a, b, trailing: int, left, right) -> np.ndarray:
         if trailing == 1
         else form.weights.reshape(form.columns.shape + (1,) * trailing)
     )
+    return sum_terms(terms)
+
+
+#: Up to this many numbers, :func:`sum_terms` adds with one ``numpy.add.accumulate``, which
+#: costs less than a call per term there and several times more on larger arrays (its inner
+#: loop runs along the terms).
+ACCUMULATE_UP_TO = 128
+
+
+def sum_terms(terms: np.ndarray) -> np.ndarray:
+    """``terms`` ``(m, ...)`` summed over the first axis in order, ``((t0 + t1) + t2) + …``
+    (overwriting them): the same additions whether one ``numpy.add.accumulate`` does them or
+    a call per term, as contiguous elementwise additions (never a pairwise reduction, whose
+    order depends on the layout)."""
+    if terms.size <= ACCUMULATE_UP_TO:
+        return np.add.accumulate(terms, axis=0, out=terms)[-1]
     out = terms[0]
     for term in terms[1:]:
         out += term
@@ -232,10 +259,11 @@ def contract(form: Structure, outer: np.ndarray) -> np.ndarray:
     ``(n_out, N)``."""
     terms = outer.reshape(form.matrix.shape[1], -1).take(form.columns, axis=0)  # (m, n_out, N)
     terms *= form.weights
-    out = terms[0]  # then term by term: contiguous additions, cheaper than a reduction
-    for term in terms[1:]:
-        out += term
-    return out
+    return sum_terms(terms)  # then term by term: contiguous additions
+
+
+#: Up to this many products, :func:`dots` adds them with one ``numpy.add.accumulate``.
+DOTS_ACCUMULATE_UP_TO = 64
 
 
 def dots(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -255,6 +283,9 @@ def dots(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     products = a * b
     if products.shape[-1] == 1:
         return products[..., 0]
+    if products.size <= DOTS_ACCUMULATE_UP_TO:  # one call: as sum_terms
+        sums = np.add.accumulate(products, axis=-1, out=products)
+        return sums[..., -1] if sums.ndim > 1 else sums[-1]
     out = products[..., 0] + products[..., 1]
     for k in range(2, products.shape[-1]):
         out += products[..., k]
