@@ -23,6 +23,7 @@ import numpy as np
 from .elements import anywhere, as_numbers, everywhere, unit_scale
 from .errors import PoseError
 from .study import (
+    NARROW_FROM,
     ROTATION,
     STUDY_TOL,
     Structure,
@@ -67,7 +68,8 @@ def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndar
 
 def _check_rotation_entries(entries: np.ndarray, tol: float) -> None:
     """:func:`check_rotations` of finite rotation blocks, from their :func:`_entries`."""
-    residual = float(_orthogonality(entries).max(initial=0.0))
+    orthogonality, det = _rigidity(entries)
+    residual = float(np.maximum.reduce(orthogonality, axis=None, initial=0.0))
     if residual > tol:
         raise PoseError(
             f"the rotation block is not orthogonal: max |R Rᵀ − I| = {residual:.3g} "
@@ -80,13 +82,12 @@ def _check_rotation_entries(entries: np.ndarray, tol: float) -> None:
                 else ""
             )
         )
-    det = _determinants(entries)
     if anywhere(det < 0):
         raise PoseError(
             f"the rotation block has determinant {float(np.min(det)):.6g}: a reflection, not a "
             f"rotation"
         )
-    det_residual = float(np.abs(det - 1.0).max(initial=0.0))
+    det_residual = float(np.maximum.reduce(np.abs(det - 1.0), axis=None, initial=0.0))
     if det_residual > tol:
         raise PoseError(
             f"the rotation block has |det R − 1| = {det_residual:.3g}, exceeding tolerance {tol:g}"
@@ -146,11 +147,22 @@ def _entries(r: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(flat.transpose((flat.ndim - 1,) + tuple(range(flat.ndim - 1))))
 
 
-def _orthogonality(entries: np.ndarray) -> np.ndarray:
-    """``max |R Rᵀ − I|`` of each matrix, from its :func:`_entries`: shape ``...``."""
-    gram = bilinear(GRAM, entries, entries)  # the six entries of R Rᵀ on and above its diagonal
+def _orthogonality(entries: np.ndarray, gram: np.ndarray | None = None) -> np.ndarray:
+    """``max |R Rᵀ − I|`` of each matrix, from its :func:`_entries` (and the six entries of
+    ``R Rᵀ`` on and above its diagonal, where the caller has them): shape ``...``."""
+    if gram is None:
+        gram = bilinear(GRAM, entries, entries)
     gram -= _GRAM_IDENTITY.reshape((6,) + (1,) * (gram.ndim - 1))
-    return np.abs(gram, out=gram).max(axis=0)
+    return np.maximum.reduce(np.abs(gram, out=gram), axis=0)
+
+
+def _rigidity(entries: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_orthogonality` and :func:`_determinants` of rotation blocks: for a few, from
+    one bilinear form (:data:`RIGIDITY`), for many from two (without its padded terms)."""
+    if entries[0].size > NARROW_FROM:
+        return _orthogonality(entries), _determinants(entries)
+    rows = bilinear(RIGIDITY, entries, entries)
+    return _orthogonality(entries, rows[:6]), _determinants(entries, rows[6:])
 
 
 def determinants(r: np.ndarray) -> np.ndarray:
@@ -158,8 +170,11 @@ def determinants(r: np.ndarray) -> np.ndarray:
     return _determinants(_entries(r))
 
 
-def _determinants(entries: np.ndarray) -> np.ndarray:
-    cofactors = bilinear(COFACTORS, entries[3:], entries[3:])
+def _determinants(entries: np.ndarray, cofactors: np.ndarray | None = None) -> np.ndarray:
+    """``det R`` from the :func:`_entries` of matrices (and their first row's cofactors,
+    where the caller has them)."""
+    if cofactors is None:
+        cofactors = bilinear(COFACTORS, entries[3:], entries[3:])
     return entries[0] * cofactors[0] - entries[1] * cofactors[1] + entries[2] * cofactors[2]
 
 
@@ -183,6 +198,11 @@ def _cofactors(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 #: :func:`_cofactors`, so that the checks of many rotations are a few operations over all.
 GRAM = structure_matrix(_gram, 9, 9)
 COFACTORS = structure_matrix(_cofactors, 6, 6)
+#: Both in one form of the nine entries: the six of :data:`GRAM`, then the three cofactors
+#: (their terms in the same order; each padded with a zero term, which changes no value).
+RIGIDITY = structure_matrix(
+    lambda a, b: np.concatenate([_gram(a, b), _cofactors(a[..., 3:], b[..., 3:])], axis=-1), 9, 9
+)
 _GRAM_IDENTITY = np.array([1.0, 0.0, 0.0, 1.0, 0.0, 1.0])
 
 
@@ -196,8 +216,7 @@ def valid_matrices(matrices: np.ndarray, tol: float = ORTHO_TOL) -> np.ndarray:
     with np.errstate(all="ignore"):
         ok = np.isfinite(m).all(axis=(-2, -1)) & (m[..., 3, :] == [0.0, 0.0, 0.0, 1.0]).all(axis=-1)
         entries = _entries(m[..., :3, :3])
-        ortho = _orthogonality(entries)
-        det = _determinants(entries)
+        ortho, det = _rigidity(entries)
         return ok & (ortho <= tol) & (det >= 0) & (np.abs(det - 1.0) <= tol)
 
 
@@ -250,6 +269,10 @@ def check_matrices(
     return _checked(as_numbers(matrices, "a pose matrix", PoseError), layout, tol)
 
 
+#: The constant rows of pose matrices in the robotics and the paper's layout.
+_BOTTOM_ROW, _TOP_ROW = np.array([0.0, 0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0, 0.0])
+
+
 def _checked(m: np.ndarray, layout: str, tol: float, entries=None) -> np.ndarray:
     """:func:`check_matrices` of a float array; ``entries``, the rotation blocks'
     :func:`_entries` where the caller has them already."""
@@ -257,13 +280,9 @@ def _checked(m: np.ndarray, layout: str, tol: float, entries=None) -> np.ndarray
         raise PoseError(f"a pose matrix must be 4x4, got shape {m.shape}")
     _finite(m, "the pose matrix")
     if layout == "robotics":
-        fixed = m[..., 3, :]
-        expected = np.array([0.0, 0.0, 0.0, 1.0])
-        where = "bottom row"
+        fixed, expected, where = m[..., 3, :], _BOTTOM_ROW, "bottom row"
     elif layout == "paper":
-        fixed = m[..., 0, :]
-        expected = np.array([1.0, 0.0, 0.0, 0.0])
-        where = "top row"
+        fixed, expected, where = m[..., 0, :], _TOP_ROW, "top row"
     else:
         raise PoseError(f"unknown matrix layout {layout!r}; expected one of {LAYOUTS}")
     if anywhere(fixed != expected):  # exactly; the residual is measured for the message
