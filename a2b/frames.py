@@ -246,13 +246,16 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
         same = (p_a == p_b).all(axis=-1)
         r[:, same] = [[1.0], [0.0], [0.0], [0.0]]
     s = np.sqrt(dots(r[1:].T, r[1:].T))
+    c = np.abs(r[0])  # |pA·pB|, which no change of sign below changes
     rotating = s > ROTATION_NOISE
     turning = everywhere(rotating)  # the rare cases below run only where they occur
     # A half-turn (pA·pB = 0 within rounding): u and −u are equally short; one is picked and
     # said, rather than let the sign of rounding noise decide.
-    half_turn = rotating & (np.abs(r[0]) <= ROTATION_NOISE)
-    flip = (r[0] < 0) & ~half_turn
-    if anywhere(flip):
+    half_turn = rotating & (c <= ROTATION_NOISE)
+    halves = anywhere(half_turn)
+    flip = (r[0] < 0) & ~half_turn if halves else r[0] < 0
+    flipped = anywhere(flip)
+    if flipped:
         sign = np.where(flip, -1.0, 1.0)  # × −1 is negation, bit for bit
         p_b = p_b * sign[:, None]
         r *= sign
@@ -263,13 +266,12 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
     safe_s = s if turning else np.where(rotating, s, 1.0)
     u = r[1:] / safe_s
     d = dots(u.T, t_disp.T)
-    if anywhere(half_turn):
+    if halves:
         turn = half_turn & ((d < 0) | ((d == 0) & (canonical_sign(u.T)[:, 0] != u[0])))
         u = np.where(turn, -u, u)
         d = np.where(turn, -d, d)
         p_b = np.where(turn[:, None], -p_b, p_b)
         r = np.where(turn, -r, r)
-    c = np.abs(r[0])
     phi = 2.0 * np.arctan2(s, c)
     t_perp = t_disp - d * u
     axis_point = 0.5 * (t_perp + bilinear(CROSS, u, t_perp) * (c / safe_s))
@@ -287,7 +289,9 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
         phi = np.where(rotating, phi, 0.0)
         axis_point = np.where(rotating, axis_point, axis_point_t)
 
-    notes = _notes(flip, s, rotating, half_turn, moving, d, c)
+    notes = [(flip, _FLIP)] if flipped else []
+    if not turning or halves:
+        notes += _rare_notes(s, rotating, half_turn, moving, d, c)
     fields = {
         "phi": phi,
         "d": d,
@@ -303,10 +307,11 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
     return fields, notes
 
 
-def _notes(flip, s, rotating, half_turn, moving, d, c) -> list:
-    """The choices :func:`_frames` made, as (mask, text) rules for :class:`Notes`: only those
-    that hold somewhere, in this order."""
-    notes: list = [(flip, _FLIP)] if anywhere(flip) else []
+def _rare_notes(s, rotating, half_turn, moving, d, c) -> list:
+    """The choices :func:`_frames` made where a pair does not rotate or turns by π, after
+    the flips: (mask, text) rules for :class:`Notes`, only those that hold somewhere, in this
+    order."""
+    notes: list = []
     still = ~rotating
     noise = (s > 0.0) & still if anywhere(still) else None
     if noise is not None and anywhere(noise):

@@ -24,6 +24,7 @@ from ..frames import ScrewFrame
 from ..parameters import SOLVERS
 from ..poses import check_matrices, quat_trans_from_matrices, rotations_from_quaternions
 from ..study import (
+    NARROW_FROM,
     bilinear,
     quat_conj,
     quat_mul,
@@ -232,6 +233,9 @@ def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np
         entries[10:, 1] *= 0.5
         entries[10:, 2] = trans[:, 1, 1]
         ordered = entries.take(_COLUMNS, axis=0)  # (14, 3, J)
+        if hi - lo <= NARROW_FROM:  # a few pairs: one copy, the fewest calls
+            table[lo:hi] = ordered.T
+            continue
         for row in range(3):  # three 2-d transposing copies: twice as fast as one 3-d
             table[lo:hi, row] = ordered[:, row].T
     quat_ends = p_all.transpose(2, 1, 0).reshape(shape + (2, 4))
@@ -310,7 +314,9 @@ class DarbouxMotion(Motion):
             delta_v = np.broadcast_to(delta_v, shape)
         self.delta = delta_v + 0.0
         self.solved_from = solved_from
-        self.notes.add("δ has no effect on a pure translation", (phi == 0.0) & (self.delta != 0.0))
+        if given:  # δ = 0 else
+            translating = (phi == 0.0) & (self.delta != 0.0)
+            self.notes.add("δ has no effect on a pure translation", translating)
         self.notes.add("long way round: flipped the sign of hB", self.long_way)
 
         self.fiber_offsets = np.empty(shape + (2,))
