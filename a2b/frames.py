@@ -29,7 +29,17 @@ from .poses import (
     rotations_from_quaternions,
     study_from_quat_trans,
 )
-from .study import CROSS, MATRIX_VECTOR, ROTATION, TURN, bilinear, dots, quat_conj, quat_mul
+from .study import (
+    CROSS,
+    MATRIX_VECTOR,
+    ROTATION,
+    TURN,
+    bilinear,
+    dots,
+    quat_conj,
+    quat_mul,
+    vector_form,
+)
 
 #: ``|sin(φ/2)|`` at or below which the relative rotation of two poses is rounding noise.
 ROTATION_NOISE = 4 * np.finfo(float).eps
@@ -75,7 +85,6 @@ class ScrewFrame:
     phi: np.ndarray
     d: np.ndarray
     axis_direction: np.ndarray
-    axis_point: np.ndarray
     r: np.ndarray
     p_start: np.ndarray
     p_end: np.ndarray
@@ -100,6 +109,25 @@ class ScrewFrame:
             if name != "notes"
         }
         return ScrewFrame(**fields, notes=self.notes[index])
+
+    @cached_property
+    def axis_point(self) -> np.ndarray:
+        """The point of the axis closest to the origin of the fixed frame, ``S + (3,)``: made
+        when asked for (no motion needs it to be built). For a rotation it is
+        ``½ (t⊥ + cot(φ/2) u × t⊥)``; without one, A's origin moved onto the axis along ``u``."""
+        u, t_perp, r = self.axis_direction, self.t_perp, np.asarray(self.r)
+        with np.errstate(over="ignore", invalid="ignore"):
+            s = np.sqrt(dots(r[..., 1:], r[..., 1:]))  # sin(φ/2) and cos(φ/2), as _frames has
+            c = np.abs(r[..., 0])
+            rotating = s > ROTATION_NOISE
+            turning = everywhere(rotating)
+            safe_s = s if turning else np.where(rotating, s, 1.0)
+            point = 0.5 * (t_perp + vector_form(CROSS, u, t_perp) * (c / safe_s)[..., None])
+            if turning:
+                return point
+            t_a = self.t_start
+            still = t_a - dots(u, t_a)[..., None] * u
+            return np.where(rotating[..., None], point, still)
 
     @property
     def h_start(self) -> np.ndarray:
@@ -273,8 +301,6 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
         p_b = np.where(turn[:, None], -p_b, p_b)
         r = np.where(turn, -r, r)
     phi = 2.0 * np.arctan2(s, c)
-    t_perp = t_disp - d * u
-    axis_point = 0.5 * (t_perp + bilinear(CROSS, u, t_perp) * (c / safe_s))
 
     # no rotation: the axis along the translation, or parallel to z for B = A
     moving = np.zeros(count, dtype=bool)
@@ -283,11 +309,9 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
         moving = norm_t > 0.0
         z = np.array([[0.0], [0.0], [1.0]])
         u_t = np.where(moving, t_disp / np.where(moving, norm_t, 1.0), z)
-        axis_point_t = t_a - dots(u_t.T, t_a.T) * u_t
         u = np.where(rotating, u, u_t)
         d = np.where(rotating, d, np.where(moving, norm_t, 0.0))
         phi = np.where(rotating, phi, 0.0)
-        axis_point = np.where(rotating, axis_point, axis_point_t)
 
     notes = [(flip, _FLIP)] if flipped else []
     if not turning or halves:
@@ -296,7 +320,6 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
         "phi": phi,
         "d": d,
         "axis_direction": u.T,
-        "axis_point": axis_point.T,
         "r": r.T,
         "p_start": p_a,
         "p_end": p_b,

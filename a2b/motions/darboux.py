@@ -208,14 +208,14 @@ def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np
     shape = frame.shape
     count = math.prod(shape)
     p_all = np.empty((4, 2, count))  # component-major: both ends of every pair
-    p_all[:, 0] = np.reshape(frame.p_start, (count, 4)).T
-    p_all[:, 1] = np.reshape(frame.p_end, (count, 4)).T
+    p_all[:, 0] = frame.p_start.reshape((count, 4)).T
+    p_all[:, 1] = frame.p_end.reshape((count, 4)).T
     if anywhere(long_way):
-        p_all[:, 1] *= np.where(np.reshape(long_way, -1), -1.0, 1.0)
+        p_all[:, 1] *= np.where(long_way.reshape(-1), -1.0, 1.0)
     t_all = np.empty((3, 2, count))
-    t_all[:, 0] = np.reshape(frame.t_start, (count, 3)).T
-    t_all[:, 1] = np.reshape(frame.t_end, (count, 3)).T
-    s_all = np.reshape(offsets, (count, 2)).T
+    t_all[:, 0] = frame.t_start.reshape((count, 3)).T
+    t_all[:, 1] = frame.t_end.reshape((count, 3)).T
+    s_all = offsets.reshape(count, 2).T
     offset = anywhere(s_all)  # δ ≠ 0 somewhere
     table = np.empty((count, 3, 14))
     for lo in range(0, count, CHUNK):

@@ -35,14 +35,14 @@ def screw_tables(frame: ScrewFrame, start: np.ndarray) -> np.ndarray:
     ``K² X = u (u·X) − X`` three elementwise steps over all of them (``|u| = 1``), not 3x3
     products per pair.
     """
-    rot = np.reshape(start, (-1, 4, 4))[:, :3, :3]  # A's rotation block, as given
+    rot = start.reshape(-1, 4, 4)[:, :3, :3]  # A's rotation block, as given
     given = (
         rot,
-        np.reshape(frame.t_start, (-1, 3)),
-        np.reshape(frame.axis_direction, (-1, 3)),
-        np.reshape(frame.t_perp, (-1, 3)),
-        np.reshape(frame.phi, -1),
-        np.reshape(frame.d, -1),
+        frame.t_start.reshape((-1, 3)),
+        frame.axis_direction.reshape((-1, 3)),
+        frame.t_perp.reshape((-1, 3)),
+        frame.phi.reshape(-1),
+        frame.d.reshape(-1),
     )
     table = np.zeros((len(rot), 4, 14))
     table[:, 0, 12:] = 1.0
