@@ -242,6 +242,7 @@ def screw_frame(start: np.ndarray, end: np.ndarray, quaternions=None) -> ScrewFr
         None if mask is None else mask.reshape(shape),
         text if isinstance(text, str) else text.reshape(shape),
     ) for mask, text in notes]))  # fmt: skip
+    frame.__dict__["shape"] = shape  # the cached_property, known here
     if everywhere(np.isfinite(fields["t_disp"])) and everywhere(np.isfinite(fields["d"])):
         return frame
     finite = np.isfinite(frame.d) & np.isfinite(frame.t_disp).all(axis=-1)

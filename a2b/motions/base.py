@@ -236,8 +236,7 @@ class Motion(Kinematic):
         self.start = start
         self.end = end
         self.frame = frame
-        self.notes = Notes(frame.shape)
-        self.notes.extend(frame.notes)
+        self.notes = Notes(frame.shape, list(frame.notes.rules))
         self.warning_notes = Notes(frame.shape)
 
     # -- the batch -----------------------------------------------------------------------------
