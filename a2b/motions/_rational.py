@@ -489,7 +489,7 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
     width = coefficients.shape[1] * coefficients.shape[2]
     rows = min(SAMPLE_BLOCK, max(256, BLAS_ONE_THREAD // max(width, 1)))
     samples = min(n, rows)
-    group = max(1, rows // max(n, 1))  # jobs per block
+    group = min(jobs, max(1, rows // max(n, 1)))  # jobs per block
     den_rows = None if denominators is None else np.ascontiguousarray(denominators.swapaxes(1, 2))
     inverse = np.empty((group, m, samples))
     scaled = np.empty((group, m * k + constant, samples))
