@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..elements import everywhere
 from ..frames import ScrewFrame
 from ..study import AXIS_TIMES, CROSS, bilinear, vector_form
 from ._rational import CHUNK
@@ -55,20 +56,26 @@ def _screw_chunk(rot, t_a, u, t_perp, phi, d, table) -> None:
     """:func:`screw_tables` for one chunk of pairs, written into its ``table`` ``(J, 4, 14)``."""
     count = len(rot)
     u, t_perp = u.T, t_perp.T  # (3, J)
-    columns = np.empty((3, 4, count))
-    columns[:, :3] = rot.transpose(1, 2, 0)
-    columns[:, 3] = t_a.T
-    k_cols = bilinear(CROSS, u[:, None], columns)  # (3, 4, J)
+    vectors = np.empty((3, 5, count))  # the columns of [RA | tA], and t⊥ for u × t⊥
+    vectors[:, :3] = rot.transpose(1, 2, 0)
+    vectors[:, 3] = t_a.T
+    vectors[:, 4] = t_perp
+    columns = vectors[:, :4]
+    crossed = bilinear(CROSS, u[:, None], vectors)  # (3, 5, J)
+    k_cols, u_cross_t = crossed[:, :4], crossed[:, 4]
     along = u[:, None] * columns  # u·X, its terms added in order
     k2_cols = u[:, None] * (along[0] + along[1] + along[2])
     k2_cols -= columns
-    u_cross_t = bilinear(CROSS, u, t_perp)
     turning = phi > 0.0
     half_cot = np.divide(  # ½ cot(φ/2) where φ > 0, else 0 (not divided)
         0.5 * np.cos(phi / 2), np.sin(phi / 2), out=np.zeros(phi.shape), where=turning
     )
-    k_cols[:, 3] += np.where(turning, half_cot * t_perp - 0.5 * u_cross_t, 0.0)
-    k2_cols[:, 3] += np.where(turning, 0.5 * t_perp + half_cot * u_cross_t, 0.0)
+    k_turn = half_cot * t_perp - 0.5 * u_cross_t
+    k2_turn = 0.5 * t_perp + half_cot * u_cross_t
+    if not everywhere(turning):  # no such terms without a rotation
+        k_turn, k2_turn = np.where(turning, k_turn, 0.0), np.where(turning, k2_turn, 0.0)
+    k_cols[:, 3] += k_turn
+    k2_cols[:, 3] += k2_turn
     # rows 0, 2, 3 of the tables, each one 2-d transposing copy (twice as fast as a 3-d one)
     table[:, 0, :12] = columns.reshape(12, count).T
     table[:, 1, 3:12:4] = (d * u + np.where(turning, 0.0, t_perp)).T
@@ -101,7 +108,7 @@ class ScrewMotion(Motion):
         out[0] = 1.0
         out[1] = t
         half = np.multiply(t, 0.5 * phi, out=out[3])
-        if t.size and float(np.abs(half).max()) <= HALF_ANGLE_TAN:
+        if t.size and float(np.maximum.reduce(np.abs(half), axis=None)) <= HALF_ANGLE_TAN:
             # τ = tan(tφ/2): sin = 2τ / (1 + τ²) and vers = 2 sin²(tφ/2) = τ sin. numpy
             # vectorises tan but not sin: one tan takes a fifth of the time of two sines,
             # and on |tφ/2| ≤ 1.6 (t ∈ [0, 1] and a little beyond) sin and vers stay within
