@@ -140,8 +140,9 @@ def checked_motion(a, b, mode: str = "darboux", /, quaternions=None, **parameter
 
 
 def _build(a, b, mode, params, quaternions=None) -> Motion:
-    frame = screw_frame(a, b, quaternions)
-    result = REGISTRY[mode].motion.from_parameters(a, b, frame, params)
+    kind = REGISTRY[mode].motion
+    frame = screw_frame(a, b, quaternions, axes=kind.frame_axes or bool(params))
+    result = kind.from_parameters(a, b, frame, params)
     check_table(result.table, result.shape)
     if params:  # the defaults of every mode reach their ends to 2e-15 and stay within 0.5 of
         check_ends(result)  # the excursion ratio: only a parameter can upset either

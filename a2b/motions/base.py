@@ -498,6 +498,10 @@ class Motion(Kinematic):
         return out
 
     # -- what the mode tells describe, plot and view (a2b.motions.REGISTRY) -------------------
+    #: Whether building the motion with its default parameters reads the frame's axes
+    #: (``axis_direction``, ``d``, ``t_disp``): :func:`a2b.motion` has
+    #: :func:`a2b.frames.screw_frame` make them at once then, else when first asked for.
+    frame_axes: bool = True
     #: One line for ``--help`` and the docs.
     description: str = ""
     #: The closed form of the transmission curve z(ω) (:meth:`transmission`), for legends:

@@ -298,7 +298,7 @@ class DarbouxMotion(Motion):
         if branch is not None and lam is None:
             raise ParameterError("branch chooses between the two solutions for lam; give lam too")
         self.long_way = boolean_parameter(long_way, shape, "long_way")
-        phi, d = np.asarray(frame.phi), np.asarray(frame.d)
+        phi = np.asarray(frame.phi)
         turning = phi > 0
         if anywhere(self.long_way):
             self.phi_eff = np.where(
@@ -308,7 +308,7 @@ class DarbouxMotion(Motion):
             self.phi_eff = phi.copy()
         phi_e = np.where(turning, self.phi_eff, 0.0) if given else None  # for solving only
         solved_from = next(iter(given), "delta")
-        delta_v = self._solve(solved_from, given, branch, phi_e, d)
+        delta_v = self._solve(solved_from, given, branch, phi_e)
         delta_v = np.asarray(delta_v, dtype=float)
         if delta_v.shape != shape:
             delta_v = np.broadcast_to(delta_v, shape)
@@ -329,15 +329,18 @@ class DarbouxMotion(Motion):
             self.phi_eff = self.phi_eff[()]
             self.long_way = bool(self.long_way)
 
-    def _solve(self, solved_from: str, given: dict, branch, phi_e, d) -> np.ndarray:
+    def _solve(self, solved_from: str, given: dict, branch, phi_e) -> np.ndarray:
         """δ from the one essential parameter given (``docs/math.md``), or 0."""
         shape, frame = self.shape, self.frame
+        if not given:
+            return np.zeros(shape)
+        d = np.asarray(frame.d)
         if solved_from == "through":
             _require_rotation(phi_e, "a third pose", shape)
             poses = check_matrices(given["through"])
             omega_c, z_c = third_pose_coordinates(frame, np.broadcast_to(poses, shape + (4, 4)))
             delta_v = delta_from_third_pose(omega_c, z_c, phi_e, d, shape)
-        elif solved_from in given:
+        else:
             item = broadcast_parameter(given[solved_from], shape, solved_from)
             if solved_from == "kappa":
                 delta_v = delta_from_kappa(item, phi_e, d, shape)
@@ -364,8 +367,6 @@ class DarbouxMotion(Motion):
                 delta_v = delta_from_pitch(item, phi_e, d, "end", shape)
             else:
                 delta_v = item
-        else:
-            delta_v = np.zeros(shape)
         return delta_v
 
     def _short_way_on(self, lo: float, hi: float) -> bool:
@@ -459,6 +460,7 @@ class DarbouxMotion(Motion):
         out["transmission_curve"] = "z = z0 + lam * sin(omega + kappa)"
         return out
 
+    frame_axes = False  # the table needs the quaternions and translations only
     description = "the vertical Darboux motion (a line in the extended dual-quaternion model)"
     transmission_form = "sine"
     family_kinds = ("delta",)
