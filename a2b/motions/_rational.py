@@ -508,11 +508,9 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
             stop = min(start + samples, n)
             block = block_columns[:, :, start:stop]
             if den_rows is None and not constant:
-                np.matmul(
-                    np.broadcast_to(block, (size,) + block.shape[1:]).swapaxes(1, 2),
-                    block_coefficients,
-                    out=out[first:last, start:stop],
-                )
+                if len(block) != size:  # one basis for every job
+                    block = np.broadcast_to(block, (size,) + block.shape[1:])
+                np.matmul(block.swapaxes(1, 2), block_coefficients, out=out[first:last, start:stop])
                 continue
             part = scaled[:size, :, : stop - start]
             if den_rows is None:

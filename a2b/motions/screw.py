@@ -17,7 +17,7 @@ import numpy as np
 
 from ..elements import everywhere
 from ..frames import ScrewFrame
-from ..study import AXIS_TIMES, CROSS, bilinear, vector_form
+from ..study import AXIS_TIMES, CROSS, bilinear, sum_terms, vector_form
 from ._rational import CHUNK
 from .base import Motion
 from .text import number_text
@@ -63,22 +63,23 @@ def _screw_chunk(rot, t_a, u, t_perp, phi, d, table) -> None:
     columns = vectors[:, :4]
     crossed = bilinear(CROSS, u[:, None], vectors)  # (3, 5, J)
     k_cols, u_cross_t = crossed[:, :4], crossed[:, 4]
-    along = u[:, None] * columns  # u·X, its terms added in order
-    k2_cols = u[:, None] * (along[0] + along[1] + along[2])
+    k2_cols = u[:, None] * sum_terms(u[:, None] * columns)  # u (u·X), its terms added in order
     k2_cols -= columns
     turning = phi > 0.0
+    half = phi / 2
     half_cot = np.divide(  # ½ cot(φ/2) where φ > 0, else 0 (not divided)
-        0.5 * np.cos(phi / 2), np.sin(phi / 2), out=np.zeros(phi.shape), where=turning
+        0.5 * np.cos(half), np.sin(half), out=np.zeros(phi.shape), where=turning
     )
     k_turn = half_cot * t_perp - 0.5 * u_cross_t
     k2_turn = 0.5 * t_perp + half_cot * u_cross_t
-    if not everywhere(turning):  # no such terms without a rotation
+    every = everywhere(turning)
+    if not every:  # no such terms without a rotation
         k_turn, k2_turn = np.where(turning, k_turn, 0.0), np.where(turning, k2_turn, 0.0)
     k_cols[:, 3] += k_turn
     k2_cols[:, 3] += k2_turn
     # rows 0, 2, 3 of the tables, each one 2-d transposing copy (twice as fast as a 3-d one)
     table[:, 0, :12] = columns.reshape(12, count).T
-    table[:, 1, 3:12:4] = (d * u + np.where(turning, 0.0, t_perp)).T
+    table[:, 1, 3:12:4] = (d * u + (0.0 if every else np.where(turning, 0.0, t_perp))).T
     table[:, 2, :12] = k_cols.reshape(12, count).T
     table[:, 3, :12] = k2_cols.reshape(12, count).T
 
