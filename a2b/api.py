@@ -69,6 +69,8 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
     else:
         a, b = check_matrices(a), check_matrices(b)
     result = checked_motion(a, b, mode, quaternions=quaternions, **parameters)
+    if not (isinstance(start, tuple) or isinstance(end, tuple)):  # no quaternion given
+        return result
     given = given_quaternions((start, end), (a, b), quaternions)
     if given is not None and given[0].shape == result.shape + (4,):
         result.given_ends = np.stack(given, axis=-2)

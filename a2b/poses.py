@@ -82,12 +82,12 @@ def _check_rotation_entries(entries: np.ndarray, tol: float) -> None:
                 else ""
             )
         )
-    if anywhere(det < 0):
+    det_residual = float(np.maximum.reduce(np.abs(det - 1.0), axis=None, initial=0.0))
+    if not det_residual <= min(tol, 1.0) and anywhere(det < 0):  # |det − 1| > 1 where det < 0
         raise PoseError(
             f"the rotation block has determinant {float(np.min(det)):.6g}: a reflection, not a "
             f"rotation"
         )
-    det_residual = float(np.maximum.reduce(np.abs(det - 1.0), axis=None, initial=0.0))
     if det_residual > tol:
         raise PoseError(
             f"the rotation block has |det R − 1| = {det_residual:.3g}, exceeding tolerance {tol:g}"
