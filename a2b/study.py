@@ -64,18 +64,20 @@ class Structure(NamedTuple):
     plan: tuple = ()
 
 
-def structure_matrix(form, n_a: int, n_b: int) -> Structure:
+def structure_matrix(form, n_a: int, n_b: int, padding: float = 0.0) -> Structure:
     """The structure matrix ``(n_out, n_a n_b)`` of a bilinear ``form(a, b)``: column
     ``i n_b + j`` is ``form(e_i, e_j)`` for the unit vectors ``e_i``, ``e_j``.
 
     a2b writes each bilinear form once, as a plain function of vectors ``(..., n)``; its
     structure matrix, made by evaluating that function on basis vectors at import, lets
     :func:`bilinear` evaluate it over component-major arrays with a few operations, however
-    many terms the formula has.
+    many terms the formula has. ``padding``: as for :func:`sparse_rows` (``−0.0`` for forms
+    whose first components are the constant 1, where a padded term ``−0.0 a_0 b_0`` changes
+    no sum).
     """
     a = np.repeat(np.eye(n_a), n_b, axis=0)
     b = np.tile(np.eye(n_b), (n_a, 1))
-    rows = sparse_rows(np.asarray(form(a, b), dtype=float).T)
+    rows = sparse_rows(np.asarray(form(a, b), dtype=float).T, padding)
     left, right = rows.columns // n_b, rows.columns % n_b
     plan = tuple(
         tuple(zip(left[:, r].tolist(), right[:, r].tolist(), rows.weights[:, r, 0].tolist()))
