@@ -540,12 +540,16 @@ AXIS_TIMES = structure_matrix(
 TURN = structure_matrix(lambda b, a: _hamilton(b, quat_conj(a)), 4, 4)
 #: ``(a, b) ↦ a × b`` of vectors ``(3, ...)``.
 CROSS = structure_matrix(cross, 3, 3)
+
+
 #: Eq. 4's nine rotation numerators as the symmetric bilinear form ``B(p, r)``, with the
 #: denominator ``p·r`` as a tenth row: ``B(p, p) / (p·p)`` is the rotation of ``p``.
-ROTATION = structure_matrix(
-    lambda p, r: np.concatenate([rotation_numerators(p, r), dots(p, r)[..., None]], axis=-1),
-    4,
-    4,
-)
+def rotation_rows(p: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """:func:`rotation_numerators` of ``p, r`` ``(..., 4)`` with the denominator ``p·r`` as a
+    tenth entry: ``(..., 10)``, the formula of :data:`ROTATION`."""
+    return np.concatenate([rotation_numerators(p, r), dots(p, r)[..., None]], axis=-1)
+
+
+ROTATION = structure_matrix(rotation_rows, 4, 4)
 #: ``(m, v) ↦ m v`` for the nine entries of 3x3 matrices ``m`` (row by row) and vectors ``v``.
 MATRIX_VECTOR = structure_matrix(lambda m, v: (m.reshape(-1, 3, 3) @ v[..., None])[..., 0], 9, 3)

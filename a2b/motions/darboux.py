@@ -28,6 +28,7 @@ from ..study import (
     bilinear,
     quat_conj,
     quat_mul,
+    rotation_rows,
     structure_matrix,
     study_from_quat_trans,
     translation_numerators,
@@ -38,7 +39,6 @@ from ._rational import (
     TRANS_COLS,
     bernstein_basis,
     bernstein_derivatives,
-    quadratic_rows,
 )
 from .base import Motion, boolean_parameter, broadcast_parameter
 from .text import angle_text, number_text
@@ -182,16 +182,28 @@ def third_pose_coordinates(frame: ScrewFrame, pose: np.ndarray) -> tuple[np.ndar
 
 
 #: The structure matrices (:func:`a2b.study.structure_matrix`) of the bilinear forms of the
-#: build, from a2b's own formulas: eq. 5, and ``q = −½ t p``.
-_TRANSLATION = structure_matrix(translation_numerators, 4, 4)
+#: build, from a2b's own formulas: ``q = −½ t p``, and eq. 4 (with the denominator) and eq. 5
+#: as one form ``(p, (r, q)) ↦ (B(p, r), T(p, q))`` with 13 rows.
 _DUAL = structure_matrix(lambda t, p: study_from_quat_trans(p, t)[..., 4:], 3, 4)
-#: The table's 14 columns from the rows of ``entries`` in :func:`darboux_tables`: the rotation
-#: numerators (rows 0–8) at ROT_COLS, the translations (10–12) at TRANS_COLS, and the
-#: denominator (9) twice.
+_ENTRIES = structure_matrix(
+    lambda p, x: np.concatenate(
+        [rotation_rows(p, x[..., :4]), translation_numerators(p, x[..., 4:])], axis=-1
+    ),
+    4,
+    8,
+)
+#: The pairs of ends that :data:`_ENTRIES` takes, ``(A, A), (A, B), (B, A), (B, B)``.
+_FIRST, _SECOND = np.array([0, 0, 1, 1]), np.array([0, 1, 0, 1])
+#: The table's 14 columns of the three Bernstein rows from the flattened ``(13 · 4, J)``
+#: values of :data:`_ENTRIES` on those pairs: the rotation numerators (rows 0–8) at
+#: ROT_COLS, the translations (10–12) at TRANS_COLS, the denominator (9) twice, each of the
+#: pairs ``(A, A), (A, B), (B, B)`` (the translation's middle one is ``½(T(pA, qB) + T(pB,
+#: qA))``, put in the place of ``(A, B)``).
 _COLUMNS = np.empty(14, dtype=np.intp)
 _COLUMNS[list(ROT_COLS)] = range(9)
 _COLUMNS[list(TRANS_COLS)] = range(10, 13)
 _COLUMNS[12:] = 9
+_TABLE_ROWS = (4 * _COLUMNS[:, None] + np.array([0, 1, 3])).ravel()  # (14 · 3,)
 
 
 def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np.ndarray]:
@@ -200,10 +212,10 @@ def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np
     ``sA, sB``; ``long_way`` flips hB).
 
     Component-major work arrays hold both poses of every pair, ``(4, 2, J)``; each bilinear
-    form is one :func:`a2b.study.bilinear` over them: the rotation numerators and
-    denominators ``B(pA, pA), B(pA, pB), B(pB, pB)`` of eq. 4, and the translation numerators
-    ``T(pA, qA), ½(T(pA, qB) + T(pB, qA)), T(pB, qB)`` of eq. 5. Large batches go in chunks
-    of :data:`CHUNK` pairs.
+    form is one :func:`a2b.study.bilinear` over them: ``q``, then, in one, the rotation
+    numerators and denominators ``B(pA, pA), B(pA, pB), B(pB, pB)`` of eq. 4 and the
+    translation numerators ``T(pA, qA), ½(T(pA, qB) + T(pB, qA)), T(pB, qB)`` of eq. 5.
+    Large batches go in chunks of :data:`CHUNK` pairs.
     """
     shape = frame.shape
     count = math.prod(shape)
@@ -221,18 +233,16 @@ def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np
     for lo in range(0, count, CHUNK):
         hi = min(lo + CHUNK, count)
         p = p_all[..., lo:hi]
-        q = bilinear(_DUAL, t_all[..., lo:hi], p)
+        pq = np.empty((8, 2, hi - lo))  # p and q of both ends
+        pq[:4] = p
+        pq[4:] = bilinear(_DUAL, t_all[..., lo:hi], p)
         if offset:
-            q += s_all[:, lo:hi] * p
-        rows = quadratic_rows(p)  # (10, 3, J)
-        trans = bilinear(_TRANSLATION, p[:, :, None], q[:, None])  # (3, 2, 2, J)
-        entries = np.empty((13, 3, hi - lo))  # eq. 4's ten rows, then eq. 5's three
-        entries[:10] = rows
-        entries[10:, 0] = trans[:, 0, 0]
-        np.add(trans[:, 0, 1], trans[:, 1, 0], out=entries[10:, 1])
-        entries[10:, 1] *= 0.5
-        entries[10:, 2] = trans[:, 1, 1]
-        ordered = entries.take(_COLUMNS, axis=0)  # (14, 3, J)
+            pq[4:] += s_all[:, lo:hi] * p
+        entries = bilinear(_ENTRIES, p.take(_FIRST, axis=1), pq.take(_SECOND, axis=1))
+        middle = entries[10:, 1]  # (3, J): T(pA, qB), then ½(T(pA, qB) + T(pB, qA))
+        middle += entries[10:, 2]
+        middle *= 0.5
+        ordered = entries.reshape(52, -1).take(_TABLE_ROWS, axis=0).reshape(14, 3, -1)
         if hi - lo <= NARROW_FROM:  # a few pairs: one copy, the fewest calls
             table[lo:hi] = ordered.T
             continue
