@@ -47,8 +47,11 @@ def screw_tables(frame: ScrewFrame, start: np.ndarray) -> np.ndarray:
     )
     table = np.zeros((len(rot), 4, 14))
     table[:, 0, 12:] = 1.0
-    for lo in range(0, len(rot), CHUNK):
-        _screw_chunk(*(item[lo : lo + CHUNK] for item in given), table[lo : lo + CHUNK])
+    if len(rot) <= CHUNK:
+        _screw_chunk(*given, table)
+    else:
+        for lo in range(0, len(rot), CHUNK):
+            _screw_chunk(*(item[lo : lo + CHUNK] for item in given), table[lo : lo + CHUNK])
     return table.reshape(frame.shape + (4, 14))
 
 
@@ -66,13 +69,16 @@ def _screw_chunk(rot, t_a, u, t_perp, phi, d, table) -> None:
     k2_cols = u[:, None] * sum_terms(u[:, None] * columns)  # u (u·X), its terms added in order
     k2_cols -= columns
     turning = phi > 0.0
+    every = everywhere(turning)
     half = phi / 2
-    half_cot = np.divide(  # ½ cot(φ/2) where φ > 0, else 0 (not divided)
-        0.5 * np.cos(half), np.sin(half), out=np.zeros(phi.shape), where=turning
-    )
+    if every:  # ½ cot(φ/2)
+        half_cot = 0.5 * np.cos(half) / np.sin(half)
+    else:  # where φ > 0, else 0 (not divided)
+        half_cot = np.divide(
+            0.5 * np.cos(half), np.sin(half), out=np.zeros(phi.shape), where=turning
+        )
     k_turn = half_cot * t_perp - 0.5 * u_cross_t
     k2_turn = 0.5 * t_perp + half_cot * u_cross_t
-    every = everywhere(turning)
     if not every:  # no such terms without a rotation
         k_turn, k2_turn = np.where(turning, k_turn, 0.0), np.where(turning, k2_turn, 0.0)
     k_cols[:, 3] += k_turn
