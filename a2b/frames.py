@@ -282,19 +282,23 @@ def screw_frame(
     if quaternions is not None:
         quaternions = [np.asarray(p, dtype=float).reshape(-1, 4) for p in quaternions]
     with np.errstate(over="ignore", invalid="ignore"):
-        fields, screws, notes = _frames(
+        fields, screws, large, notes = _frames(
             start.reshape(-1, 4, 4), end.reshape(-1, 4, 4), quaternions, axes
         )
-    fields = {name: _leading(array, shape) for name, array in fields.items()}
+    if not shape:  # one pair: element 0 of each (a float for phi)
+        fields = {name: array[0] for name, array in fields.items()}
+    elif len(shape) > 1:
+        fields = {name: _leading(array, shape) for name, array in fields.items()}
     frame = ScrewFrame(**fields, notes=Notes(shape, [(
         None if mask is None else mask.reshape(shape),
         text if isinstance(text, str) else text.reshape(shape),
     ) for mask, text in notes]))  # fmt: skip
     frame.__dict__["shape"] = shape  # the cached_property, known here
-    if screws is None:  # translations of at most LARGE: every displacement is finite
+    if screws is not None:
+        frame.__dict__["screws"] = tuple(_leading(x, shape) for x in screws)
+    if not large:  # translations of at most LARGE: every displacement is finite
         return frame
-    frame.__dict__["screws"] = tuple(_leading(x, shape) for x in screws)
-    if everywhere(np.isfinite(screws[2])) and everywhere(np.isfinite(screws[1])):
+    if everywhere(np.isfinite(frame.t_disp)) and everywhere(np.isfinite(frame.d)):
         return frame
     finite = np.isfinite(frame.d) & np.isfinite(frame.t_disp).all(axis=-1)
     refuse(
@@ -318,7 +322,7 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions, axes: bool) -> tupl
     """The fields of the screw frames of ``J`` pairs ``(J, 4, 4)``, their :func:`_screws`
     ``(u, d, t_disp)`` if ``axes``, or where a pair turns by π or not at all or a
     translation exceeds :data:`LARGE` (else ``None``: :attr:`ScrewFrame.screws` makes them
-    when asked for), and the choices made.
+    when asked for), whether a translation does, and the choices made.
 
     The work arrays are component-major, ``(k, J)``: every bilinear form (``pB p̄A``, eq. 4's
     rotation, ``u × t``) is one :func:`a2b.study.bilinear` over all pairs, and the fields are
@@ -353,7 +357,8 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions, axes: bool) -> tupl
     phi = 2.0 * np.arctan2(s, c)
     notes = [(flip, _FLIP)] if flipped else []
     screws = None
-    if axes or not turning or halves or _large(translations):
+    large = not float(np.maximum.reduce(np.abs(translations), axis=None)) <= LARGE  # or NaN
+    if axes or not turning or halves or large:
         u, d, t_disp, moving = _screws(r, t_a, t_b, s, rotating, turning)
         if halves:  # the half-turn rule
             turn = half_turn & ((d < 0) | ((d == 0) & (canonical_sign(u.T)[:, 0] != u[0])))
@@ -374,12 +379,7 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions, axes: bool) -> tupl
         "t_start": t_a.T,
         "t_end": t_b.T,
     }
-    return fields, screws, notes
-
-
-def _large(translations: np.ndarray) -> bool:
-    """Whether a translation exceeds :data:`LARGE` (or is not a number)."""
-    return not float(np.maximum.reduce(np.abs(translations), axis=None)) <= LARGE
+    return fields, screws, large, notes
 
 
 def _screws(r, t_a, t_b, s, rotating, turning: bool) -> tuple:
