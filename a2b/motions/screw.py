@@ -13,6 +13,8 @@ point of a nearly pure translation.
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 
 from ..elements import everywhere
@@ -99,10 +101,16 @@ class ScrewMotion(Motion):
     def __init__(self, start, end, frame: ScrewFrame):
         super().__init__(start, end, frame)
         self.table = screw_tables(frame, start)
-        # p(t) = cos(tφ/2) pA + sin(tφ/2) u pA: the "ends" of this path are pA and u pA
-        self.quat_ends = np.empty(self.shape + (2, 4))
-        self.quat_ends[..., 0, :] = frame.p_start
-        self.quat_ends[..., 1, :] = vector_form(AXIS_TIMES, frame.axis_direction, frame.p_start)
+
+    @cached_property
+    def quat_ends(self) -> np.ndarray:
+        """``S + (2, 4)``: ``p(t) = cos(tφ/2) pA + sin(tφ/2) u pA``, so the "ends" of this path
+        are pA and u pA (made when asked for: sampling matrices does not need them)."""
+        frame = self.frame
+        ends = np.empty(self.shape + (2, 4))
+        ends[..., 0, :] = frame.p_start
+        ends[..., 1, :] = vector_form(AXIS_TIMES, frame.axis_direction, frame.p_start)
+        return ends
 
     def _basis(self, ts):
         """Rows ``(1, t, sin tφ, vers tφ)``: ``(N, 4)`` for one motion, ``S + (N, 4)`` else."""
