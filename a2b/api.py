@@ -63,12 +63,14 @@ def motion(start, end, mode: str = "darboux", **parameters) -> Motion:
     a, b = pose_matrices(start), pose_matrices(end)
     quaternions = None
     if isinstance(a, np.ndarray) and isinstance(b, np.ndarray) and a.shape == b.shape:
-        both, quaternions = check_matrices_and_quaternions(np.stack([a, b]))  # in one pass
+        both, quaternions = check_matrices_and_quaternions(np.array((a, b)))  # in one pass
         a, b = both
         quaternions = tuple(quaternions)
     else:
         a, b = check_matrices(a), check_matrices(b)
     result = checked_motion(a, b, mode, quaternions=quaternions, **parameters)
+    if not (isinstance(start, tuple) or isinstance(end, tuple)):  # no quaternion given
+        return result
     given = given_quaternions((start, end), (a, b), quaternions)
     if given is not None and given[0].shape == result.shape + (4,):
         result.given_ends = np.stack(given, axis=-2)
@@ -86,7 +88,7 @@ def given_quaternions(poses: tuple, matrices: tuple, made: tuple | None = None) 
     agree with these to a few ulp); only its samples at t = 0 and 1 take these. ``made``:
     the matrices' own quaternions, where the caller has them already."""
     given = [pose[0] if isinstance(pose, tuple) and len(pose) == 2 else None for pose in poses]
-    if all(q is None for q in given) or matrices[0].shape != matrices[1].shape:
+    if given[0] is None is given[1] or matrices[0].shape != matrices[1].shape:
         return None
     out = []
     if made is None:
@@ -109,7 +111,7 @@ def checked_motion(a, b, mode: str = "darboux", /, quaternions=None, **parameter
     ``quaternions``, of the shape of ``a`` and ``b``, as for :func:`a2b.frames.screw_frame`."""
     if mode not in MODES:
         raise ParameterError(f"unknown mode {mode!r}; expected one of {', '.join(MODES)}")
-    unknown = sorted(set(parameters) - set(PARAMETERS[mode]))
+    unknown = sorted(set(parameters) - set(PARAMETERS[mode])) if parameters else None
     if unknown:
         allowed = ", ".join(PARAMETERS[mode]) or "none"
         raise ParameterError(
@@ -140,8 +142,9 @@ def checked_motion(a, b, mode: str = "darboux", /, quaternions=None, **parameter
 
 
 def _build(a, b, mode, params, quaternions=None) -> Motion:
-    frame = screw_frame(a, b, quaternions)
-    result = REGISTRY[mode].motion.from_parameters(a, b, frame, params)
+    kind = REGISTRY[mode].motion
+    frame = screw_frame(a, b, quaternions, axes=kind.frame_axes or bool(params))
+    result = kind.from_parameters(a, b, frame, params)
     check_table(result.table, result.shape)
     if params:  # the defaults of every mode reach their ends to 2e-15 and stay within 0.5 of
         check_ends(result)  # the excursion ratio: only a parameter can upset either
@@ -195,10 +198,12 @@ def pin_ends(motion, ts, poses: dict) -> dict:
     ts = np.asarray(ts, dtype=float)
     for t, pose in ((0.0, start), (1.0, end)):
         at = ts == t
-        if not anywhere(at):
-            continue
         if ts.ndim == 1:  # shared by every motion: the same columns of all
-            _pin_columns(poses, at, np.asarray(pose)[..., None, :, :])
+            (found,) = at.nonzero()
+            if len(found):
+                _pin_columns(poses, found, np.asarray(pose))
+            continue
+        if not anywhere(at):
             continue
         lead = next(iter(poses.values())).shape[: len(shape) + 1]
         at = np.broadcast_to(at, lead)
@@ -212,14 +217,14 @@ def pin_ends(motion, ts, poses: dict) -> dict:
     return poses
 
 
-def _pin_columns(poses: dict, at: np.ndarray, pose: np.ndarray) -> None:
-    """:func:`pin_ends` for parameters ``(N,)`` shared by every motion: the samples ``at``
-    (a mask ``(N,)``) of every field take ``pose`` ``S + (1, 4, 4)``."""
+def _pin_columns(poses: dict, found: np.ndarray, pose: np.ndarray) -> None:
+    """:func:`pin_ends` for parameters ``(N,)`` shared by every motion: the samples ``found``
+    (their indices) of every field take ``pose`` ``S + (4, 4)``."""
 
-    (found,) = at.nonzero()
-    if len(found) == 1:  # one sample at t: a basic index, cheaper than a mask
+    if len(found) == 1:  # one sample at t: a basic index, the cheapest
         at = int(found[0])
-        pose = pose[..., 0, :, :]
+    else:
+        at, pose = found, pose[..., None, :, :]
     if poses.get("trans") is not None:
         poses["trans"][..., at, :] = pose[..., :3, 3]
     if poses.get("matrices") is not None:

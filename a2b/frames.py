@@ -29,7 +29,17 @@ from .poses import (
     rotations_from_quaternions,
     study_from_quat_trans,
 )
-from .study import CROSS, MATRIX_VECTOR, ROTATION, TURN, bilinear, dots, quat_conj, quat_mul
+from .study import (
+    CROSS,
+    MATRIX_VECTOR,
+    ROTATION,
+    TURN,
+    bilinear,
+    dots,
+    quat_conj,
+    quat_mul,
+    vector_form,
+)
 
 #: ``|sin(φ/2)|`` at or below which the relative rotation of two poses is rounding noise.
 ROTATION_NOISE = 4 * np.finfo(float).eps
@@ -73,15 +83,11 @@ class ScrewFrame:
     """
 
     phi: np.ndarray
-    d: np.ndarray
-    axis_direction: np.ndarray
-    axis_point: np.ndarray
     r: np.ndarray
     p_start: np.ndarray
     p_end: np.ndarray
     t_start: np.ndarray
     t_end: np.ndarray
-    t_disp: np.ndarray
     notes: Notes
 
     @cached_property
@@ -99,7 +105,59 @@ class ScrewFrame:
             for name in self.__dataclass_fields__
             if name != "notes"
         }
-        return ScrewFrame(**fields, notes=self.notes[index])
+        out = ScrewFrame(**fields, notes=self.notes[index])
+        if "screws" in self.__dict__:  # made already (a rare case made them with the frame)
+            out.__dict__["screws"] = tuple(_scalar(np.asarray(x)[index]) for x in self.screws)
+        return out
+
+    @cached_property
+    def screws(self) -> tuple:
+        """``(axis_direction, d, t_disp)``, made when first asked for (a Darboux motion is
+        built without them), by :func:`_screws` from :attr:`r` and the translations, as
+        :func:`screw_frame` makes them where a pair turns by π or not at all."""
+        shape = self.shape
+        r, t_a, t_b = (
+            _by_component(x, k) for x, k in ((self.r, 4), (self.t_start, 3), (self.t_end, 3))
+        )
+        with np.errstate(over="ignore", invalid="ignore"):
+            s = np.sqrt(dots(r[1:].T, r[1:].T))
+            rotating = s > ROTATION_NOISE
+            u, d, t_disp, _ = _screws(r, t_a, t_b, s, rotating, everywhere(rotating))
+        return _leading(u.T, shape), _leading(d, shape), _leading(t_disp.T, shape)
+
+    @property
+    def axis_direction(self) -> np.ndarray:
+        """Unit vector ``u`` of the axes, ``S + (3,)``."""
+        return self.screws[0]
+
+    @property
+    def d(self) -> np.ndarray:
+        """Translation along the axes, shape ``S`` (a float for one pair)."""
+        return self.screws[1]
+
+    @property
+    def t_disp(self) -> np.ndarray:
+        """Translation of ``D``, ``S + (3,)``."""
+        return self.screws[2]
+
+    @cached_property
+    def axis_point(self) -> np.ndarray:
+        """The point of the axis closest to the origin of the fixed frame, ``S + (3,)``: made
+        when asked for (no motion needs it to be built). For a rotation it is
+        ``½ (t⊥ + cot(φ/2) u × t⊥)``; without one, A's origin moved onto the axis along ``u``."""
+        u, t_perp, r = self.axis_direction, self.t_perp, np.asarray(self.r)
+        with np.errstate(over="ignore", invalid="ignore"):
+            s = np.sqrt(dots(r[..., 1:], r[..., 1:]))  # sin(φ/2) and cos(φ/2), as _frames has
+            c = np.abs(r[..., 0])
+            rotating = s > ROTATION_NOISE
+            turning = everywhere(rotating)
+            safe_s = s if turning else np.where(rotating, s, 1.0)
+            point = 0.5 * (t_perp + vector_form(CROSS, u, t_perp) * (c / safe_s)[..., None])
+            if turning:
+                return point
+            t_a = self.t_start
+            still = t_a - dots(u, t_a)[..., None] * u
+            return np.where(rotating[..., None], point, still)
 
     @property
     def h_start(self) -> np.ndarray:
@@ -166,12 +224,27 @@ class ScrewFrame:
         return omega, np.sum(t_disp * u, axis=-1)
 
 
+def _by_component(values, k: int) -> np.ndarray:
+    """Vectors ``S + (k,)`` as a component-major view ``(k, J)``."""
+    return np.asarray(values).reshape(-1, k).T
+
+
+def _leading(array: np.ndarray, shape: tuple) -> np.ndarray:
+    """A field ``(J, ...)`` of ``J`` pairs in the shape ``S + (...)`` of the frame: element 0
+    for one pair (a float for ``phi`` and ``d``)."""
+    if not shape:
+        return array[0]
+    return array if len(shape) == 1 else array.reshape(shape + array.shape[1:])
+
+
 def _scalar(value):
     """A 0-d array as a numpy float (which is a float); other arrays as they are."""
     return value[()] if isinstance(value, np.ndarray) and value.ndim == 0 else value
 
 
-def screw_frame(start: np.ndarray, end: np.ndarray, quaternions=None) -> ScrewFrame:
+def screw_frame(
+    start: np.ndarray, end: np.ndarray, quaternions=None, axes: bool = True
+) -> ScrewFrame:
     """The screw axis of ``D = B A⁻¹`` for robotics matrices ``start = A`` and ``end = B``.
 
     Parameters
@@ -182,6 +255,10 @@ def screw_frame(start: np.ndarray, end: np.ndarray, quaternions=None) -> ScrewFr
         The quaternions of A and B as :func:`a2b.poses.quaternions_from_rotations` gives them,
         where the caller has them already (a trajectory's pose starts one segment and ends
         the one before).
+    axes : bool
+        Make the axis directions, ``d`` and ``t_disp`` now (default), or, where no pair
+        calls for them (every pair rotates, none by π), when first asked for
+        (:attr:`ScrewFrame.screws`): a Darboux motion is built without them.
 
     Returns
     -------
@@ -205,16 +282,23 @@ def screw_frame(start: np.ndarray, end: np.ndarray, quaternions=None) -> ScrewFr
     if quaternions is not None:
         quaternions = [np.asarray(p, dtype=float).reshape(-1, 4) for p in quaternions]
     with np.errstate(over="ignore", invalid="ignore"):
-        fields, notes = _frames(start.reshape(-1, 4, 4), end.reshape(-1, 4, 4), quaternions)
-    if not shape:  # one pair: element 0 of each (a float for phi and d)
+        fields, screws, large, notes = _frames(
+            start.reshape(-1, 4, 4), end.reshape(-1, 4, 4), quaternions, axes
+        )
+    if not shape:  # one pair: element 0 of each (a float for phi)
         fields = {name: array[0] for name, array in fields.items()}
     elif len(shape) > 1:
-        fields = {name: array.reshape(shape + array.shape[1:]) for name, array in fields.items()}
+        fields = {name: _leading(array, shape) for name, array in fields.items()}
     frame = ScrewFrame(**fields, notes=Notes(shape, [(
         None if mask is None else mask.reshape(shape),
         text if isinstance(text, str) else text.reshape(shape),
     ) for mask, text in notes]))  # fmt: skip
-    if everywhere(np.isfinite(fields["t_disp"])) and everywhere(np.isfinite(fields["d"])):
+    frame.__dict__["shape"] = shape  # the cached_property, known here
+    if screws is not None:
+        frame.__dict__["screws"] = tuple(_leading(x, shape) for x in screws)
+    if not large:  # translations of at most LARGE: every displacement is finite
+        return frame
+    if everywhere(np.isfinite(frame.t_disp)) and everywhere(np.isfinite(frame.d)):
         return frame
     finite = np.isfinite(frame.d) & np.isfinite(frame.t_disp).all(axis=-1)
     refuse(
@@ -229,8 +313,16 @@ def screw_frame(start: np.ndarray, end: np.ndarray, quaternions=None) -> ScrewFr
     return frame
 
 
-def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list]:
-    """The fields of the screw frames of ``J`` pairs ``(J, 4, 4)``, and the choices made.
+#: Translations up to this size give finite displacements (``|t_B − R_D t_A| ≤ 4 · 10³⁰⁰``):
+#: :func:`screw_frame` needs to check them only beyond.
+LARGE = 1e300
+
+
+def _frames(start: np.ndarray, end: np.ndarray, quaternions, axes: bool) -> tuple:
+    """The fields of the screw frames of ``J`` pairs ``(J, 4, 4)``, their :func:`_screws`
+    ``(u, d, t_disp)`` if ``axes``, or where a pair turns by π or not at all or a
+    translation exceeds :data:`LARGE` (else ``None``: :attr:`ScrewFrame.screws` makes them
+    when asked for), whether a translation does, and the choices made.
 
     The work arrays are component-major, ``(k, J)``: every bilinear form (``pB p̄A``, eq. 4's
     rotation, ``u × t``) is one :func:`a2b.study.bilinear` over all pairs, and the fields are
@@ -240,73 +332,84 @@ def _frames(start: np.ndarray, end: np.ndarray, quaternions) -> tuple[dict, list
         both = quaternions_from_rotations(np.concatenate([start[:, :3, :3], end[:, :3, :3]]))
         quaternions = both[:count], both[count:]
     p_a, p_b = quaternions
-    t_a, t_b = start[:, :3, 3].T.copy(), end[:, :3, 3].T.copy()  # (3, J)
+    translations = np.empty((2, 3, count))  # (3, J) each
+    translations[0] = start[:, :3, 3].T
+    translations[1] = end[:, :3, 3].T
+    t_a, t_b = translations
     r = bilinear(TURN, p_b.T, p_a.T)
     if not everywhere(p_a[:, 0] != p_b[:, 0]):  # identical rotations: no residue from p p̄
         same = (p_a == p_b).all(axis=-1)
         r[:, same] = [[1.0], [0.0], [0.0], [0.0]]
     s = np.sqrt(dots(r[1:].T, r[1:].T))
+    c = np.abs(r[0])  # |pA·pB|, which no change of sign below changes
     rotating = s > ROTATION_NOISE
     turning = everywhere(rotating)  # the rare cases below run only where they occur
     # A half-turn (pA·pB = 0 within rounding): u and −u are equally short; one is picked and
     # said, rather than let the sign of rounding noise decide.
-    half_turn = rotating & (np.abs(r[0]) <= ROTATION_NOISE)
-    flip = (r[0] < 0) & ~half_turn
-    if anywhere(flip):
+    half_turn = rotating & (c <= ROTATION_NOISE)
+    halves = anywhere(half_turn)
+    flip = (r[0] < 0) & ~half_turn if halves else r[0] < 0
+    flipped = anywhere(flip)
+    if flipped:
         sign = np.where(flip, -1.0, 1.0)  # × −1 is negation, bit for bit
         p_b = p_b * sign[:, None]
         r *= sign
-    numerators = bilinear(ROTATION, r, r)  # eq. 4 of r, and |r|²
-    t_disp = t_b - bilinear(MATRIX_VECTOR, numerators[:9], t_a) / numerators[9]
-
-    # a rotation: the axis of r, and the half-turn rule
-    safe_s = s if turning else np.where(rotating, s, 1.0)
-    u = r[1:] / safe_s
-    d = dots(u.T, t_disp.T)
-    if anywhere(half_turn):
-        turn = half_turn & ((d < 0) | ((d == 0) & (canonical_sign(u.T)[:, 0] != u[0])))
-        u = np.where(turn, -u, u)
-        d = np.where(turn, -d, d)
-        p_b = np.where(turn[:, None], -p_b, p_b)
-        r = np.where(turn, -r, r)
-    c = np.abs(r[0])
     phi = 2.0 * np.arctan2(s, c)
-    t_perp = t_disp - d * u
-    axis_point = 0.5 * (t_perp + bilinear(CROSS, u, t_perp) * (c / safe_s))
-
-    # no rotation: the axis along the translation, or parallel to z for B = A
-    moving = np.zeros(count, dtype=bool)
-    if not turning:
-        norm_t = safe_norm(t_disp, axis=0)  # a translation of 1e200 has a length
-        moving = norm_t > 0.0
-        z = np.array([[0.0], [0.0], [1.0]])
-        u_t = np.where(moving, t_disp / np.where(moving, norm_t, 1.0), z)
-        axis_point_t = t_a - dots(u_t.T, t_a.T) * u_t
-        u = np.where(rotating, u, u_t)
-        d = np.where(rotating, d, np.where(moving, norm_t, 0.0))
-        phi = np.where(rotating, phi, 0.0)
-        axis_point = np.where(rotating, axis_point, axis_point_t)
-
-    notes = _notes(flip, s, rotating, half_turn, moving, d, c)
+    notes = [(flip, _FLIP)] if flipped else []
+    screws = None
+    large = not float(np.maximum.reduce(np.abs(translations), axis=None)) <= LARGE  # or NaN
+    if axes or not turning or halves or large:
+        u, d, t_disp, moving = _screws(r, t_a, t_b, s, rotating, turning)
+        if halves:  # the half-turn rule
+            turn = half_turn & ((d < 0) | ((d == 0) & (canonical_sign(u.T)[:, 0] != u[0])))
+            u = np.where(turn, -u, u)
+            d = np.where(turn, -d, d)
+            p_b = np.where(turn[:, None], -p_b, p_b)
+            r = np.where(turn, -r, r)
+        if not turning:
+            phi = np.where(rotating, phi, 0.0)
+        if not turning or halves:
+            notes += _rare_notes(s, rotating, half_turn, moving, d, c)
+        screws = (u.T, d, t_disp.T)
     fields = {
         "phi": phi,
-        "d": d,
-        "axis_direction": u.T,
-        "axis_point": axis_point.T,
         "r": r.T,
         "p_start": p_a,
         "p_end": p_b,
         "t_start": t_a.T,
         "t_end": t_b.T,
-        "t_disp": t_disp.T,
     }
-    return fields, notes
+    return fields, screws, large, notes
 
 
-def _notes(flip, s, rotating, half_turn, moving, d, c) -> list:
-    """The choices :func:`_frames` made, as (mask, text) rules for :class:`Notes`: only those
-    that hold somewhere, in this order."""
-    notes: list = [(flip, _FLIP)] if anywhere(flip) else []
+def _screws(r, t_a, t_b, s, rotating, turning: bool) -> tuple:
+    """The axis direction ``u`` ``(3, J)``, the slide ``d`` ``(J,)`` along it and the
+    translation ``t_disp`` ``(3, J)`` of the displacements ``D = B A⁻¹`` with rotations ``r``
+    ``(4, J)`` (``s = |vec r|``), and which of those that do not rotate move (``(J,)``).
+
+    ``t_disp = tB − R_D tA`` (eq. 4 of ``r``); ``u`` is the axis of ``r`` where it rotates,
+    else along the translation, or z for ``B = A``; ``d = u · t_disp``."""
+    numerators = bilinear(ROTATION, r, r)  # eq. 4 of r, and |r|²
+    t_disp = t_b - bilinear(MATRIX_VECTOR, numerators[:9], t_a) / numerators[9]
+    safe_s = s if turning else np.where(rotating, s, 1.0)
+    u = r[1:] / safe_s
+    d = dots(u.T, t_disp.T)
+    moving = np.zeros(len(s), dtype=bool)
+    if not turning:  # no rotation: the axis along the translation, or parallel to z for B = A
+        norm_t = safe_norm(t_disp, axis=0)  # a translation of 1e200 has a length
+        moving = norm_t > 0.0
+        z = np.array([[0.0], [0.0], [1.0]])
+        u_t = np.where(moving, t_disp / np.where(moving, norm_t, 1.0), z)
+        u = np.where(rotating, u, u_t)
+        d = np.where(rotating, d, np.where(moving, norm_t, 0.0))
+    return u, d, t_disp, moving
+
+
+def _rare_notes(s, rotating, half_turn, moving, d, c) -> list:
+    """The choices :func:`_frames` made where a pair does not rotate or turns by π, after
+    the flips: (mask, text) rules for :class:`Notes`, only those that hold somewhere, in this
+    order."""
+    notes: list = []
     still = ~rotating
     noise = (s > 0.0) & still if anywhere(still) else None
     if noise is not None and anywhere(noise):

@@ -23,6 +23,7 @@ import numpy as np
 from .elements import anywhere, as_numbers, everywhere, unit_scale
 from .errors import PoseError
 from .study import (
+    NARROW_FROM,
     ROTATION,
     STUDY_TOL,
     Structure,
@@ -65,9 +66,11 @@ def check_rotations(rotations: np.ndarray, *, tol: float = ORTHO_TOL) -> np.ndar
     return r
 
 
-def _check_rotation_entries(entries: np.ndarray, tol: float) -> None:
-    """:func:`check_rotations` of finite rotation blocks, from their :func:`_entries`."""
-    residual = float(_orthogonality(entries).max(initial=0.0))
+def _check_rotation_entries(entries: np.ndarray, tol: float, forms=None) -> None:
+    """:func:`check_rotations` of finite rotation blocks, from their :func:`_entries` (and
+    the rows of :data:`RIGIDITY` of them, where the caller has them)."""
+    orthogonality, det = _rigidity(entries, forms)
+    residual = float(np.maximum.reduce(orthogonality, axis=None, initial=0.0))
     if residual > tol:
         raise PoseError(
             f"the rotation block is not orthogonal: max |R Rᵀ − I| = {residual:.3g} "
@@ -80,13 +83,12 @@ def _check_rotation_entries(entries: np.ndarray, tol: float) -> None:
                 else ""
             )
         )
-    det = _determinants(entries)
-    if anywhere(det < 0):
+    det_residual = float(np.maximum.reduce(np.abs(det - 1.0), axis=None, initial=0.0))
+    if not det_residual <= min(tol, 1.0) and anywhere(det < 0):  # |det − 1| > 1 where det < 0
         raise PoseError(
             f"the rotation block has determinant {float(np.min(det)):.6g}: a reflection, not a "
             f"rotation"
         )
-    det_residual = float(np.abs(det - 1.0).max(initial=0.0))
     if det_residual > tol:
         raise PoseError(
             f"the rotation block has |det R − 1| = {det_residual:.3g}, exceeding tolerance {tol:g}"
@@ -146,11 +148,24 @@ def _entries(r: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(flat.transpose((flat.ndim - 1,) + tuple(range(flat.ndim - 1))))
 
 
-def _orthogonality(entries: np.ndarray) -> np.ndarray:
-    """``max |R Rᵀ − I|`` of each matrix, from its :func:`_entries`: shape ``...``."""
-    gram = bilinear(GRAM, entries, entries)  # the six entries of R Rᵀ on and above its diagonal
+def _orthogonality(entries: np.ndarray, gram: np.ndarray | None = None) -> np.ndarray:
+    """``max |R Rᵀ − I|`` of each matrix, from its :func:`_entries` (and the six entries of
+    ``R Rᵀ`` on and above its diagonal, where the caller has them): shape ``...``."""
+    if gram is None:
+        gram = bilinear(GRAM, entries, entries)
     gram -= _GRAM_IDENTITY.reshape((6,) + (1,) * (gram.ndim - 1))
-    return np.abs(gram, out=gram).max(axis=0)
+    return np.maximum.reduce(np.abs(gram, out=gram), axis=0)
+
+
+def _rigidity(entries: np.ndarray, rows=None) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_orthogonality` and :func:`_determinants` of rotation blocks: for a few, from
+    one bilinear form (:data:`RIGIDITY`, or its ``rows`` where the caller has them), for
+    many from two (without its padded terms)."""
+    if rows is None:
+        if entries[0].size > NARROW_FROM:
+            return _orthogonality(entries), _determinants(entries)
+        rows = bilinear(RIGIDITY, entries, entries)
+    return _orthogonality(entries, rows[:6]), _determinants(entries, rows[6:])
 
 
 def determinants(r: np.ndarray) -> np.ndarray:
@@ -158,8 +173,11 @@ def determinants(r: np.ndarray) -> np.ndarray:
     return _determinants(_entries(r))
 
 
-def _determinants(entries: np.ndarray) -> np.ndarray:
-    cofactors = bilinear(COFACTORS, entries[3:], entries[3:])
+def _determinants(entries: np.ndarray, cofactors: np.ndarray | None = None) -> np.ndarray:
+    """``det R`` from the :func:`_entries` of matrices (and their first row's cofactors,
+    where the caller has them)."""
+    if cofactors is None:
+        cofactors = bilinear(COFACTORS, entries[3:], entries[3:])
     return entries[0] * cofactors[0] - entries[1] * cofactors[1] + entries[2] * cofactors[2]
 
 
@@ -183,6 +201,15 @@ def _cofactors(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 #: :func:`_cofactors`, so that the checks of many rotations are a few operations over all.
 GRAM = structure_matrix(_gram, 9, 9)
 COFACTORS = structure_matrix(_cofactors, 6, 6)
+#: Both in one form of the nine entries of a matrix with themselves: the six of :data:`GRAM`,
+#: then the three cofactors (their terms in the same order; each padded with ``−0.0 r11²``,
+#: which changes no sum, signed zeros included).
+RIGIDITY = structure_matrix(
+    lambda a, b: np.concatenate([_gram(a, b), _cofactors(a[..., 3:], b[..., 3:])], axis=-1),
+    9,
+    9,
+    padding=-0.0,
+)
 _GRAM_IDENTITY = np.array([1.0, 0.0, 0.0, 1.0, 0.0, 1.0])
 
 
@@ -196,8 +223,7 @@ def valid_matrices(matrices: np.ndarray, tol: float = ORTHO_TOL) -> np.ndarray:
     with np.errstate(all="ignore"):
         ok = np.isfinite(m).all(axis=(-2, -1)) & (m[..., 3, :] == [0.0, 0.0, 0.0, 1.0]).all(axis=-1)
         entries = _entries(m[..., :3, :3])
-        ortho = _orthogonality(entries)
-        det = _determinants(entries)
+        ortho, det = _rigidity(entries)
         return ok & (ortho <= tol) & (det >= 0) & (np.abs(det - 1.0) <= tol)
 
 
@@ -250,20 +276,30 @@ def check_matrices(
     return _checked(as_numbers(matrices, "a pose matrix", PoseError), layout, tol)
 
 
+#: The constant rows of pose matrices in the robotics and the paper's layout.
+_BOTTOM_ROW, _TOP_ROW = np.array([0.0, 0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0, 0.0])
+
+
 def _checked(m: np.ndarray, layout: str, tol: float, entries=None) -> np.ndarray:
     """:func:`check_matrices` of a float array; ``entries``, the rotation blocks'
     :func:`_entries` where the caller has them already."""
+    m = _checked_rows(m, layout)
+    if entries is None:
+        entries = _entries(m[..., :3, :3])
+    _check_rotation_entries(entries, tol)  # finite already
+    return m
+
+
+def _checked_rows(m: np.ndarray, layout: str) -> np.ndarray:
+    """The tests of :func:`check_matrices` before the rotation blocks': the shape, finite
+    entries, the constant row; the matrices in the robotics layout."""
     if m.shape[-2:] != (4, 4):
         raise PoseError(f"a pose matrix must be 4x4, got shape {m.shape}")
     _finite(m, "the pose matrix")
     if layout == "robotics":
-        fixed = m[..., 3, :]
-        expected = np.array([0.0, 0.0, 0.0, 1.0])
-        where = "bottom row"
+        fixed, expected, where = m[..., 3, :], _BOTTOM_ROW, "bottom row"
     elif layout == "paper":
-        fixed = m[..., 0, :]
-        expected = np.array([1.0, 0.0, 0.0, 0.0])
-        where = "top row"
+        fixed, expected, where = m[..., 0, :], _TOP_ROW, "top row"
     else:
         raise PoseError(f"unknown matrix layout {layout!r}; expected one of {LAYOUTS}")
     if anywhere(fixed != expected):  # exactly; the residual is measured for the message
@@ -277,12 +313,7 @@ def _checked(m: np.ndarray, layout: str, tol: float, entries=None) -> np.ndarray
                 else ""
             )
         )
-    if layout == "paper":
-        m = robotics_from_paper(m)
-    if entries is None:
-        entries = _entries(m[..., :3, :3])
-    _check_rotation_entries(entries, tol)  # finite already
-    return m
+    return robotics_from_paper(m) if layout == "paper" else m
 
 
 #: Poses that :func:`check_matrices_and_quaternions` takes at a time, so that its work arrays
@@ -319,9 +350,14 @@ def check_matrices_and_quaternions(matrices: np.ndarray) -> tuple[np.ndarray, np
 def _checked_quaternions(m: np.ndarray) -> np.ndarray:
     """:func:`check_matrices` of robotics matrices ``(..., 4, 4)`` of floats, and their
     quaternions ``(..., 4)``, from one component-major copy of the rotation blocks."""
-    rows = _shepperd_input(m[..., :3, :3])
-    _checked(m, "robotics", ORTHO_TOL, rows[1:])
-    return _quaternions(rows, m.shape[:-2])
+    x = _shepperd_input(m[..., :3, :3])
+    if x.shape[1] > NARROW_FROM:  # many: the checks' forms and Shepperd's map apart
+        _checked(m, "robotics", ORTHO_TOL, x[1:])
+        return _quaternions(linear(_SHEPPERD, x), m.shape[:-2])
+    _checked_rows(m, "robotics")
+    forms = bilinear(_POSE_FORMS, x, x)  # RIGIDITY's rows, then Shepperd's terms
+    _check_rotation_entries(x[1:], ORTHO_TOL, forms[:9])
+    return _quaternions(forms[9:], m.shape[:-2])
 
 
 def robotics_from_paper(matrices: np.ndarray) -> np.ndarray:
@@ -396,6 +432,22 @@ def _shepperd_map() -> Structure:
 #: of the ratio rows and every diagonal term of all rotations at once, each sum in the order
 #: eq. 7 and 9 write it.
 _SHEPPERD = _shepperd_map()
+#: :data:`RIGIDITY` and :data:`_SHEPPERD` as one bilinear form of ``x = (1, a11, …, a33)``
+#: with itself, for a few poses: Shepperd's terms ``w x_i`` as ``w x_i x_0`` (``x_0 = 1``,
+#: exactly the same numbers), every row padded with ``−0.0 x_0 x_0``, which changes no sum.
+_POSE_FORMS = structure_matrix(
+    lambda a, b: np.concatenate(
+        [
+            _gram(a[..., 1:], b[..., 1:]),
+            _cofactors(a[..., 4:], b[..., 4:]),
+            (a @ _SHEPPERD.matrix.T) * b[..., :1],
+        ],
+        axis=-1,
+    ),
+    10,
+    10,
+    padding=-0.0,
+)
 #: Row ``k`` of eq. 9 as rows of :data:`_SHEPPERD`'s output: its diagonal entry ``k``, the
 #: off-diagonal ones 4–9 (``wx, wy, wz, xy, xz, yz``) elsewhere.
 _RATIO_ROWS = np.array([[0, 4, 5, 6], [4, 1, 7, 8], [5, 7, 2, 9], [6, 8, 9, 3]])
@@ -414,7 +466,7 @@ def quaternions_from_rotations(rotations: np.ndarray) -> np.ndarray:
     Schröcker, *From A to B*, eq. 7–9.
     """
     r = np.asarray(rotations, dtype=float)
-    return _quaternions(_shepperd_input(r), r.shape[:-2])
+    return _quaternions(linear(_SHEPPERD, _shepperd_input(r)), r.shape[:-2])
 
 
 def _shepperd_input(r: np.ndarray) -> np.ndarray:
@@ -427,10 +479,10 @@ def _shepperd_input(r: np.ndarray) -> np.ndarray:
     return x
 
 
-def _quaternions(x: np.ndarray, shape: tuple) -> np.ndarray:
-    """:func:`quaternions_from_rotations` from :func:`_shepperd_input`."""
-    count = x.shape[1]
-    terms = linear(_SHEPPERD, x)  # (14, count)
+def _quaternions(terms: np.ndarray, shape: tuple) -> np.ndarray:
+    """:func:`quaternions_from_rotations` from :data:`_SHEPPERD`'s terms ``(14, count)`` of
+    the :func:`_shepperd_input`."""
+    count = terms.shape[1]
     best = terms[10:].argmax(axis=0)  # the first largest, as a strict > from the first row
     if count <= 64:  # a few rotations: one index, the fewest numpy calls
         p = terms[_RATIO_ROWS[best], np.arange(count)[:, None]]  # (count, 4)

@@ -64,18 +64,20 @@ class Structure(NamedTuple):
     plan: tuple = ()
 
 
-def structure_matrix(form, n_a: int, n_b: int) -> Structure:
+def structure_matrix(form, n_a: int, n_b: int, padding: float = 0.0) -> Structure:
     """The structure matrix ``(n_out, n_a n_b)`` of a bilinear ``form(a, b)``: column
     ``i n_b + j`` is ``form(e_i, e_j)`` for the unit vectors ``e_i``, ``e_j``.
 
     a2b writes each bilinear form once, as a plain function of vectors ``(..., n)``; its
     structure matrix, made by evaluating that function on basis vectors at import, lets
     :func:`bilinear` evaluate it over component-major arrays with a few operations, however
-    many terms the formula has.
+    many terms the formula has. ``padding``: as for :func:`sparse_rows` (``−0.0`` for forms
+    whose first components are the constant 1, where a padded term ``−0.0 a_0 b_0`` changes
+    no sum).
     """
     a = np.repeat(np.eye(n_a), n_b, axis=0)
     b = np.tile(np.eye(n_b), (n_a, 1))
-    rows = sparse_rows(np.asarray(form(a, b), dtype=float).T)
+    rows = sparse_rows(np.asarray(form(a, b), dtype=float).T, padding)
     left, right = rows.columns // n_b, rows.columns % n_b
     plan = tuple(
         tuple(zip(left[:, r].tolist(), right[:, r].tolist(), rows.weights[:, r, 0].tolist()))
@@ -126,14 +128,17 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """
     shape = a.shape[1:]
     if b.shape[1:] != shape:
-        shape = np.broadcast_shapes(shape, b.shape[1:])
+        shape = _broadcast(shape, b.shape[1:])
     size = math.prod(shape)
-    if size <= NARROW_FROM:
-        a, b = _aligned(a, len(shape)), _aligned(b, len(shape))
-        return _terms(form, a, b, len(shape), form.left, form.right)
     if size < IN_TURN_FROM:
-        a, b = _aligned(a, len(shape)), _aligned(b, len(shape))
-        return _terms(form, a, b, len(shape), *form.narrow)
+        trailing = len(shape)
+        if a.ndim <= trailing:
+            a = _aligned(a, trailing)
+        if b.ndim <= trailing:
+            b = _aligned(b, trailing)
+        if size <= NARROW_FROM:
+            return _terms(form, a, b, trailing, form.left, form.right)
+        return _terms(form, a, b, trailing, *form.narrow)
     a = np.broadcast_to(a, a.shape[:1] + shape).reshape(len(a), size)
     b = np.broadcast_to(b, b.shape[:1] + shape).reshape(len(b), size)
     out = np.empty((len(form.matrix), size))
@@ -142,6 +147,14 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         hi = min(lo + IN_TURN_CHUNK, size)
         _in_turn(form.plan, a[:, lo:hi], b[:, lo:hi], out[:, lo:hi], scratch[: hi - lo])
     return out.reshape(out.shape[:1] + shape)
+
+
+def _broadcast(one: tuple, other: tuple) -> tuple:
+    """:func:`numpy.broadcast_shapes` of two shapes, for the common case of shapes of one
+    length in a few operations (``numpy.broadcast_shapes`` costs microseconds)."""
+    if len(one) == len(other) and all(x == y or x == 1 or y == 1 for x, y in zip(one, other)):
+        return tuple(y if x == 1 else x for x, y in zip(one, other))
+    return np.broadcast_shapes(one, other)
 
 
 def _aligned(x: np.ndarray, trailing: int) -> np.ndarray:
@@ -161,6 +174,22 @@ def _terms(form: Structure, a, b, trailing: int, left, right) -> np.ndarray:
         if trailing == 1
         else form.weights.reshape(form.columns.shape + (1,) * trailing)
     )
+    return sum_terms(terms)
+
+
+#: Up to this many numbers, :func:`sum_terms` adds with one ``numpy.add.accumulate``, which
+#: costs less than a call per term there and several times more on larger arrays (its inner
+#: loop runs along the terms).
+ACCUMULATE_UP_TO = 128
+
+
+def sum_terms(terms: np.ndarray) -> np.ndarray:
+    """``terms`` ``(m, ...)`` summed over the first axis in order, ``((t0 + t1) + t2) + …``
+    (overwriting them): the same additions whether one ``numpy.add.accumulate`` does them or
+    a call per term, as contiguous elementwise additions (never a pairwise reduction, whose
+    order depends on the layout)."""
+    if terms.size <= ACCUMULATE_UP_TO:
+        return np.add.accumulate(terms, axis=0, out=terms)[-1]
     out = terms[0]
     for term in terms[1:]:
         out += term
@@ -232,10 +261,11 @@ def contract(form: Structure, outer: np.ndarray) -> np.ndarray:
     ``(n_out, N)``."""
     terms = outer.reshape(form.matrix.shape[1], -1).take(form.columns, axis=0)  # (m, n_out, N)
     terms *= form.weights
-    out = terms[0]  # then term by term: contiguous additions, cheaper than a reduction
-    for term in terms[1:]:
-        out += term
-    return out
+    return sum_terms(terms)  # then term by term: contiguous additions
+
+
+#: Up to this many products, :func:`dots` adds them with one ``numpy.add.accumulate``.
+DOTS_ACCUMULATE_UP_TO = 64
 
 
 def dots(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -255,6 +285,9 @@ def dots(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     products = a * b
     if products.shape[-1] == 1:
         return products[..., 0]
+    if products.size <= DOTS_ACCUMULATE_UP_TO:  # one call: as sum_terms
+        sums = np.add.accumulate(products, axis=-1, out=products)
+        return sums[..., -1] if sums.ndim > 1 else sums[-1]
     out = products[..., 0] + products[..., 1]
     for k in range(2, products.shape[-1]):
         out += products[..., k]
@@ -507,12 +540,16 @@ AXIS_TIMES = structure_matrix(
 TURN = structure_matrix(lambda b, a: _hamilton(b, quat_conj(a)), 4, 4)
 #: ``(a, b) ↦ a × b`` of vectors ``(3, ...)``.
 CROSS = structure_matrix(cross, 3, 3)
+
+
 #: Eq. 4's nine rotation numerators as the symmetric bilinear form ``B(p, r)``, with the
 #: denominator ``p·r`` as a tenth row: ``B(p, p) / (p·p)`` is the rotation of ``p``.
-ROTATION = structure_matrix(
-    lambda p, r: np.concatenate([rotation_numerators(p, r), dots(p, r)[..., None]], axis=-1),
-    4,
-    4,
-)
+def rotation_rows(p: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """:func:`rotation_numerators` of ``p, r`` ``(..., 4)`` with the denominator ``p·r`` as a
+    tenth entry: ``(..., 10)``, the formula of :data:`ROTATION`."""
+    return np.concatenate([rotation_numerators(p, r), dots(p, r)[..., None]], axis=-1)
+
+
+ROTATION = structure_matrix(rotation_rows, 4, 4)
 #: ``(m, v) ↦ m v`` for the nine entries of 3x3 matrices ``m`` (row by row) and vectors ``v``.
 MATRIX_VECTOR = structure_matrix(lambda m, v: (m.reshape(-1, 3, 3) @ v[..., None])[..., 0], 9, 3)

@@ -395,3 +395,59 @@ def test_every_sample_of_a_batch_is_bit_for_bit_the_sample_alone(rng, mode, coun
         assert np.array_equal(trans[i], t), (mode, i)
         assert np.array_equal(mats[i], single.matrices(TS)), (mode, i)
         assert np.array_equal(study[i], single.study(TS)), (mode, i)
+
+
+def _same_bits(x, y) -> bool:
+    x, y = np.asarray(x), np.asarray(y)
+    return x.shape == y.shape and x.tobytes() == y.tobytes()
+
+
+def test_a_frame_made_lazily_is_bit_for_bit_the_frame_made_at_once(rng):
+    from a2b.frames import screw_frame
+
+    generic = pairs(rng, 40)[len(special_pairs(rng)) :]
+    for chosen in (generic, pairs(rng, 40)):  # every pair rotates; the rare cases mixed in
+        a, b = (np.array([pair[k] for pair in chosen]) for k in (0, 1))
+        eager, lazy = screw_frame(a, b), screw_frame(a, b, axes=False)
+        # only where every pair rotates, none by π, are the axes left for later
+        assert ("screws" in lazy.__dict__) == (chosen is not generic)
+        for name in ("axis_direction", "d", "t_disp", "t_perp", "axis_point", "p_end", "r"):
+            assert _same_bits(getattr(eager, name), getattr(lazy, name)), name
+        for i in (0, 7, len(chosen) - 1):  # an element of either is the pair alone
+            alone = screw_frame(a[i], b[i], axes=False)
+            for name in ("axis_direction", "d", "t_disp", "axis_point"):
+                assert _same_bits(getattr(lazy[i], name), getattr(alone, name)), name
+                assert _same_bits(getattr(eager[i], name), getattr(alone, name)), name
+
+
+def test_a_darboux_motion_is_built_without_the_axes_and_describes_them(rng):
+    a, b = random_pose(rng), random_pose(rng)
+    motion = a2b.motion(a, b, "darboux")
+    assert "screws" not in motion.frame.__dict__
+    described = motion.describe()
+    assert "screws" in motion.frame.__dict__
+    assert described["d"] == float(a2b.motion(a, b, "screw").frame.d)
+    assert "screws" in a2b.motion(a, b, "darboux", delta=0.3).frame.__dict__  # to solve δ
+
+
+def test_a_displacement_beyond_float64_is_refused_however_the_frame_is_made():
+    from a2b.frames import screw_frame
+
+    far = np.eye(4)
+    far[:3, 3] = [1.7e308, -1.7e308, 0.0]
+    near = np.eye(4)
+    near[:3, 3] = [-1.7e308, 1.7e308, 0.0]
+    for axes in (True, False):
+        with pytest.raises(ParameterError, match="overflows float64"):
+            screw_frame(far, near, axes=axes)
+
+
+def test_samples_at_t_0_and_1_repeated_are_each_the_end_poses(rng):
+    a, b = random_pose(rng), random_pose(rng)
+    ts = np.array([0.0, 0.0, 0.3, 1.0, 0.7, 1.0])
+    for mode in ("darboux", "cubic", "screw"):
+        out = a2b.interpolate(a, b, ts, mode)
+        assert all(_same_bits(out[i], a) for i in (0, 1))
+        assert all(_same_bits(out[i], b) for i in (3, 5))
+        batch = a2b.interpolate(np.array([a, b]), np.array([b, a]), ts, mode)
+        assert _same_bits(batch[0], out)

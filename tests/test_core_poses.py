@@ -335,3 +335,42 @@ def test_a_large_batch_is_checked_in_chunks_with_the_message_of_the_whole(rng):
         check_matrices_and_quaternions(bad)
     with pytest.raises(PoseError, match=r"bottom row .* differs by 0.001"):
         check_matrices(bad)
+
+
+def test_the_pose_forms_of_a_few_poses_are_the_separate_forms_bit_for_bit(rng):
+    from a2b.poses import (
+        _POSE_FORMS,
+        _SHEPPERD,
+        COFACTORS,
+        GRAM,
+        RIGIDITY,
+        _shepperd_input,
+        check_matrices_and_quaternions,
+        quaternions_from_rotations,
+    )
+    from a2b.study import bilinear, linear
+
+    poses = [random_pose(rng) for _ in range(40)]
+    for turn in ([0, 1, 0, 0], [0, 0, 1, 0], [0, 1, 1, 0], [1, 0, 0, 0]):  # half-turns, I
+        poses.append(matrices_from_quat_trans(np.array(turn, float), [0.0, 0.0, 0.0]))
+    signed = np.diag([1.0, -1.0, -1.0, 1.0])
+    signed[1, 2] = signed[0, 1] = -0.0  # zeros whose signs the sums keep
+    poses.append(signed)
+    for chosen in ([p] for p in poses):
+        m = np.array(chosen)
+        x = _shepperd_input(m[..., :3, :3])
+        forms = bilinear(_POSE_FORMS, x, x)
+        entries = x[1:]
+        separate = np.concatenate(
+            [bilinear(GRAM, entries, entries), bilinear(COFACTORS, entries[3:], entries[3:])]
+        )
+        assert forms[:9].tobytes() == separate.tobytes()
+        assert bilinear(RIGIDITY, entries, entries).tobytes() == separate.tobytes()
+        assert forms[9:].tobytes() == linear(_SHEPPERD, x).tobytes()
+    m = np.array(poses)  # few poses (one form) and many (the forms apart) alike
+    _, few = check_matrices_and_quaternions(m[:3])
+    _, many = check_matrices_and_quaternions(np.concatenate([m] * 3))
+    assert few.tobytes() == many[:3].tobytes()
+    assert (
+        many.tobytes() == quaternions_from_rotations(np.concatenate([m] * 3)[:, :3, :3]).tobytes()
+    )

@@ -189,3 +189,25 @@ def test_every_way_of_evaluating_a_structure_gives_the_same_bits(rng):
         assert np.array_equal(full[:, 9], one, equal_nan=True), name
         assert _same_signs(full[:, 9], one), name
     assert found >= 10
+
+
+def test_terms_and_dot_products_are_added_in_order_at_every_size(rng):
+    from a2b.study import ACCUMULATE_UP_TO, DOTS_ACCUMULATE_UP_TO, dots, sum_terms
+
+    def in_order(terms):  # ((t0 + t1) + t2) + …, one number at a time
+        out = terms[0].copy()
+        for term in terms[1:]:
+            out = out + term
+        return out
+
+    for size in (1, 3, ACCUMULATE_UP_TO // 4, ACCUMULATE_UP_TO // 4 + 1, 500):
+        terms = rng.normal(size=(4, size)) * 10.0 ** rng.integers(-8, 8, size=(4, size))
+        terms[:, 0] = [-0.0, -0.0, 0.0, -0.0]  # a signed zero that a reordering would lose
+        expected = in_order(terms)
+        assert sum_terms(terms.copy()).tobytes() == expected.tobytes()
+    for count in (1, DOTS_ACCUMULATE_UP_TO // 4, DOTS_ACCUMULATE_UP_TO // 4 + 1, 300):
+        a, b = rng.normal(size=(2, count, 4)) * 1e3
+        expected = in_order(np.moveaxis(a * b, -1, 0))
+        assert dots(a, b).tobytes() == expected.tobytes()
+    one = dots(np.array([1.0, 2.0, 3.0, 4.0]), np.array([0.5, 0.25, 1.0, 2.0]))
+    assert isinstance(one, np.float64) and one == 12.0  # a number for one pair of vectors

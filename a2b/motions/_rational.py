@@ -16,7 +16,7 @@ over blocks only. The last bits of a sample may depend on how many samples are t
 from __future__ import annotations
 
 from functools import lru_cache
-from math import comb, prod
+from math import comb, isfinite, prod
 
 import numpy as np
 
@@ -69,8 +69,10 @@ def bernstein_basis(ts: np.ndarray, degree: int) -> np.ndarray:
     ``u·u``, ``2u·t``, ``t·t`` (degree 2) and ``u²·u``, ``3u²·t``, ``3u·t²``, ``t²·t``
     (degree 3), ``u = 1 − t``.
     """
-    shape = np.shape(ts)
-    t = np.atleast_1d(np.asarray(ts, dtype=float))
+    t = np.asarray(ts, dtype=float)
+    shape = t.shape
+    if not shape:
+        t = t.reshape(1)
     out = np.empty((degree + 1,) + t.shape)
     if degree == 1:
         np.subtract(1.0, t, out=out[0])
@@ -359,11 +361,11 @@ class _Extended:
     def __init__(self, tables: np.ndarray, rows: int, blocks: list, one: tuple):
         self.tables, self.rows, self.blocks, self.one = tables, rows, blocks, one
         self.shape = (len(tables), rows, 16)
-        self.buffer = np.zeros((0, rows, 16))
+        self.buffer = None
 
     def __call__(self, first: int, last: int) -> np.ndarray:
         size = last - first
-        if len(self.buffer) < size:
+        if self.buffer is None or len(self.buffer) < size:
             self.buffer = np.zeros((size, self.rows, 16))
             self.buffer[:, self.one[0], self.one[1]] = 1.0
         part = self.buffer[:size]
@@ -398,7 +400,7 @@ def _flatten(basis, table) -> tuple[np.ndarray, np.ndarray, tuple]:
     shape = table.shape[:-2]
     jobs = prod(shape)
     k = table.shape[-2]
-    columns = np.swapaxes(basis, -1, -2)  # a view: (k, N) contiguous for bernstein_basis
+    columns = basis.swapaxes(-1, -2)  # a view: (k, N) contiguous for bernstein_basis
     columns = columns.reshape((1 if basis.ndim == 2 else jobs, k, basis.shape[-2]))
     return columns, table.reshape(jobs, k, 14), shape
 
@@ -437,7 +439,7 @@ def _by_kind(kinds: np.ndarray, columns, tables: np.ndarray, out: np.ndarray, ev
     most common kind on every job in place, then the jobs of each other kind gathered, again,
     and put in their place (a mixed batch costs the few others twice, not a copy of all)."""
     first = int(kinds[0]) if len(kinds) else 0
-    if everywhere(kinds == first):  # one kind (and always for one motion)
+    if len(kinds) < 2 or everywhere(kinds == first):  # one kind (and always for one motion)
         evaluate(first, columns, tables, out)
         return
     counts = np.bincount(kinds, minlength=3)
@@ -487,10 +489,8 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
     width = coefficients.shape[1] * coefficients.shape[2]
     rows = min(SAMPLE_BLOCK, max(256, BLAS_ONE_THREAD // max(width, 1)))
     samples = min(n, rows)
-    group = max(1, rows // max(n, 1))  # jobs per block
-    den_rows = (
-        None if denominators is None else np.ascontiguousarray(np.swapaxes(denominators, 1, 2))
-    )
+    group = min(jobs, max(1, rows // max(n, 1)))  # jobs per block
+    den_rows = None if denominators is None else np.ascontiguousarray(denominators.swapaxes(1, 2))
     inverse = np.empty((group, m, samples))
     scaled = np.empty((group, m * k + constant, samples))
     if constant:
@@ -508,11 +508,9 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
             stop = min(start + samples, n)
             block = block_columns[:, :, start:stop]
             if den_rows is None and not constant:
-                np.matmul(
-                    np.swapaxes(np.broadcast_to(block, (size,) + block.shape[1:]), 1, 2),
-                    block_coefficients,
-                    out=out[first:last, start:stop],
-                )
+                if len(block) != size:  # one basis for every job
+                    block = np.broadcast_to(block, (size,) + block.shape[1:])
+                np.matmul(block.swapaxes(1, 2), block_coefficients, out=out[first:last, start:stop])
                 continue
             part = scaled[:size, :, : stop - start]
             if den_rows is None:
@@ -524,5 +522,5 @@ def _rows(columns, denominators, coefficients, out, constant) -> bool:
                 total += float(np.add.reduce(inv, axis=None))
                 for j in range(m):
                     np.multiply(block, inv[:, j : j + 1], out=part[:, j * k : (j + 1) * k])
-            np.matmul(np.swapaxes(part, 1, 2), block_coefficients, out=out[first:last, start:stop])
-    return bool(np.isfinite(total))
+            np.matmul(part.swapaxes(1, 2), block_coefficients, out=out[first:last, start:stop])
+    return isfinite(total)

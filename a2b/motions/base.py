@@ -9,6 +9,7 @@ are masks inside it. Sampling at ``N`` parameters ``ts`` gives ``S + (N, ...)``.
 from __future__ import annotations
 
 import numbers
+from math import isfinite
 
 import numpy as np
 
@@ -34,16 +35,25 @@ def check_ts(ts, one_dimensional: bool = True) -> np.ndarray:
 
     Values outside [0, 1] extrapolate. ``one_dimensional``: the values must be a 1-D array.
     """
+    return _checked_ts(ts, one_dimensional)[0]
+
+
+def _checked_ts(ts, one_dimensional: bool) -> tuple[np.ndarray, float | None, float | None]:
+    """:func:`check_ts`, and the smallest and the largest value (``None`` for no values):
+    the values are finite where these two are."""
     if isinstance(ts, numbers.Integral) and not isinstance(ts, (bool, np.bool_)):
         if ts < 2:
             raise ParameterError(f"the number of samples must be at least 2, got {ts}")
-        return np.linspace(0.0, 1.0, int(ts))
+        return np.linspace(0.0, 1.0, int(ts)), 0.0, 1.0
     arr = as_numbers(ts, "ts")
     if one_dimensional and arr.ndim != 1:
         raise ParameterError(f"ts must be a 1-D array or a count, got shape {arr.shape}")
-    if not everywhere(np.isfinite(arr)):
+    if not arr.size:
+        return arr, None, None
+    lo, hi = float(np.minimum.reduce(arr, axis=None)), float(np.maximum.reduce(arr, axis=None))
+    if not (isfinite(lo) and isfinite(hi)):  # NaN spreads to both, an infinity to one
         raise ParameterError("ts contains NaN or infinity")
-    return arr
+    return arr, lo, hi
 
 
 def check_table(table: np.ndarray, shape: tuple) -> None:
@@ -236,8 +246,7 @@ class Motion(Kinematic):
         self.start = start
         self.end = end
         self.frame = frame
-        self.notes = Notes(frame.shape)
-        self.notes.extend(frame.notes)
+        self.notes = Notes(frame.shape, list(frame.notes.rules))
         self.warning_notes = Notes(frame.shape)
 
     # -- the batch -----------------------------------------------------------------------------
@@ -352,7 +361,7 @@ class Motion(Kinematic):
     def _sampled(self, ts) -> tuple[np.ndarray, tuple[float, float] | None]:
         """:meth:`_prepare`'s ``ts``, and ``[lo, hi]``: ``[0, 1]`` widened to hold them
         (``None`` for no ``ts``)."""
-        arr = check_ts(ts, one_dimensional=False)
+        arr, lo, hi = _checked_ts(ts, one_dimensional=False)
         if arr.ndim == 0 or (arr.ndim > 1 and arr.shape[:-1] != self.shape):
             raise ParameterError(
                 f"ts must be a count, a 1-D array shared by every motion or an array of shape "
@@ -360,7 +369,7 @@ class Motion(Kinematic):
             )
         if not arr.size:
             return arr, None
-        span = min(0.0, float(arr.min())), max(1.0, float(arr.max()))
+        span = min(0.0, lo), max(1.0, hi)
         if span != (0.0, 1.0):
             self._check_interval(*span)
         return arr, span
@@ -498,6 +507,10 @@ class Motion(Kinematic):
         return out
 
     # -- what the mode tells describe, plot and view (a2b.motions.REGISTRY) -------------------
+    #: Whether building the motion with its default parameters reads the frame's axes
+    #: (``axis_direction``, ``d``, ``t_disp``): :func:`a2b.motion` has
+    #: :func:`a2b.frames.screw_frame` make them at once then, else when first asked for.
+    frame_axes: bool = True
     #: One line for ``--help`` and the docs.
     description: str = ""
     #: The closed form of the transmission curve z(ω) (:meth:`transmission`), for legends:

@@ -24,9 +24,11 @@ from ..frames import ScrewFrame
 from ..parameters import SOLVERS
 from ..poses import check_matrices, quat_trans_from_matrices, rotations_from_quaternions
 from ..study import (
+    NARROW_FROM,
     bilinear,
     quat_conj,
     quat_mul,
+    rotation_rows,
     structure_matrix,
     study_from_quat_trans,
     translation_numerators,
@@ -37,7 +39,6 @@ from ._rational import (
     TRANS_COLS,
     bernstein_basis,
     bernstein_derivatives,
-    quadratic_rows,
 )
 from .base import Motion, boolean_parameter, broadcast_parameter
 from .text import angle_text, number_text
@@ -181,16 +182,28 @@ def third_pose_coordinates(frame: ScrewFrame, pose: np.ndarray) -> tuple[np.ndar
 
 
 #: The structure matrices (:func:`a2b.study.structure_matrix`) of the bilinear forms of the
-#: build, from a2b's own formulas: eq. 5, and ``q = −½ t p``.
-_TRANSLATION = structure_matrix(translation_numerators, 4, 4)
+#: build, from a2b's own formulas: ``q = −½ t p``, and eq. 4 (with the denominator) and eq. 5
+#: as one form ``(p, (r, q)) ↦ (B(p, r), T(p, q))`` with 13 rows.
 _DUAL = structure_matrix(lambda t, p: study_from_quat_trans(p, t)[..., 4:], 3, 4)
-#: The table's 14 columns from the rows of ``entries`` in :func:`darboux_tables`: the rotation
-#: numerators (rows 0–8) at ROT_COLS, the translations (10–12) at TRANS_COLS, and the
-#: denominator (9) twice.
+_ENTRIES = structure_matrix(
+    lambda p, x: np.concatenate(
+        [rotation_rows(p, x[..., :4]), translation_numerators(p, x[..., 4:])], axis=-1
+    ),
+    4,
+    8,
+)
+#: The pairs of ends that :data:`_ENTRIES` takes, ``(A, A), (A, B), (B, A), (B, B)``.
+_FIRST, _SECOND = np.array([0, 0, 1, 1]), np.array([0, 1, 0, 1])
+#: The table's 14 columns of the three Bernstein rows from the flattened ``(13 · 4, J)``
+#: values of :data:`_ENTRIES` on those pairs: the rotation numerators (rows 0–8) at
+#: ROT_COLS, the translations (10–12) at TRANS_COLS, the denominator (9) twice, each of the
+#: pairs ``(A, A), (A, B), (B, B)`` (the translation's middle one is ``½(T(pA, qB) + T(pB,
+#: qA))``, put in the place of ``(A, B)``).
 _COLUMNS = np.empty(14, dtype=np.intp)
 _COLUMNS[list(ROT_COLS)] = range(9)
 _COLUMNS[list(TRANS_COLS)] = range(10, 13)
 _COLUMNS[12:] = 9
+_TABLE_ROWS = (4 * _COLUMNS[:, None] + np.array([0, 1, 3])).ravel()  # (14 · 3,)
 
 
 def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np.ndarray]:
@@ -199,39 +212,40 @@ def darboux_tables(frame: ScrewFrame, long_way, offsets) -> tuple[np.ndarray, np
     ``sA, sB``; ``long_way`` flips hB).
 
     Component-major work arrays hold both poses of every pair, ``(4, 2, J)``; each bilinear
-    form is one :func:`a2b.study.bilinear` over them: the rotation numerators and
-    denominators ``B(pA, pA), B(pA, pB), B(pB, pB)`` of eq. 4, and the translation numerators
-    ``T(pA, qA), ½(T(pA, qB) + T(pB, qA)), T(pB, qB)`` of eq. 5. Large batches go in chunks
-    of :data:`CHUNK` pairs.
+    form is one :func:`a2b.study.bilinear` over them: ``q``, then, in one, the rotation
+    numerators and denominators ``B(pA, pA), B(pA, pB), B(pB, pB)`` of eq. 4 and the
+    translation numerators ``T(pA, qA), ½(T(pA, qB) + T(pB, qA)), T(pB, qB)`` of eq. 5.
+    Large batches go in chunks of :data:`CHUNK` pairs.
     """
     shape = frame.shape
     count = math.prod(shape)
     p_all = np.empty((4, 2, count))  # component-major: both ends of every pair
-    p_all[:, 0] = np.reshape(frame.p_start, (count, 4)).T
-    p_all[:, 1] = np.reshape(frame.p_end, (count, 4)).T
+    p_all[:, 0] = frame.p_start.reshape((count, 4)).T
+    p_all[:, 1] = frame.p_end.reshape((count, 4)).T
     if anywhere(long_way):
-        p_all[:, 1] *= np.where(np.reshape(long_way, -1), -1.0, 1.0)
+        p_all[:, 1] *= np.where(long_way.reshape(-1), -1.0, 1.0)
     t_all = np.empty((3, 2, count))
-    t_all[:, 0] = np.reshape(frame.t_start, (count, 3)).T
-    t_all[:, 1] = np.reshape(frame.t_end, (count, 3)).T
-    s_all = np.reshape(offsets, (count, 2)).T
+    t_all[:, 0] = frame.t_start.reshape((count, 3)).T
+    t_all[:, 1] = frame.t_end.reshape((count, 3)).T
+    s_all = offsets.reshape(count, 2).T
     offset = anywhere(s_all)  # δ ≠ 0 somewhere
     table = np.empty((count, 3, 14))
     for lo in range(0, count, CHUNK):
         hi = min(lo + CHUNK, count)
         p = p_all[..., lo:hi]
-        q = bilinear(_DUAL, t_all[..., lo:hi], p)
+        pq = np.empty((8, 2, hi - lo))  # p and q of both ends
+        pq[:4] = p
+        pq[4:] = bilinear(_DUAL, t_all[..., lo:hi], p)
         if offset:
-            q += s_all[:, lo:hi] * p
-        rows = quadratic_rows(p)  # (10, 3, J)
-        trans = bilinear(_TRANSLATION, p[:, :, None], q[:, None])  # (3, 2, 2, J)
-        entries = np.empty((13, 3, hi - lo))  # eq. 4's ten rows, then eq. 5's three
-        entries[:10] = rows
-        entries[10:, 0] = trans[:, 0, 0]
-        np.add(trans[:, 0, 1], trans[:, 1, 0], out=entries[10:, 1])
-        entries[10:, 1] *= 0.5
-        entries[10:, 2] = trans[:, 1, 1]
-        ordered = entries.take(_COLUMNS, axis=0)  # (14, 3, J)
+            pq[4:] += s_all[:, lo:hi] * p
+        entries = bilinear(_ENTRIES, p.take(_FIRST, axis=1), pq.take(_SECOND, axis=1))
+        middle = entries[10:, 1]  # (3, J): T(pA, qB), then ½(T(pA, qB) + T(pB, qA))
+        middle += entries[10:, 2]
+        middle *= 0.5
+        ordered = entries.reshape(52, -1).take(_TABLE_ROWS, axis=0).reshape(14, 3, -1)
+        if hi - lo <= NARROW_FROM:  # a few pairs: one copy, the fewest calls
+            table[lo:hi] = ordered.T
+            continue
         for row in range(3):  # three 2-d transposing copies: twice as fast as one 3-d
             table[lo:hi, row] = ordered[:, row].T
     quat_ends = p_all.transpose(2, 1, 0).reshape(shape + (2, 4))
@@ -294,7 +308,7 @@ class DarbouxMotion(Motion):
         if branch is not None and lam is None:
             raise ParameterError("branch chooses between the two solutions for lam; give lam too")
         self.long_way = boolean_parameter(long_way, shape, "long_way")
-        phi, d = np.asarray(frame.phi), np.asarray(frame.d)
+        phi = np.asarray(frame.phi)
         turning = phi > 0
         if anywhere(self.long_way):
             self.phi_eff = np.where(
@@ -304,13 +318,15 @@ class DarbouxMotion(Motion):
             self.phi_eff = phi.copy()
         phi_e = np.where(turning, self.phi_eff, 0.0) if given else None  # for solving only
         solved_from = next(iter(given), "delta")
-        delta_v = self._solve(solved_from, given, branch, phi_e, d)
+        delta_v = self._solve(solved_from, given, branch, phi_e)
         delta_v = np.asarray(delta_v, dtype=float)
         if delta_v.shape != shape:
             delta_v = np.broadcast_to(delta_v, shape)
         self.delta = delta_v + 0.0
         self.solved_from = solved_from
-        self.notes.add("δ has no effect on a pure translation", (phi == 0.0) & (self.delta != 0.0))
+        if given:  # δ = 0 else
+            translating = (phi == 0.0) & (self.delta != 0.0)
+            self.notes.add("δ has no effect on a pure translation", translating)
         self.notes.add("long way round: flipped the sign of hB", self.long_way)
 
         self.fiber_offsets = np.empty(shape + (2,))
@@ -323,15 +339,18 @@ class DarbouxMotion(Motion):
             self.phi_eff = self.phi_eff[()]
             self.long_way = bool(self.long_way)
 
-    def _solve(self, solved_from: str, given: dict, branch, phi_e, d) -> np.ndarray:
+    def _solve(self, solved_from: str, given: dict, branch, phi_e) -> np.ndarray:
         """δ from the one essential parameter given (``docs/math.md``), or 0."""
         shape, frame = self.shape, self.frame
+        if not given:
+            return np.zeros(shape)
+        d = np.asarray(frame.d)
         if solved_from == "through":
             _require_rotation(phi_e, "a third pose", shape)
             poses = check_matrices(given["through"])
             omega_c, z_c = third_pose_coordinates(frame, np.broadcast_to(poses, shape + (4, 4)))
             delta_v = delta_from_third_pose(omega_c, z_c, phi_e, d, shape)
-        elif solved_from in given:
+        else:
             item = broadcast_parameter(given[solved_from], shape, solved_from)
             if solved_from == "kappa":
                 delta_v = delta_from_kappa(item, phi_e, d, shape)
@@ -358,8 +377,6 @@ class DarbouxMotion(Motion):
                 delta_v = delta_from_pitch(item, phi_e, d, "end", shape)
             else:
                 delta_v = item
-        else:
-            delta_v = np.zeros(shape)
         return delta_v
 
     def _short_way_on(self, lo: float, hi: float) -> bool:
@@ -453,6 +470,7 @@ class DarbouxMotion(Motion):
         out["transmission_curve"] = "z = z0 + lam * sin(omega + kappa)"
         return out
 
+    frame_axes = False  # the table needs the quaternions and translations only
     description = "the vertical Darboux motion (a line in the extended dual-quaternion model)"
     transmission_form = "sine"
     family_kinds = ("delta",)

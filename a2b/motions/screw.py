@@ -13,10 +13,13 @@ point of a nearly pure translation.
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 
+from ..elements import everywhere
 from ..frames import ScrewFrame
-from ..study import AXIS_TIMES, CROSS, bilinear, vector_form
+from ..study import AXIS_TIMES, CROSS, bilinear, sum_terms, vector_form
 from ._rational import CHUNK
 from .base import Motion
 from .text import number_text
@@ -35,19 +38,22 @@ def screw_tables(frame: ScrewFrame, start: np.ndarray) -> np.ndarray:
     ``K² X = u (u·X) − X`` three elementwise steps over all of them (``|u| = 1``), not 3x3
     products per pair.
     """
-    rot = np.reshape(start, (-1, 4, 4))[:, :3, :3]  # A's rotation block, as given
+    rot = start.reshape(-1, 4, 4)[:, :3, :3]  # A's rotation block, as given
     given = (
         rot,
-        np.reshape(frame.t_start, (-1, 3)),
-        np.reshape(frame.axis_direction, (-1, 3)),
-        np.reshape(frame.t_perp, (-1, 3)),
-        np.reshape(frame.phi, -1),
-        np.reshape(frame.d, -1),
+        frame.t_start.reshape((-1, 3)),
+        frame.axis_direction.reshape((-1, 3)),
+        frame.t_perp.reshape((-1, 3)),
+        frame.phi.reshape(-1),
+        frame.d.reshape(-1),
     )
     table = np.zeros((len(rot), 4, 14))
     table[:, 0, 12:] = 1.0
-    for lo in range(0, len(rot), CHUNK):
-        _screw_chunk(*(item[lo : lo + CHUNK] for item in given), table[lo : lo + CHUNK])
+    if len(rot) <= CHUNK:
+        _screw_chunk(*given, table)
+    else:
+        for lo in range(0, len(rot), CHUNK):
+            _screw_chunk(*(item[lo : lo + CHUNK] for item in given), table[lo : lo + CHUNK])
     return table.reshape(frame.shape + (4, 14))
 
 
@@ -55,23 +61,33 @@ def _screw_chunk(rot, t_a, u, t_perp, phi, d, table) -> None:
     """:func:`screw_tables` for one chunk of pairs, written into its ``table`` ``(J, 4, 14)``."""
     count = len(rot)
     u, t_perp = u.T, t_perp.T  # (3, J)
-    columns = np.empty((3, 4, count))
-    columns[:, :3] = rot.transpose(1, 2, 0)
-    columns[:, 3] = t_a.T
-    k_cols = bilinear(CROSS, u[:, None], columns)  # (3, 4, J)
-    along = u[:, None] * columns  # u·X, its terms added in order
-    k2_cols = u[:, None] * (along[0] + along[1] + along[2])
+    vectors = np.empty((3, 5, count))  # the columns of [RA | tA], and t⊥ for u × t⊥
+    vectors[:, :3] = rot.transpose(1, 2, 0)
+    vectors[:, 3] = t_a.T
+    vectors[:, 4] = t_perp
+    columns = vectors[:, :4]
+    crossed = bilinear(CROSS, u[:, None], vectors)  # (3, 5, J)
+    k_cols, u_cross_t = crossed[:, :4], crossed[:, 4]
+    k2_cols = u[:, None] * sum_terms(u[:, None] * columns)  # u (u·X), its terms added in order
     k2_cols -= columns
-    u_cross_t = bilinear(CROSS, u, t_perp)
     turning = phi > 0.0
-    half_cot = np.divide(  # ½ cot(φ/2) where φ > 0, else 0 (not divided)
-        0.5 * np.cos(phi / 2), np.sin(phi / 2), out=np.zeros(phi.shape), where=turning
-    )
-    k_cols[:, 3] += np.where(turning, half_cot * t_perp - 0.5 * u_cross_t, 0.0)
-    k2_cols[:, 3] += np.where(turning, 0.5 * t_perp + half_cot * u_cross_t, 0.0)
+    every = everywhere(turning)
+    half = phi / 2
+    if every:  # ½ cot(φ/2)
+        half_cot = 0.5 * np.cos(half) / np.sin(half)
+    else:  # where φ > 0, else 0 (not divided)
+        half_cot = np.divide(
+            0.5 * np.cos(half), np.sin(half), out=np.zeros(phi.shape), where=turning
+        )
+    k_turn = half_cot * t_perp - 0.5 * u_cross_t
+    k2_turn = 0.5 * t_perp + half_cot * u_cross_t
+    if not every:  # no such terms without a rotation
+        k_turn, k2_turn = np.where(turning, k_turn, 0.0), np.where(turning, k2_turn, 0.0)
+    k_cols[:, 3] += k_turn
+    k2_cols[:, 3] += k2_turn
     # rows 0, 2, 3 of the tables, each one 2-d transposing copy (twice as fast as a 3-d one)
     table[:, 0, :12] = columns.reshape(12, count).T
-    table[:, 1, 3:12:4] = (d * u + np.where(turning, 0.0, t_perp)).T
+    table[:, 1, 3:12:4] = (d * u + (0.0 if every else np.where(turning, 0.0, t_perp))).T
     table[:, 2, :12] = k_cols.reshape(12, count).T
     table[:, 3, :12] = k2_cols.reshape(12, count).T
 
@@ -85,10 +101,16 @@ class ScrewMotion(Motion):
     def __init__(self, start, end, frame: ScrewFrame):
         super().__init__(start, end, frame)
         self.table = screw_tables(frame, start)
-        # p(t) = cos(tφ/2) pA + sin(tφ/2) u pA: the "ends" of this path are pA and u pA
-        self.quat_ends = np.empty(self.shape + (2, 4))
-        self.quat_ends[..., 0, :] = frame.p_start
-        self.quat_ends[..., 1, :] = vector_form(AXIS_TIMES, frame.axis_direction, frame.p_start)
+
+    @cached_property
+    def quat_ends(self) -> np.ndarray:
+        """``S + (2, 4)``: ``p(t) = cos(tφ/2) pA + sin(tφ/2) u pA``, so the "ends" of this path
+        are pA and u pA (made when asked for: sampling matrices does not need them)."""
+        frame = self.frame
+        ends = np.empty(self.shape + (2, 4))
+        ends[..., 0, :] = frame.p_start
+        ends[..., 1, :] = vector_form(AXIS_TIMES, frame.axis_direction, frame.p_start)
+        return ends
 
     def _basis(self, ts):
         """Rows ``(1, t, sin tφ, vers tφ)``: ``(N, 4)`` for one motion, ``S + (N, 4)`` else."""
@@ -101,7 +123,7 @@ class ScrewMotion(Motion):
         out[0] = 1.0
         out[1] = t
         half = np.multiply(t, 0.5 * phi, out=out[3])
-        if t.size and float(np.abs(half).max()) <= HALF_ANGLE_TAN:
+        if t.size and float(np.maximum.reduce(np.abs(half), axis=None)) <= HALF_ANGLE_TAN:
             # τ = tan(tφ/2): sin = 2τ / (1 + τ²) and vers = 2 sin²(tφ/2) = τ sin. numpy
             # vectorises tan but not sin: one tan takes a fifth of the time of two sines,
             # and on |tφ/2| ≤ 1.6 (t ∈ [0, 1] and a little beyond) sin and vers stay within
