@@ -28,7 +28,7 @@ __all__ = ["RESAMPLE_MODES", "Located", "NewTimes", "Resampler", "resample", "wi
 
 RESAMPLE_MODES = MODES + ("spline",)
 #: New times sampled at a time.
-BLOCK = 32768
+BLOCK = 65536
 #: Warnings about segments issued in one run; the rest are counted (:attr:`Resampler.warned`).
 WARNINGS_SHOWN = 10
 
@@ -211,12 +211,27 @@ class Resampler:
         on_stamp = pose >= 0
         if on_stamp.all():  # (or no time at all)
             return self._own(pose, representation), []
-        if not on_stamp.any():  # the usual case
+        stamps = np.flatnonzero(on_stamp)
+        if len(stamps) <= len(k) // 8:  # the usual case: a few on stamps
+            # each sampled where the time before it between stamps is (its segment is built
+            # anyway), then set to the stamp's own pose: cheaper than taking them apart
+            if len(stamps):
+                between = np.flatnonzero(~on_stamp)
+                donor = between[np.maximum(np.searchsorted(between, stamps) - 1, 0)]
+                k, u = k.copy(), u.copy()
+                k[stamps], u[stamps] = k[donor], u[donor]
             values, places, built = self._evaluate(k, u, representation)
-            return _taken(values, places), built
-        # the samples' rows taken, in the order of the times, from those of the times between
-        # stamps followed by the poses of the times on stamps: one gather (numpy's take copies
-        # whole rows, several times faster than assigning through a mask or an index)
+            values = _taken(values, places)
+            if len(stamps):
+                own = self._own(pose[stamps], representation)
+                for out, given in zip(
+                    *(v if isinstance(v, tuple) else (v,) for v in (values, own))
+                ):
+                    out[stamps] = given
+            return values, built
+        # many on stamps: the samples' rows taken, in the order of the times, from those of the
+        # times between stamps followed by the poses of the times on stamps: one gather
+        # (numpy's take copies whole rows, several times faster than assigning through a mask)
         between = ~on_stamp
         values, places, built = self._evaluate(k[between], u[between], representation)
         own = self._own(pose[on_stamp], representation)

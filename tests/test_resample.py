@@ -328,6 +328,29 @@ def test_segments_of_in_order_times_are_searchsorted_s(seed, stamps, count):
         assert np.array_equal(_segments_of(t, times), expected)
 
 
+@pytest.mark.parametrize("between", [40, 4])  # few on stamps, and many (> 1/8)
+def test_times_on_stamps_build_no_segment_of_their_own(between):
+    """A time on a stamp is the stamp's pose as given, whether the few on stamps are sampled
+    with the rest and set, or taken apart: no segment is built for it (one that failed to
+    build would be an error where no time falls)."""
+    rng = np.random.default_rng(5)
+    times, poses = random_trajectory(rng, 8)
+    inside = times[1] + np.sort(rng.uniform(0.01, 0.99, between)) * (times[2] - times[1])
+    new = np.concatenate([times[[0]], inside, times[[4, 6]]])
+    for order in (slice(None), slice(None, None, -1)):
+        resampler = Resampler(times, poses, "screw")
+        quat, trans = resampler.sample(resampler.locate(new[order]), "quat_trans")
+        assert resampler.segments_built == 1
+        own = quat_trans_from_matrices(poses[[0, 4, 6]])
+        stamps = np.isin(new[order], times)
+        assert np.array_equal(quat[stamps], own[0][:: 1 if order.step is None else -1])
+        assert np.array_equal(trans[stamps], own[1][:: 1 if order.step is None else -1])
+        alone = Resampler(times, poses, "screw")
+        for i in np.flatnonzero(~stamps)[:3]:
+            one = alone.sample(alone.locate(new[order][i : i + 1]), "quat_trans")
+            np.testing.assert_allclose(quat[i], one[0][0], rtol=0, atol=1e-15)
+
+
 def test_a_failing_segment_is_named_by_its_poses_and_times():
     times = np.array([0.0, 1.0, 2.0])
     poses = np.broadcast_to(np.eye(4), (3, 4, 4)).copy()
