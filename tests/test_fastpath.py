@@ -291,6 +291,29 @@ def test_screw_basis_far_out_is_the_textbook_formula(rng):
     np.testing.assert_array_equal(motion._basis(ts), textbook)
 
 
+def _angle_weights(phi, ts):
+    """``(cos(tφ/2), sin(tφ/2))`` as :meth:`ScrewMotion._quats` weighs pA and u pA."""
+    ends = np.zeros((2, 4))
+    ends[0, 0] = ends[1, 1] = 1.0  # the weights themselves
+    motion = SimpleNamespace(frame=SimpleNamespace(phi=phi), quat_ends=ends)
+    return ScrewMotion._quats(motion, ts)[:, :2]
+
+
+def test_screw_quaternion_weights_are_accurate_to_the_half_turn(rng):
+    """From tan(tφ/2) up to |tφ/2| = π/2: within 2.5e-16 of the exact cos and sin, at the
+    half-turn and for tiny angles too; beyond, np.cos and np.sin bit for bit."""
+    for phi in (np.pi, np.nextafter(np.pi, 0), 3.0, 1.0, 1e-8, 1e-300):
+        ts = np.concatenate([[0.0, 1e-9, 0.5, 1.0], np.linspace(0.999, 1.0, 100),
+                             rng.uniform(0.0, 1.0, 200)])  # fmt: skip
+        angle = (0.5 * phi * ts).astype(np.longdouble)  # rounded as _quats rounds it
+        exact = np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+        assert np.all(np.abs(_angle_weights(phi, ts) - exact) <= 2.5e-16)
+    ts = rng.uniform(-1.0, 2.0, 300)
+    angle = 0.5 * 3.0 * ts
+    textbook = np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+    np.testing.assert_array_equal(_angle_weights(3.0, ts), textbook)
+
+
 def test_screw_quaternions_are_the_textbook_formula(rng):
     for _ in range(5):
         motion = random_motion(rng, "screw")
