@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import os
 
 import numpy as np
 import pytest
@@ -290,6 +291,52 @@ def test_in_order_holds_a_bounded_window(monkeypatch):
     it = parallel.in_order(_square_out_of_order, items())
     next(it)
     assert len(taken) <= 2 * 2 + 1
+
+
+def test_in_order_streams_share_one_pool_and_nest(monkeypatch):
+    """A stream made on the pool feeds one formatted on it (as resample feeds its writer):
+    both in order, on the same threads, no more of them than workers; a task that calls
+    in_order itself does its items in its own thread instead of waiting for the pool."""
+    import threading
+
+    monkeypatch.setattr(parallel, "WORKERS", 2)
+    seen = set()
+
+    def made(x):
+        seen.add(threading.current_thread())
+        return _square_out_of_order(x)
+
+    def formatted(x):
+        seen.add(threading.current_thread())
+        return -x
+
+    assert list(parallel.in_order(formatted, parallel.in_order(made, range(60)))) == [
+        -x * x for x in range(60)
+    ]
+    assert len(seen) == 2 and threading.current_thread() not in seen
+
+    def nested(x):
+        here = threading.current_thread()
+        inner = list(parallel.in_order(lambda y: (y, threading.current_thread()), range(5)))
+        return [y for y, _ in inner] == list(range(5)) and {t for _, t in inner} == {here}
+
+    assert all(parallel.in_order(nested, range(8)))
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="os.fork is POSIX")
+def test_a_forked_child_makes_its_own_pool(monkeypatch):
+    """The parent's threads do not exist in a forked child: its first in_order makes a pool."""
+    monkeypatch.setattr(parallel, "WORKERS", 2)
+    assert list(parallel.in_order(_square_out_of_order, range(6))) == [x * x for x in range(6)]
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: report, then leave without running the parent's cleanups
+        ok = list(parallel.in_order(_square_out_of_order, range(6))) == [x * x for x in range(6)]
+        os.write(write, b"1" if ok else b"0")
+        os._exit(0)
+    os.close(write)
+    assert os.read(read, 1) == b"1"
+    os.waitpid(pid, 0)
 
 
 def test_format_rows_takes_prefix_words():

@@ -10,7 +10,8 @@ The threads are one pool per process, made at the first use and shared by every
 :func:`in_order` at work: a stream of blocks made on the pool (``a2b resample`` computes its
 samples there) feeds a writer that formats them there, and the two keep no more threads busy
 than there are processors. (A pool per stream ran three busy threads on two processors: the
-one holding the GIL was often the one descheduled, and resampling took 1.2 times as long.)
+one holding the GIL was often the one descheduled: resampling 10^6 poses to 10^7 CSV rows took
+1.1 to 1.15 times as long.)
 """
 
 from __future__ import annotations
