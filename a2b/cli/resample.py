@@ -153,48 +153,61 @@ class _Run:
         self.made, self.repaired = Counter(), []
 
     def samples(self, pieces, new_times, representation):
+        """The samples at the new times, block by block, in order: each made on the writers'
+        threads (:func:`a2b.io.parallel.in_order`) and counted here."""
+        from ..io.parallel import in_order
+
+        counts, last = self.counts, None
+        sample = partial(self._sampled, representation, new_times)
+        for samples, located, built, resampler in in_order(sample, self._blocks(pieces, new_times)):
+            if resampler is not last:  # the first block of a window
+                self._ended(last)
+                resampler.warned, last = counts["warned"], resampler  # ten shown in the run
+            resampler.account(built)
+            counts["outside"] += located.outside
+            counts["gap"] += located.gap
+            counts["written"] += len(located.times)
+            yield samples
+        self._ended(last)
+
+    def _blocks(self, pieces, new_times):
         """Each piece of the trajectory, with the last pose of the piece before, is a window
-        of segments; the new times up to its end go through it (a spline needs every pose
+        of segments, and the new times up to its end go through its resampler: ``(resampler,
+        block)``, parsed here while the blocks before are sampled (a spline needs every pose
         first: one window)."""
         from ..errors import InputFileError
-        from ..io.parallel import in_order
         from ..resample import Resampler, windows
 
-        counts, resampler = self.counts, None
+        resampler = None
         for window in windows(pieces, self.repaired):
-            counts["poses"] = window["last"]
-            if counts["poses"] < 2:
+            self.counts["poses"] = window["last"]
+            if window["last"] < 2:
                 continue  # a first piece of one pose: it is the start of the next window
             del window["last"]
             resampler = Resampler(mode=self.mode, max_gap=self.max_gap, checked=True, **window,
                                   **self.parameters)  # fmt: skip
-            resampler.warned = counts["warned"]  # the first ten of the whole run are shown
-            # each block sampled on the writers' threads, and accounted for here, in order
-            blocks = new_times.upto(float(window["times"][-1]), float(window["times"][0]))
-            sample = partial(self._sampled, resampler, representation, new_times)
-            for samples, located, built in in_order(sample, blocks):
-                resampler.account(built)
-                yield self._counted(samples, located)
-            counts["built"] += resampler.segments_built
-            counts["warned"] = resampler.warned
-            self.made.update(resampler.choices)
-        if counts["poses"] < 2:
-            raise InputFileError(f"{self.name}: expected at least 2 poses, got {counts['poses']}")
+            for block in new_times.upto(float(window["times"][-1]), float(window["times"][0])):
+                yield resampler, block
+        if resampler is None:
+            raise InputFileError(f"{self.name}: expected at least 2 poses, got "
+                                 f"{self.counts['poses']}")  # fmt: skip
         for block in new_times.upto(None, None):  # after the end: outside the trajectory
-            samples, located, built = self._sampled(resampler, representation, new_times, block)
-            resampler.account(built)
-            yield self._counted(samples, located)
+            yield resampler, block
 
-    def _counted(self, samples, located):
-        self.counts["outside"] += located.outside
-        self.counts["gap"] += located.gap
-        self.counts["written"] += len(located.times)
-        return samples
+    def _ended(self, resampler) -> None:
+        """Count what ``resampler``, done with its window, built and chose."""
+        if resampler is not None:
+            self.counts["built"] += resampler.segments_built
+            self.counts["warned"] = resampler.warned
+            self.made.update(resampler.choices)
 
-    def _sampled(self, resampler, representation, new_times, block):
-        """The samples at the new times ``block``, with their exact nanosecond stamps; where
-        they are, and what :meth:`a2b.resample.Resampler.account` takes (on any thread)."""
+    def _sampled(self, representation, new_times, item):
+        """The samples at the new times of ``item`` (``(resampler, block)``), with their exact
+        nanosecond stamps; where they are, what :meth:`a2b.resample.Resampler.account` takes,
+        and the resampler (on any thread)."""
         from ..samples import FIELDS, Samples
+
+        resampler, block = item
 
         located = resampler.locate(block, self.clip)
         values, built = resampler.sample_apart(located, representation)
@@ -204,7 +217,7 @@ class _Run:
             setattr(samples, key, value)
         if self.mark:
             samples.original = (located.pose >= 0).astype(float)
-        return samples, located, built
+        return samples, located, built, resampler
 
 
 def _new_times(rate, reference, times_file, choices):
