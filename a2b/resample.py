@@ -56,7 +56,9 @@ class Resampler:
     ``translations (n, 3)`` may be given: the matrices are then made for the segments in use.
     ``max_gap``: segments longer than this many seconds are not bridged; times strictly
     inside them are dropped. ``checked``: the poses were validated already (by
-    :func:`a2b.io.trajectories.read_trajectory`). ``parameters`` go to every segment's motion
+    :func:`a2b.io.trajectories.read_trajectory`). ``first``: the number of the first pose in
+    a longer trajectory, of which these are a window (messages name poses by their number in
+    it). ``parameters`` go to every segment's motion
     (:func:`a2b.motion`) or, for ``spline``, to :func:`a2b.motions.bezier.spline_motion`
     (``space``, default ``study``, and ``m``).
     """
@@ -72,6 +74,7 @@ class Resampler:
         translations=None,
         study=None,
         checked: bool = False,
+        first: int = 0,
         **parameters,
     ):
         from .poses import check_matrices, check_quaternions
@@ -123,6 +126,7 @@ class Resampler:
                 )
         self.mode = mode
         self.max_gap = max_gap
+        self.first = first
         self.study = None if study is None else np.asarray(study, dtype=float)
         self.parameters = parameters
         self.choices: Counter = Counter()
@@ -357,9 +361,9 @@ class Resampler:
         return matrices_from_quat_trans(self.quat_wxyz[index], self.translations[index])
 
     def _segment(self, k: int) -> str:
-        t = self.times
+        t, number = self.times, self.first + k
         return (
-            f"the segment from pose {k} (time {float(t[k])!r}) to pose {k + 1} "
+            f"the segment from pose {number} (time {float(t[k])!r}) to pose {number + 1} "
             f"(time {float(t[k + 1])!r})"
         )
 

@@ -557,6 +557,39 @@ def test_segment_warnings_name_the_segment_and_stop_at_ten():
     assert shown[0].startswith("the segment from pose 0 (time 0.0) to pose 1 (time 1.0): the ")
 
 
+def test_blocks_made_on_the_pool_give_what_one_thread_gives(tmp_path, monkeypatch):
+    """Blocks of new times sampled on two threads, windows of a few poses: the same text, the
+    same warnings (the first ten of the run, in order, naming their segments) and the same
+    counts as everything in one thread."""
+    from a2b import resample as resample_module
+    from a2b.io import parallel, trajectories
+
+    times = np.arange(60.0)
+    angles = 0.3 * times
+    quat = np.stack([np.cos(angles / 2), 0 * angles, 0 * angles, np.sin(angles / 2)], axis=1)
+    rows = np.column_stack([times, 0.1 * times, 0 * times, 0 * times, quat[:, 1:], quat[:, :1]])
+    path = tmp_path / "turn.tum"
+    path.write_text("".join(" ".join(repr(float(v)) for v in row) + "\n" for row in rows))
+    monkeypatch.setattr(resample_module, "BLOCK", 16)
+    monkeypatch.setitem(trajectories.trajectory_pieces.__kwdefaults__, "size", 300)  # windows
+    got = []
+    for workers in (1, 2):
+        monkeypatch.setattr(parallel, "WORKERS", workers)
+        out = tmp_path / f"out{workers}.csv"
+        result = run("resample", path, "--rate", 7, "--mode", "darboux", "--lam", 888, "-v",
+                     "-o", out)  # fmt: skip
+        assert result.exit_code == 0, result.output
+        got.append((out.read_bytes(), result.output))
+    assert got[0] == got[1]
+    warned = [line for line in got[0][1].splitlines() if line.startswith("Warning: the seg")]
+    assert [line.split(":")[1] for line in warned] == [
+        f" the segment from pose {k} (time {k:.1f}) to pose {k + 1} (time {k + 1:.1f})"
+        for k in range(10)
+    ]
+    assert "49 more segments were warned about" in got[0][1]
+    assert "built 59 segment motions" in got[0][1]
+
+
 SIX_DIGITS = (
     "start: {matrix: [[1, 0, 0, 0], [0, 0.707107, -0.707107, 0], [0, 0.707107, 0.707107, 0], "
     "[0, 0, 0, 1]]}\nend: {quaternion_wxyz: [1, 0, 0, 0], translation: [1, 0, 0]}\n"

@@ -183,9 +183,9 @@ class _Run:
             self.counts["poses"] = window["last"]
             if window["last"] < 2:
                 continue  # a first piece of one pose: it is the start of the next window
-            del window["last"]
+            first = window.pop("last") - len(window["times"])  # the number of its first pose
             resampler = Resampler(mode=self.mode, max_gap=self.max_gap, checked=True, **window,
-                                  **self.parameters)  # fmt: skip
+                                  first=first, **self.parameters)  # fmt: skip
             for block in new_times.upto(float(window["times"][-1]), float(window["times"][0])):
                 yield resampler, block
         if resampler is None:
