@@ -671,3 +671,19 @@ def test_default_m_takes_every_pose_the_short_way_or_says_it_cannot():
     with pytest.raises(ParameterError, match=r"no default m: .* use space study"):
         spline(turning, TS)
     spline(turning, TS, space="study")
+
+
+def test_a_long_spline_lists_ten_flipped_poses_and_counts_the_rest():
+    """A trajectory's spline may flip the signs of many poses: the choice lists the first ten
+    (numbered from 1) and how many more, not every one (a resampled trajectory has 10^6)."""
+    from a2b.motions.bezier import spline_motion
+    from a2b.poses import matrices_from_quat_trans
+
+    angles = 1.0 * np.arange(80)  # about z, past π again and again: w ≥ 0 flips the sign
+    quat = np.stack([np.cos(angles / 2), 0 * angles, 0 * angles, np.sin(angles / 2)], axis=1)
+    poses = matrices_from_quat_trans(quat, np.zeros((80, 3)))
+    (text,) = [c for c in spline_motion(poses, "study").choices if "flipped" in c]
+    listed = text.split("pose(s) ")[1].split(" and ")[0].split(", ")
+    more = int(text.split(" and ")[1].split(" more")[0])
+    assert listed == ["5", "6", "7", "8", "9", "10", "17", "18", "19", "20"]  # 4 rad is past π
+    assert more == 29 and text.endswith("so that consecutive quaternions have p_i·p_{i+1} ≥ 0")

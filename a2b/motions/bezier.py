@@ -476,12 +476,26 @@ class BezierMotion(Kinematic):
 # -- constructions ------------------------------------------------------------------------------
 
 
+#: Pose numbers listed in a choice; the rest are counted (a trajectory's spline can flip
+#: hundreds of thousands).
+NUMBERS_LISTED = 10
+
+
+def _numbers(indices) -> str:
+    """The numbers (from 1) of poses ``indices``: the first :data:`NUMBERS_LISTED`, and how
+    many more."""
+    indices = list(indices)
+    listed = ", ".join(str(i + 1) for i in indices[:NUMBERS_LISTED])
+    more = len(indices) - NUMBERS_LISTED
+    return listed + (f" and {more} more" if more > 0 else "")
+
+
 def _matrix_rotation_weights(m: np.ndarray, quats: np.ndarray, label, choices: list) -> np.ndarray:
     """``4 m·p_i`` with the signs of the ``p_i`` made consistent along the poses; checks ``m``."""
     chain, _ = consistent_signs(quats)
     dots = np.array([check_not_orthogonal(m, chain[i], label(i)) for i in range(chain.shape[0])])
     if np.any(dots < 0.0) and np.any(dots > 0.0):
-        which = ", ".join(str(i + 1) for i in np.nonzero(dots * dots[0] < 0.0)[0])
+        which = _numbers(np.nonzero(dots * dots[0] < 0.0)[0])
         choices.append(
             f"m·p_i has the opposite sign for pose(s) {which} (quaternion signs consistent along "
             "the poses): μ_m takes their quaternions with the other sign, so the motion turns the "
@@ -551,7 +565,7 @@ def bezier_motion(
         if flipped:
             choices.append(
                 "flipped the sign of the Study vector of control pose(s) "
-                + ", ".join(str(i + 1) for i in flipped)
+                + _numbers(flipped)
                 + " so that consecutive quaternions have p_i·p_{i+1} ≥ 0"
             )
         s = np.zeros(k) if offsets is None else _per_control(offsets, k, "offsets")
@@ -659,7 +673,7 @@ def spline_motion(poses, space: str = "matrix", *, m=None) -> BezierMotion:
         if flipped:
             choices.append(
                 "flipped the sign of the Study vector of pose(s) "
-                + ", ".join(str(i + 1) for i in flipped)
+                + _numbers(flipped)
                 + " so that consecutive quaternions have p_i·p_{i+1} ≥ 0"
             )
         first = points[0, :4]
