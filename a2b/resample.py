@@ -161,7 +161,8 @@ class Resampler:
             first = float(new[np.argmax(~inside)])
             raise ParameterError(
                 f"the time {first!r} is outside the trajectory, which runs from {float(t[0])!r} "
-                f"to {float(t[-1])!r}; a2b does not extrapolate (--clip drops such times and "
+                f"to {float(t[-1])!r}; a2b does not extrapolate (clip=True, --clip on the command "
+                "line, drops such times and "
                 "counts them)"
             )
         if outside:
@@ -193,7 +194,7 @@ class Resampler:
         small enough to stay in cache. The segments are counted, and their warnings issued
         (:meth:`account`)."""
         values, built = self.sample_apart(located, representation)
-        self.account(built)
+        self.account(built, stacklevel=2)
         return values
 
     def sample_apart(self, located: Located, representation: str = "matrices"):
@@ -246,12 +247,12 @@ class Resampler:
             return _taken(tuple(map(np.concatenate, zip(values, own))), index), built
         return _taken(np.concatenate([values, own]), index), built
 
-    def account(self, built: list) -> None:
+    def account(self, built: list, stacklevel: int = 1) -> None:
         """Count the segments that :meth:`sample_apart` built (``built``: what it returned, in
         the order of the blocks) and issue their warnings, naming the segment: a segment whose
         times fall in two blocks is counted, and warned about, once. The first
         :data:`WARNINGS_SHOWN` warnings of the resampler are issued, the rest counted
-        (:attr:`warned`)."""
+        (:attr:`warned`). ``stacklevel`` as for ``warnings.warn``, counted from the caller."""
         for rows, notes, warned in built:
             first = np.ones(len(rows), dtype=bool)  # the first row of each segment
             first[1:] = rows[1:] != rows[:-1]
@@ -262,7 +263,8 @@ class Resampler:
                     self.warned += 1
                     if self.warned <= WARNINGS_SHOWN:
                         warnings.warn(
-                            A2bWarning(f"{self._segment(rows[index])}: {reason}"), stacklevel=3
+                            A2bWarning(f"{self._segment(rows[index])}: {reason}"),
+                            stacklevel=stacklevel + 1,
                         )
             self.segments_built += int(np.count_nonzero(first))
             self.choices.update(notes.counts(first))
@@ -561,7 +563,8 @@ def resample(
     two-pose mode per segment (``screw``, the default, ``darboux``, ``cubic``) or ``spline``.
     A time equal to a stamp gives that pose exactly. Times outside the trajectory raise
     :class:`ParameterError` unless ``clip`` drops them; times inside a segment longer than
-    ``max_gap`` seconds are dropped. See :class:`Resampler`.
+    ``max_gap`` seconds are dropped. The first :data:`WARNINGS_SHOWN` warnings about segments
+    are issued, then one that counts the rest. See :class:`Resampler`.
 
     >>> import numpy as np, a2b
     >>> from a2b.resample import resample
@@ -572,4 +575,14 @@ def resample(
     """
     resampler = Resampler(times, poses, mode, max_gap=max_gap, **parameters)
     located = resampler.locate(new_times, clip)
-    return located.times, resampler.sample(located)
+    values, built = resampler.sample_apart(located)
+    resampler.account(built, stacklevel=2)
+    if resampler.warned > WARNINGS_SHOWN:
+        warnings.warn(
+            A2bWarning(
+                f"{resampler.warned - WARNINGS_SHOWN} more segments were warned about (the "
+                f"first {WARNINGS_SHOWN} are shown above)"
+            ),
+            stacklevel=2,
+        )
+    return located.times, values

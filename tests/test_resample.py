@@ -555,6 +555,12 @@ def test_segment_warnings_name_the_segment_and_stop_at_ten():
     shown = [str(w.message) for w in caught if issubclass(w.category, a2b.errors.A2bWarning)]
     assert len(shown) == WARNINGS_SHOWN and resampler.warned == 29
     assert shown[0].startswith("the segment from pose 0 (time 0.0) to pose 1 (time 1.0): the ")
+    assert {w.filename for w in caught} == {__file__}  # the caller's line, not a2b's
+    with pytest.warns(a2b.errors.A2bWarning) as caught:  # the function: ten, then the count
+        resample(times, poses, times[:-1] + 0.5, "darboux", lam=888.0)
+    shown = [str(w.message) for w in caught]
+    assert len(shown) == WARNINGS_SHOWN + 1 and {w.filename for w in caught} == {__file__}
+    assert shown[-1] == "19 more segments were warned about (the first 10 are shown above)"
 
 
 def test_blocks_made_on_the_pool_give_what_one_thread_gives(tmp_path, monkeypatch):
@@ -706,8 +712,11 @@ def test_resample_takes_the_motion_options_of_its_mode():
         warned[-1] == "Warning: 2 more segments were warned about (the first 10 are shown above)."
     )
     refused = run("resample", SAMPLES / "reference.tum", "--rate", 3, "--delta", 1)
-    assert refused.exit_code == 1
-    assert "mode screw does not take delta (its parameters: none)" in refused.output
+    assert refused.exit_code == 2  # a usage error, naming the options
+    assert "--mode screw does not take --delta; give --mode darboux" in refused.output
+    refused = run("resample", SAMPLES / "reference.tum", "--rate", 3, "--mode", "darboux",
+                  "--m", "1,0,0,0.5", "--pitch-start", 1)  # fmt: skip
+    assert refused.exit_code == 2 and "does not take --m; give --mode cubic" in refused.output
     refused = run("resample", SAMPLES / "reference.tum", "--rate", 3, "--mode", "spline", "--a", 1)
     assert refused.exit_code == 2 and "the spline takes no motion parameters" in refused.output
 

@@ -111,6 +111,15 @@ def command(trajectory, input_format, topic, input_child_frame, input_frame, inp
         raise click.UsageError(
             "the spline takes no motion parameters; give --mode darboux or cubic"
         )
+    from ..parameters import OF_MODE
+
+    foreign = [key for key in given if key not in OF_MODE[mode]]
+    if foreign:  # a usage error, as for the spline: the options, not the library's names
+        takers = [other for other in OF_MODE if all(key in OF_MODE[other] for key in foreign)]
+        raise click.UsageError(
+            f"--mode {mode} does not take {', '.join('--' + k.replace('_', '-') for k in foreign)}"
+            + (f"; give --mode {' or '.join(takers)}" if takers else "")
+        )
     parameters = options.merge_parameters({}, given) if given else {}
     from ..formats import BY_NAME
     from ..output import check_plan, write_samples
