@@ -60,7 +60,10 @@ class Format:
     name, suffixes
         The ``--format`` name and the file suffixes that name it (first: the usual one).
     layout
-        What a line or message holds, one line of help.
+        What a line or message holds, one line of help; ``{times}`` stands for ``times``.
+    times
+        Where the layout says how its times follow from t (``--duration``,
+        ``--start-time``): left out for commands whose times are their own (``resample``).
     holds
         Of ``poses``, ``times``, ``velocities``, ``mark`` (resample's ``original`` column).
     binary
@@ -119,6 +122,11 @@ class Format:
     header: str | None = None
     trajectory: str | None = None
     input_options: frozenset = frozenset()
+    times: str = ""
+
+    def described(self, durations: bool = True) -> str:
+        """:attr:`layout`, with how its times follow from t where ``durations``."""
+        return self.layout.format(times=self.times if durations else "")
 
     @property
     def timed(self) -> bool:
@@ -162,7 +170,7 @@ TABLE = (
     ),
     Format(
         name="tum", suffixes=(".tum",),
-        layout="time tx ty tz qx qy qz qw (time = t · duration + start_time)",
+        layout="time tx ty tz qx qy qz qw{times}", times=" (time = t · duration + start_time)",
         holds=frozenset({"poses", "times"}), binary=False, representation="quat_trans",
         batch="files", writer=f"{_TEXT}:write_tum", batch_writer=f"{_TEXT}:write_batch_files",
         reader=f"{_READ}:read_tum", options=_STAMPED, limits=Limits(distinct_times=True),
@@ -216,8 +224,9 @@ TABLE = (
     ),
     Format(
         name="parquet", suffixes=(".parquet",),
-        layout="columns t, time (t · duration + start_time), tx,ty,tz,qw,qx,qy,qz as in csv, "
-        "vx … wz with --velocities, original with --mark (needs a2b-motions[parquet])",
+        layout="columns t{times}, tx,ty,tz,qw,qx,qy,qz as in csv, vx … wz with --velocities, "
+        "original with --mark (needs a2b-motions[parquet])",
+        times=", time (t · duration + start_time)",
         holds=_TABLE_ROWS, binary=True, representation="quat_trans", batch="rows",
         writer="a2b.io.parquet:write_parquet", batch_writer="a2b.io.parquet:write_batch_parquet",
         reader=None, options=_STAMPED | {"motion"}, extra="parquet",

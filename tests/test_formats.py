@@ -143,8 +143,11 @@ def choices(command: str, option: str) -> list[str]:
 def test_each_command_lists_the_formats_it_writes(command):
     assert choices(command, "--format") == list(formats.OUTPUT_NAMES)
     help_ = " ".join(CliRunner().invoke(cli, [command, "-h"]).output.split())
+    durations = command != "resample"  # resample's times are the new times, not t · duration
     for row in formats.TABLE:
-        assert (" ".join(row.layout.split()) in help_) == (row.writer is not None), row.name
+        described = " ".join(row.described(durations).split())
+        assert (described in help_) == (row.writer is not None), row.name
+    assert ("t · duration + start_time" in help_) == durations
 
 
 def test_batch_lists_the_formats_it_writes():

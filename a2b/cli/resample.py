@@ -60,7 +60,7 @@ from . import CONTEXT_SETTINGS, options, writing
 )
 @options.motion_parameter_options
 @writing.output_option
-@writing.format_option
+@writing.format_option(durations=False)
 @writing.frame_options
 @options.verbose_option
 def command(trajectory, input_format, topic, input_child_frame, input_frame, input_rate,

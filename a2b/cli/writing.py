@@ -54,11 +54,11 @@ samples_option = click.option(
 )
 
 
-def format_help(batch: bool = False) -> str:
+def format_help(batch: bool = False, durations: bool = True) -> str:
     """The help of ``--format``, one entry per format a command writes (:mod:`a2b.formats`):
     its layout; for ``batch``, how a batch lays the jobs out."""
     if not batch:
-        entries = [f"{row.name}: {row.layout}" for row in formats.TABLE if row.writer]
+        entries = [f"{row.name}: {row.described(durations)}" for row in formats.TABLE if row.writer]
         suffixes = ", ".join(formats.suffix_names())
         default = f"[default: from the -o suffix ({suffixes}), else csv]"
         return f"Output format. {'; '.join(entries)}  {default}"
@@ -99,13 +99,16 @@ def profile_option(batch: bool = False):
     )
 
 
-def format_option(f=None, *, batch: bool = False):
+def format_option(f=None, *, batch: bool = False, durations: bool = True):
     """``--format`` (the formats of :mod:`a2b.formats` a command writes) and ``--profile``;
-    :func:`format_from` resolves the two. ``@format_option`` or ``@format_option(batch=True)``."""
+    :func:`format_from` resolves the two. ``@format_option`` or ``@format_option(batch=True)``;
+    ``durations=False`` for a command whose times are its own (no ``--duration``)."""
     if f is None:
-        return lambda g: format_option(g, batch=batch)
+        return lambda g: format_option(g, batch=batch, durations=durations)
     names = [row.name for row in formats.TABLE if (row.batch_writer if batch else row.writer)]
-    option = click.option("--format", "fmt", type=click.Choice(names), help=format_help(batch))
+    option = click.option(
+        "--format", "fmt", type=click.Choice(names), help=format_help(batch, durations)
+    )
     f = option(profile_option(batch)(f))
     return f if batch else storage_option(f)
 
