@@ -24,7 +24,7 @@ from .elements import as_numbers
 from .errors import A2bError, A2bWarning, ParameterError
 from .names import MODES
 
-__all__ = ["RESAMPLE_MODES", "Located", "NewTimes", "Resampler", "resample", "windows"]
+__all__ = ["RESAMPLE_MODES", "Located", "NewTimes", "Resampler", "resample", "unshown", "windows"]
 
 RESAMPLE_MODES = MODES + ("spline",)
 #: New times sampled at a time.
@@ -162,8 +162,7 @@ class Resampler:
             raise ParameterError(
                 f"the time {first!r} is outside the trajectory, which runs from {float(t[0])!r} "
                 f"to {float(t[-1])!r}; a2b does not extrapolate (clip=True, --clip on the command "
-                "line, drops such times and "
-                "counts them)"
+                "line, drops such times and counts them)"
             )
         if outside:
             new = new[inside]
@@ -578,11 +577,13 @@ def resample(
     values, built = resampler.sample_apart(located)
     resampler.account(built, stacklevel=2)
     if resampler.warned > WARNINGS_SHOWN:
-        warnings.warn(
-            A2bWarning(
-                f"{resampler.warned - WARNINGS_SHOWN} more segments were warned about (the "
-                f"first {WARNINGS_SHOWN} are shown above)"
-            ),
-            stacklevel=2,
-        )
+        warnings.warn(A2bWarning(unshown(resampler.warned)), stacklevel=2)
     return located.times, values
+
+
+def unshown(warned: int) -> str:
+    """What to say of the segments warned about beyond the first :data:`WARNINGS_SHOWN`."""
+    return (
+        f"{warned - WARNINGS_SHOWN} more segments were warned about (the first "
+        f"{WARNINGS_SHOWN} are shown above)"
+    )

@@ -385,6 +385,18 @@ json_option = click.option(
 )
 
 
+def refuse_foreign_parameters(mode: str, given: dict) -> None:
+    """A usage error for the motion options ``given`` that ``mode`` does not take, naming them
+    as options and the modes that take them all (the library's error names its parameters)."""
+    foreign = [key for key in given if key not in OF_MODE[mode]]
+    if foreign:
+        takers = [other for other in OF_MODE if all(key in OF_MODE[other] for key in foreign)]
+        raise click.UsageError(
+            f"--mode {mode} does not take {', '.join('--' + k.replace('_', '-') for k in foreign)}"
+            + (f"; give --mode {' or '.join(takers)}" if takers else "")
+        )
+
+
 def merge_parameters(from_file: dict, from_command_line: dict, mode: str | None = None) -> dict:
     """The file's motion parameters, overridden by those given on the command line.
 

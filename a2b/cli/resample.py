@@ -111,15 +111,7 @@ def command(trajectory, input_format, topic, input_child_frame, input_frame, inp
         raise click.UsageError(
             "the spline takes no motion parameters; give --mode darboux or cubic"
         )
-    from ..parameters import OF_MODE
-
-    foreign = [key for key in given if key not in OF_MODE[mode]]
-    if foreign:  # a usage error, as for the spline: the options, not the library's names
-        takers = [other for other in OF_MODE if all(key in OF_MODE[other] for key in foreign)]
-        raise click.UsageError(
-            f"--mode {mode} does not take {', '.join('--' + k.replace('_', '-') for k in foreign)}"
-            + (f"; give --mode {' or '.join(takers)}" if takers else "")
-        )
+    options.refuse_foreign_parameters(mode, given)
     parameters = options.merge_parameters({}, given) if given else {}
     from ..formats import BY_NAME
     from ..output import check_plan, write_samples
@@ -258,7 +250,7 @@ def _new_times(rate, reference, times_file, choices):
 
 def _report(counts, made, repaired, times, clip, max_gap, verbose) -> None:
     """Say what was dropped (always: data was left out) and, with -v, what was built."""
-    from ..resample import WARNINGS_SHOWN
+    from ..resample import WARNINGS_SHOWN, unshown
 
     warned, built = counts["warned"], counts["built"]
 
@@ -272,11 +264,7 @@ def _report(counts, made, repaired, times, clip, max_gap, verbose) -> None:
             err=True,
         )
     if warned > WARNINGS_SHOWN:
-        click.echo(
-            f"Warning: {warned - WARNINGS_SHOWN} more segments were warned about "
-            f"(the first {WARNINGS_SHOWN} are shown above).",
-            err=True,
-        )
+        click.echo(f"Warning: {unshown(warned)}.", err=True)
     if verbose:
         click.echo(
             f"Wrote {counts['written']} poses ({times}); built {built} segment motions.",
