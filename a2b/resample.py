@@ -240,7 +240,7 @@ class Resampler:
         values, places, built = self._evaluate(k[between], u[between], representation)
         own = self._own(pose[on_stamp], representation)
         index = np.empty(len(k), dtype=np.intp)
-        index[between] = np.arange(np.count_nonzero(between)) if places is None else places
+        index[between] = _all(places, np.count_nonzero(between))
         index[on_stamp] = len(_first(values)) + np.arange(len(_first(own)))
         if isinstance(values, tuple):
             return _taken(tuple(map(np.concatenate, zip(values, own))), index), built
@@ -509,7 +509,9 @@ def _rows(k: np.ndarray, u: np.ndarray):
     fill rows of ``W`` (the mean count): at most about twice the samples, for any spread of
     times over segments. Unused places hold ½, inside the segment, where the motion pins no
     end pose. ``ts.ravel()[places]`` are the parameters ``u``; ``places`` is ``None`` where
-    they are ``ts.ravel()`` (in order, no place unused).
+    they are ``ts.ravel()`` (in order, no place unused), a slice where they are in order with
+    the unused places before and after them (times in order, every segment but the first and
+    the last with ``W``: a block of a regular rate), else indexes.
     """
     ordered = bool(np.all(k[1:] >= k[:-1]))  # new times in order: nothing to sort
     order = None if ordered else np.argsort(k, kind="stable")
@@ -521,6 +523,10 @@ def _rows(k: np.ndarray, u: np.ndarray):
     rows = np.repeat(segments, per_segment)
     if len(rows) * width == len(ks):  # every segment fills its rows
         flat, ts = None, us.reshape(-1, width)
+    elif len(rows) == len(segments) and (counts[1:-1] == width).all():
+        lead = width - int(counts[0])  # the first segment's row ends with its times
+        flat, ts = slice(lead, lead + len(ks)), np.full(len(rows) * width, 0.5)
+        ts[flat] = us
     else:
         first = (np.cumsum(per_segment) - per_segment) * width  # each segment's first place
         flat = np.repeat(first - start, counts) + np.arange(len(ks))
@@ -529,18 +535,29 @@ def _rows(k: np.ndarray, u: np.ndarray):
     if order is None:
         return rows, ts.reshape(-1, width), flat
     places = np.empty(len(ks), dtype=np.intp)
-    places[order] = np.arange(len(ks)) if flat is None else flat
+    places[order] = _all(flat, len(ks))
     return rows, ts.reshape(-1, width), places
+
+
+def _all(places, count: int) -> np.ndarray:
+    """``places`` of ``count`` parameters, as :func:`_rows` gives them, as indexes."""
+    if places is None:
+        return np.arange(count)
+    if isinstance(places, slice):
+        return np.arange(places.start, places.stop)
+    return places
 
 
 def _first(values) -> np.ndarray:
     return values[0] if isinstance(values, tuple) else values
 
 
-def _taken(values, index: np.ndarray | None):
+def _taken(values, index: np.ndarray | slice | None):
     """The rows ``index`` of ``values`` (an array or a tuple of arrays; ``None``: all)."""
     if index is None:
         return values
+    if isinstance(index, slice):  # views
+        return tuple(v[index] for v in values) if isinstance(values, tuple) else values[index]
     if isinstance(values, tuple):
         return tuple(np.take(v, index, axis=0) for v in values)
     return np.take(values, index, axis=0)

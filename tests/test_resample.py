@@ -328,6 +328,36 @@ def test_segments_of_in_order_times_are_searchsorted_s(seed, stamps, count):
         assert np.array_equal(_segments_of(t, times), expected)
 
 
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 12), st.integers(1, 30), st.booleans())
+def test_rows_of_a_block_hold_each_parameter_once_in_its_segments_row(seed, each, count, cut):
+    """The parameters of a block as rows of one segment each: ``ts.ravel()[places]`` are the
+    parameters, in a row of their segment, and every other place is ½; a block of a regular
+    rate (every segment but the first and last with the same count) needs no index (a slice)."""
+    from a2b.resample import _rows
+
+    rng = np.random.default_rng(seed)
+    counts = np.full(count, each)
+    if cut:  # the first and last segments cut by the block's ends
+        counts[[0, -1]] = rng.integers(1, each + 1, 2)
+    else:
+        counts = rng.integers(1, 2 * each + 1, count)
+    k = np.repeat(np.sort(rng.choice(10 * count, count, replace=False)), counts)
+    u = rng.uniform(0.01, 0.99, len(k))
+    for order in (np.arange(len(k)), rng.permutation(len(k))):
+        rows, ts, places = _rows(k[order], u[order])
+        flat = np.arange(ts.size)[slice(None) if places is None else places]
+        assert np.array_equal(ts.ravel()[flat], u[order])
+        assert np.array_equal(np.repeat(rows, ts.shape[1])[flat], k[order])
+        unused = np.ones(ts.size, dtype=bool)
+        unused[flat] = False
+        assert (ts.ravel()[unused] == 0.5).all()
+        width = -(-len(k) // count)  # the mean count
+        regular = (counts[1:-1] == width).all() and counts.max() <= width
+        if order[0] == 0 and (np.diff(order) == 1).all() and regular:
+            assert places is None or isinstance(places, slice), counts
+
+
 @pytest.mark.parametrize("between", [40, 4])  # few on stamps, and many (> 1/8)
 def test_times_on_stamps_build_no_segment_of_their_own(between):
     """A time on a stamp is the stamp's pose as given, whether the few on stamps are sampled

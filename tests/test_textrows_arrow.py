@@ -57,10 +57,12 @@ def test_pyarrow_parses_a_plain_text_and_leaves_the_rest_to_loadtxt(monkeypatch)
     calls = []
     real = textrows._loadtxt
     monkeypatch.setattr(textrows, "_loadtxt", lambda *a, **k: calls.append(1) or real(*a, **k))
-    read_rows(plain, "f", TUM, bulk=True)
-    assert calls == []  # pyarrow's
-    for other in (b"# a comment\n" + plain, plain.replace(b" ", b"\t"), plain.replace(b" ", b"  "),
-                  b" " + plain, plain.replace(b"\n", b"\r\n"), plain + b"1 2 3\n"):  # fmt: skip
+    for text in (plain, b"# time tx ty tz qx qy qz qw\n#\n" + plain):  # comments at the top
+        read_rows(text, "f", TUM, bulk=True)
+        assert calls == [], text  # pyarrow's
+    for other in (plain + b"# a comment\n", plain.replace(b" ", b"\t"), plain.replace(b" ", b"  "),
+                  b" " + plain, plain.replace(b"\n", b"\r\n"), plain + b"1 2 3\n",
+                  b"#\n #\n" + plain):  # fmt: skip
         calls.clear()
         try:
             read_rows(other, "f", TUM, bulk=True)
@@ -112,3 +114,20 @@ def test_pyarrow_parses_a_plain_text_and_leaves_the_rest_to_loadtxt(monkeypatch)
 def test_both_ways_give_the_same_rows_or_the_same_error(text, layout, monkeypatch):
     slow, fast = both(text, layout, monkeypatch)
     assert same(slow, fast), (slow, fast)
+
+
+@pytest.mark.parametrize(
+    "text",
+    [b"1 2 3\n4 5 6\n", b"1 2 3\n4 5 6", b"# h\n#\n1 2 3\n4 5 6\n", b"1 2 3\n\n4 5 6\n",
+     b"\n1 2 3\n4 5 6\n", b"# h\n\n1 2 3\n", b"1 2 3\n# c\n4 5 6\n", b"1 2 3\n4 5 6\n\n"],
+)  # fmt: skip
+def test_the_lines_of_a_piece_are_counted_from_its_rows_only_where_that_is_exact(text):
+    """The next piece's line numbers start after this piece's line ends: where pyarrow parsed
+    a text without blank lines they are its rows and the comments at its top, else counted."""
+    for skip in (0, 1):
+        layout = TextLayout(None, skip, 3, (0, 1, 2), fmt="plain")
+        try:
+            _, lines = read_rows(text, "f", layout, bulk=True)
+        except A2bError:
+            continue
+        assert lines.count() == text.count(b"\n"), (text, skip, lines.plain)

@@ -135,7 +135,7 @@ def command(trajectory, input_format, topic, input_child_frame, input_frame, inp
     if input_frame is not None:  # one piece: its TF chain stated with the other choices
         pieces = list(pieces)
         choices.extend(pieces[0].notes)
-    run = _Run(name, mode, max_gap, clip, mark, parameters)
+    run = _Run(name, mode, max_gap, clip, mark, parameters, stamps=fmt.binary)
     options.state_choices(choices, verbose)
     frames.update({"storage": storage} if storage is not None else {})
     stated = {"mode": mode, **parameters}
@@ -145,11 +145,13 @@ def command(trajectory, input_format, topic, input_child_frame, input_frame, inp
 
 
 class _Run:
-    """The samples of a resampling, as the trajectory is parsed, and what was counted."""
+    """The samples of a resampling, as the trajectory is parsed, and what was counted;
+    ``stamps``: with their exact integer nanoseconds (for binary formats; text formats write
+    the times)."""
 
-    def __init__(self, name, mode, max_gap, clip, mark, parameters):
+    def __init__(self, name, mode, max_gap, clip, mark, parameters, stamps=True):
         self.name, self.mode, self.max_gap, self.clip, self.mark = name, mode, max_gap, clip, mark
-        self.parameters = parameters
+        self.parameters, self.stamps = parameters, stamps
         self.counts = {"outside": 0, "gap": 0, "written": 0, "poses": 0, "built": 0, "warned": 0}
         self.made, self.repaired = Counter(), []
 
@@ -204,15 +206,16 @@ class _Run:
 
     def _sampled(self, representation, new_times, item):
         """The samples at the new times of ``item`` (``(resampler, block)``), with their exact
-        nanosecond stamps; where they are, what :meth:`a2b.resample.Resampler.account` takes,
-        and the resampler (on any thread)."""
+        nanosecond stamps if asked; where they are, what
+        :meth:`a2b.resample.Resampler.account` takes, and the resampler (on any thread)."""
         from ..samples import FIELDS, Samples
 
         resampler, block = item
 
         located = resampler.locate(block, self.clip)
         values, built = resampler.sample_apart(located, representation)
-        samples = Samples(located.times, stamps_ns=new_times.stamps_ns(located.times))
+        stamps = new_times.stamps_ns(located.times) if self.stamps else None
+        samples = Samples(located.times, stamps_ns=stamps)
         for key, value in zip(FIELDS[representation], values if isinstance(values, tuple)
                               else (values,)):  # fmt: skip
             setattr(samples, key, value)

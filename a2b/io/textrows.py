@@ -233,6 +233,7 @@ def read_rows(
     lines = Lines(data, first, offset)
     rows = _arrow_rows(data, layout, first) if bulk else None
     if rows is not None:
+        lines.plain, rows = rows
         return rows, lines
     body = io.BytesIO(data)
     try:
@@ -268,13 +269,15 @@ ARROW_FROM = 1 << 24
 _NOT_PLAIN = (b"#", b"\r", b"\t", b"\x0b", b"\x0c", b'"')
 
 
-def _arrow_rows(data: bytes, layout: TextLayout, first: int) -> np.ndarray | None:
+def _arrow_rows(data: bytes, layout: TextLayout, first: int) -> tuple | None:
     """The rows of a plain text as pyarrow's CSV reader parses them: the doubles of
-    ``numpy.loadtxt`` (both round correctly), three to four times as fast, and without the GIL.
+    ``numpy.loadtxt`` (both round correctly), three to four times as fast, and without the GIL;
+    as ``((start, count), rows)``, where the rows' lines start at byte ``start``.
     ``None`` where pyarrow is not installed (it comes with the ``parquet`` extra) or the text
     is not plain: other than ASCII numbers separated by one blank (or a comma) in rows of one
-    width, after the ``first`` lines, with no comment, no other blank and no non-finite
-    number. Then :func:`read_rows` reads it with ``numpy.loadtxt``, and any error is its."""
+    width, after the ``first`` lines and the comment lines below them, with no other comment,
+    no other blank and no non-finite number. Then :func:`read_rows` reads it with
+    ``numpy.loadtxt``, and any error is its."""
     if layout.nanoseconds or layout.sep not in (None, ","):
         return None
     try:
@@ -284,6 +287,10 @@ def _arrow_rows(data: bytes, layout: TextLayout, first: int) -> np.ndarray | Non
         return None
     start = 0
     for _ in range(first):
+        start = data.find(b"\n", start) + 1
+        if not start:
+            return None
+    while data.startswith(b"#", start):  # comments above the rows (a TUM header)
         start = data.find(b"\n", start) + 1
         if not start:
             return None
@@ -306,7 +313,9 @@ def _arrow_rows(data: bytes, layout: TextLayout, first: int) -> np.ndarray | Non
         table = csv.read_csv(
             pa.py_buffer(body),
             read_options=csv.ReadOptions(column_names=names, use_threads=False),
-            parse_options=csv.ParseOptions(delimiter=layout.sep or " ", quote_char=False),
+            parse_options=csv.ParseOptions(
+                delimiter=layout.sep or " ", quote_char=False, ignore_empty_lines=False
+            ),  # a blank line is a row too short: not plain (then each line is one row)
             convert_options=csv.ConvertOptions(
                 column_types=dict.fromkeys(names, pa.float64()),
                 include_columns=[names[k] for k in layout.columns],
@@ -323,7 +332,7 @@ def _arrow_rows(data: bytes, layout: TextLayout, first: int) -> np.ndarray | Non
             values = np.frombuffer(chunk.buffers()[1], dtype=np.float64)
             rows[lo : lo + len(chunk), k] = values[chunk.offset : chunk.offset + len(chunk)]
             lo += len(chunk)
-    return rows if len(rows) and np.isfinite(rows).all() else None
+    return ((start, len(rows)), rows) if len(rows) and np.isfinite(rows).all() else None
 
 
 def _loadtxt(body, layout: TextLayout, first: int, usecols=None) -> np.ndarray:
@@ -353,6 +362,18 @@ class Lines:
     def __init__(self, data: bytes, first: int, offset: int = 0):
         self.data, self.first, self.offset = data, first, offset
         self._numbered: list | None = None
+        #: ``(start, rows)`` where a plain text was parsed: its rows, one a line from byte
+        #: ``start`` on (where the lines skipped and the comments at the top end).
+        self.plain: tuple[int, int] | None = None
+
+    def count(self) -> int:
+        """The line ends of the text: counted, unless it is plain (then each line from
+        ``start`` on is one row)."""
+        data = self.data
+        if self.plain is None:
+            return data.count(b"\n")
+        start, rows = self.plain
+        return data.count(b"\n", 0, start) + rows - (not data.endswith(b"\n"))
 
     def numbered(self) -> list[tuple[int, str]]:
         """``(line number, line)`` of every row: not blank, not a ``#`` comment."""

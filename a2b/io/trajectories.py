@@ -340,7 +340,7 @@ def _text_pieces(data: bytes, name: str, fmt: str, rate, orthonormalize, size):
         if len(piece):
             yield piece
             previous = piece.times[-1]
-        start, line, row = stop, line + text.count(b"\n"), row + len(piece)
+        start, line, row = stop, line + lines.count(), row + len(piece)
 
 
 def sniff_format(data: bytes, name: str) -> str:
