@@ -221,11 +221,25 @@ def unit_scale(values: np.ndarray, axis=-1, extreme_only: bool = False) -> np.nd
     """
     values = np.asarray(values, dtype=float)
     with np.errstate(invalid="ignore"):
-        largest = np.max(np.abs(values), axis=axis, keepdims=True)
+        largest = largest_magnitudes(values, axis)
     _, exponent = np.frexp(np.where(np.isfinite(largest), largest, 0.0))
     if extreme_only:
         exponent = np.where(np.abs(exponent) > 300, exponent, 0)
     return np.ldexp(values, -exponent)
+
+
+def largest_magnitudes(values: np.ndarray, axis=-1) -> np.ndarray:
+    """``max |values|`` along ``axis``, kept as an axis of length 1 (NaN where a NaN is).
+
+    Along a short last axis (a quaternion's, a Study vector's) as the elementwise maximum of
+    its components: numpy's reduction of a short contiguous axis costs 30 ns a row, 7x as
+    much (a maximum is exact: the same numbers)."""
+    if values.ndim and 0 < values.shape[-1] <= 16 and axis in (-1, values.ndim - 1):
+        largest = np.abs(values[..., :1])
+        for i in range(1, values.shape[-1]):
+            np.maximum(largest, np.abs(values[..., i : i + 1]), out=largest)
+        return largest
+    return np.max(np.abs(values), axis=axis, keepdims=True)
 
 
 def safe_norm(values: np.ndarray, axis=-1) -> np.ndarray:

@@ -374,3 +374,32 @@ def test_the_pose_forms_of_a_few_poses_are_the_separate_forms_bit_for_bit(rng):
     assert (
         many.tobytes() == quaternions_from_rotations(np.concatenate([m] * 3)[:, :3, :3]).tobytes()
     )
+
+
+@pytest.mark.parametrize("shape", [(50, 4), (3, 7, 8), (9, 1), (4,), (2, 0), (3, 20)])
+def test_largest_magnitudes_are_numpys_maximum_of_the_magnitudes(rng, shape):
+    """The largest magnitude along the last axis, taken component by component (the short
+    axes of quaternions and Study vectors), is numpy's reduction: NaN, infinity, zeros and
+    every scale included."""
+    from a2b.elements import largest_magnitudes, unit_scale
+
+    a = rng.normal(size=shape) * 10.0 ** rng.integers(-320, 300, shape)
+    if a.size > 4:
+        a.flat[[0, 3]] = np.nan, -np.inf
+        a.flat[-1] = 0.0
+    with np.errstate(invalid="ignore"):
+        try:
+            expected = np.max(np.abs(a), axis=-1, keepdims=True)
+        except ValueError:  # no maximum of nothing
+            with pytest.raises(ValueError):
+                largest_magnitudes(a)
+            return
+    assert np.array_equal(largest_magnitudes(a), expected, equal_nan=True)
+    for axis in range(-a.ndim, a.ndim):  # any other axis: numpy's
+        with np.errstate(invalid="ignore"):
+            reference = np.max(np.abs(a), axis=axis, keepdims=True) if a.size else None
+        if reference is not None:
+            assert np.array_equal(largest_magnitudes(a, axis), reference, equal_nan=True)
+    scaled = unit_scale(a)
+    finite = np.isfinite(expected[..., 0]) & (expected[..., 0] > 0)
+    assert (np.abs(scaled[finite]).max(axis=-1, initial=0.5) < 1.0).all()

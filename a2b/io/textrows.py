@@ -17,6 +17,7 @@ import os
 import re
 import stat
 import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from typing import IO
@@ -31,6 +32,7 @@ __all__ = [
     "NUMBER",
     "Lines",
     "TextLayout",
+    "TextStream",
     "check_text",
     "first_line",
     "header_line",
@@ -96,6 +98,17 @@ def whole_file(
     """All bytes of a regular file from where ``head`` started, read at once (without a copy
     of ``head`` joined to the rest), else ``None``; a file larger than ``limit`` bytes is an
     error before it is read."""
+    size = _rewound(stream, head)
+    if size is None:
+        return None
+    _refuse_size(size, limit, name)
+    data = stream.read()
+    return data.encode() if isinstance(data, str) else data
+
+
+def _rewound(stream: IO, head: bytes) -> int | None:
+    """The bytes of a regular binary file from where ``head`` started, with the stream put
+    back there; ``None`` (and the stream as it was) for any other stream."""
     if isinstance(stream, io.TextIOBase):  # its positions are no byte counts
         return None
     try:
@@ -106,9 +119,62 @@ def whole_file(
         stream.seek(start)
     except (AttributeError, OSError, ValueError, io.UnsupportedOperation):
         return None
-    _refuse_size(status.st_size - start, limit, name)
-    data = stream.read()
-    return data.encode() if isinstance(data, str) else data
+    return status.st_size - start
+
+
+class TextStream:
+    """A large regular text file (:data:`ARROW_FROM` bytes or more), read a piece at a time as
+    it is parsed rather than whole first: the work on the first poses starts after one piece
+    is read, and no page of a copy of the whole file is faulted in (75 ms for 150 MB before
+    the first pose). :meth:`pieces` gives the bytes; ``len()`` is the file's size."""
+
+    def __init__(self, stream: IO, size: int):
+        self.stream, self.size = stream, size
+
+    @classmethod
+    def of(cls, stream: IO, head: bytes) -> TextStream | None:
+        """The stream whose first bytes, ``head``, were read already, if it is a large regular
+        file (put back to its start), else ``None``."""
+        size = _rewound(stream, head)
+        if size is None:
+            return None
+        if size >= ARROW_FROM:
+            return cls(stream, size)
+        stream.seek(len(head), os.SEEK_CUR)  # as it was
+        return None
+
+    def __len__(self) -> int:
+        return self.size
+
+    def pieces(self, size: int, first: int) -> Iterator[bytes]:
+        """The bytes in consecutive pieces: each ends at the first line end at or after
+        ``size`` bytes into it (the first piece: ``first``), the last at the end."""
+        read, step = self.stream.read, first
+        buffer = b""
+        while True:
+            while len(buffer) <= step:  # more than step bytes, or all that is left
+                more = read(step + _AFTER - len(buffer))
+                if not more:
+                    break
+                buffer += more
+            if len(buffer) <= step:
+                if buffer:
+                    yield buffer
+                return
+            cut = buffer.find(b"\n", step)
+            while cut < 0:  # a line longer than what was read past the size
+                more = read(_AFTER)
+                if not more:
+                    break
+                buffer += more
+                cut = buffer.find(b"\n", len(buffer) - len(more))
+            cut = len(buffer) if cut < 0 else cut + 1
+            yield buffer[:cut]
+            buffer, step = buffer[cut:], size
+
+
+#: Bytes read past a piece's size, where its last line ends.
+_AFTER = 1 << 16
 
 
 def _refuse_size(size: int, limit: int | None, name: str) -> None:
@@ -120,11 +186,16 @@ def _refuse_size(size: int, limit: int | None, name: str) -> None:
 
 
 def _refuse_nul(part: bytes, name: str, offset: int, before) -> None:
+    """A NUL byte in ``part``, ``offset`` bytes into the stream, after ``before`` (the parts
+    before, or the number of lines before) is an error."""
     at = part.find(b"\0")
     if at < 0:
         return
-    text = b"".join(before) if isinstance(before, list) else b""
-    line = text.count(b"\n") + part.count(b"\n", 0, at) + 1
+    if isinstance(before, int):
+        lines = before
+    else:
+        lines = (b"".join(before) if isinstance(before, list) else b"").count(b"\n")
+    line = lines + part.count(b"\n", 0, at) + 1
     raise InputFileError(
         f"{name}:{line}: a NUL byte at byte {offset + at}, so this is no text file"
     )
@@ -167,21 +238,25 @@ class _Replayed(io.RawIOBase):
         return len(part)
 
 
-def check_text(data: bytes, name: str) -> bytes:
+def check_text(data: bytes, name: str, line: int = 0, offset: int | None = None) -> bytes:
     """The text of a trajectory file without its byte-order mark; bytes that are not UTF-8,
     and a carriage return that ends no line feed (old Mac line ends), are errors at their
-    line."""
-    if data.startswith(BOM):
+    line. A piece of the file (:class:`TextStream`) after ``line`` lines and ``offset``
+    bytes: a NUL byte is an error too (the whole file was checked for them as it was read),
+    and a byte-order mark is one only at the start."""
+    if offset is not None:
+        _refuse_nul(data, name, offset, line)
+    if data.startswith(BOM) and not offset:
         data = data[len(BOM) :]
     if not data.isascii():  # the common case needs no decoded copy
         try:
             data.decode("utf-8")
         except UnicodeDecodeError as e:
-            line = data.count(b"\n", 0, e.start) + 1
+            line += data.count(b"\n", 0, e.start) + 1
             raise InputFileError(f"{name}:{line}: the file is not UTF-8 text") from None
     lone = re.search(rb"\r(?!\n)", data) if b"\r" in data else None  # a scan first: 8x faster
     if lone:
-        line = data.count(b"\n", 0, lone.start()) + 1
+        line += data.count(b"\n", 0, lone.start()) + 1
         column = lone.start() - (data.rfind(b"\n", 0, lone.start()) + 1) + 1
         raise InputFileError(
             f"{name}:{line}:{column}: a carriage return ends no line feed (old Mac line ends?); "

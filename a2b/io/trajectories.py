@@ -38,6 +38,7 @@ normalised here; the matrices of a quaternion file are built from the normalised
 from __future__ import annotations
 
 import importlib
+import io
 import os
 from collections.abc import Iterator
 from typing import IO
@@ -54,6 +55,7 @@ from .sqlitebag import SQLITE_MAGIC
 from .textrows import (
     ARROW_FROM,
     BOM,
+    TextStream,
     check_text,
     first_line,
     read_rows,
@@ -162,7 +164,8 @@ def check_input_options(name: str, fmt: str, **given) -> None:
 
 def opened(stream: IO, name: str | None = None, fmt: str | None = None) -> tuple:
     """``(name, content, format)`` of a trajectory file: its name for messages, its content
-    (bytes; a rosbag2 bag's path), and its format (given, else from the suffix or the
+    (bytes; a large regular text file's :class:`~a2b.io.textrows.TextStream`, read as it is
+    parsed; a rosbag2 bag's path), and its format (given, else from the suffix or the
     content: :func:`sniff_format`).
 
     A bag is read by its path, not through the stream: a folder is given as a stream named
@@ -191,7 +194,8 @@ def opened(stream: IO, name: str | None = None, fmt: str | None = None) -> tuple
             )
         return name, path, fmt
     if not BY_NAME[fmt].binary:
-        return name, read_text_bytes(stream, name, head), fmt
+        large = TextStream.of(stream, head)  # read as it is parsed
+        return name, read_text_bytes(stream, name, head) if large is None else large, fmt
     if not head.startswith(MAGIC):
         raise InputFileError(f"{name}: not an MCAP file (no MCAP magic at its start)")
     whole = whole_file(stream, head)
@@ -212,7 +216,8 @@ def _head(stream: IO) -> bytes:
     return b"".join(parts)
 
 
-#: Bytes of text parsed at a time by :func:`trajectory_pieces`.
+#: Bytes of text parsed at a time by :func:`trajectory_pieces` (the first piece of a longer
+#: text: a sixteenth, so that the work on its poses starts sooner).
 PIECE_BYTES = 1 << 22
 
 
@@ -321,18 +326,26 @@ def _topics(data, name: str) -> list[tuple[str, str, bool]]:
     ]  # fmt: skip
 
 
-def _text_pieces(data: bytes, name: str, fmt: str, rate, orthonormalize, size):
-    """:func:`trajectory_pieces` of a text format."""
-    data = check_text(data, name)
+def _text_pieces(data, name: str, fmt: str, rate, orthonormalize, size):
+    """:func:`trajectory_pieces` of a text format: ``data`` is bytes, checked whole first, or
+    a :class:`~a2b.io.textrows.TextStream`, each piece checked as it is read."""
     reader = importlib.import_module(BY_NAME[fmt].trajectory)
-    layout = reader.layout(data, name, fmt)
-    start, line, row, previous = 0, 0, 0, None
-    while start < len(data):
-        stop = data.find(b"\n", start + size) + 1 if len(data) - start > size else 0
-        stop = stop or len(data)
-        text = data[start:stop]
+    streamed = isinstance(data, TextStream)
+    first = size if size >= len(data) else max(size >> 4, 1)
+    if streamed:
+        texts = data.pieces(size, first)
+        raw = next(texts, b"")
+        text = check_text(raw, name, 0, 0)
+        layout = reader.layout(text, name, fmt)
+    else:
+        data = check_text(data, name)
+        layout = reader.layout(data, name, fmt)
+        texts = TextStream(io.BytesIO(data), len(data)).pieces(size, first)
+        raw = text = next(texts, b"")
+    offset, line, row, previous = 0, 0, 0, None
+    while raw:
         rows, lines = read_rows(
-            text, name, layout, line, skip=start == 0, bulk=len(data) >= ARROW_FROM
+            text, name, layout, line, skip=not offset, bulk=len(data) >= ARROW_FROM
         )
         piece = reader.trajectory(rows, lines, name, fmt, rate, orthonormalize, row)
         written = written_times(lines, layout) if "times" in BY_NAME[fmt].holds else None
@@ -340,7 +353,10 @@ def _text_pieces(data: bytes, name: str, fmt: str, rate, orthonormalize, size):
         if len(piece):
             yield piece
             previous = piece.times[-1]
-        start, line, row = stop, line + lines.count(), row + len(piece)
+        offset, line, row = offset + len(raw), line + lines.count(), row + len(piece)
+        raw = text = next(texts, b"")
+        if streamed and raw:
+            text = check_text(raw, name, line, offset)
 
 
 def sniff_format(data: bytes, name: str) -> str:
