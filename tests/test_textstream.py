@@ -31,8 +31,8 @@ def _cut(data: bytes, size: int, first: int) -> list[bytes]:
        st.booleans(), st.integers(0, 1))  # fmt: skip
 def test_pieces_end_at_the_first_line_end_after_their_size(lines, size, first, end, long):
     data = b"\n".join(b"x" * n for n in lines) + b"\n" * end
-    if long:  # a line longer than what is read past a piece's size
-        data += b"y" * (3 * textrows._AFTER) + b"\nz\n"
+    if long:  # lines longer than what is read past a piece's size, one to the end
+        data += b"y" * (9 * textrows._AFTER) + b"\nz\n" + b"w" * (3 * textrows._AFTER)
     pieces = list(TextStream(io.BytesIO(data), len(data)).pieces(size, first))
     assert pieces == _cut(data, size, first)
 

@@ -149,28 +149,46 @@ class TextStream:
     def pieces(self, size: int, first: int) -> Iterator[bytes]:
         """The bytes in consecutive pieces: each ends at the first line end at or after
         ``size`` bytes into it (the first piece: ``first``), the last at the end."""
-        read, step = self.stream.read, first
-        buffer = b""
+        read, step, buffer = self.stream.read, first, b""
         while True:
-            while len(buffer) <= step:  # more than step bytes, or all that is left
-                more = read(step + _AFTER - len(buffer))
-                if not more:
-                    break
-                buffer += more
-            if len(buffer) <= step:
+            buffer = _filled(read, buffer, step + _AFTER)
+            if len(buffer) <= step:  # all that is left
                 if buffer:
                     yield buffer
                 return
             cut = buffer.find(b"\n", step)
-            while cut < 0:  # a line longer than what was read past the size
-                more = read(_AFTER)
-                if not more:
-                    break
-                buffer += more
-                cut = buffer.find(b"\n", len(buffer) - len(more))
+            if cut < 0:  # a line longer than what was read past the size
+                buffer, cut = _to_line_end(read, buffer)
             cut = len(buffer) if cut < 0 else cut + 1
             yield buffer[:cut]
             buffer, step = buffer[cut:], size
+
+
+def _filled(read, buffer: bytes, want: int) -> bytes:
+    """``buffer`` and what follows it, up to ``want`` bytes (fewer: all that is left)."""
+    parts, have = [buffer], len(buffer)
+    while have < want:
+        more = read(want - have)
+        if not more:
+            break
+        parts.append(more)
+        have += len(more)
+    return b"".join(parts) if len(parts) > 1 else buffer
+
+
+def _to_line_end(read, buffer: bytes) -> tuple[bytes, int]:
+    """``buffer`` and what follows it up to the next line end (or all that is left), read in
+    parts twice as large each time, and where that line end is (−1: none)."""
+    parts, have, chunk = [buffer], len(buffer), _AFTER
+    while True:
+        more = read(chunk)
+        if not more:
+            return b"".join(parts), -1
+        parts.append(more)
+        at = more.find(b"\n")
+        if at >= 0:
+            return b"".join(parts), have + at
+        have, chunk = have + len(more), min(2 * chunk, 1 << 26)
 
 
 #: Bytes read past a piece's size, where its last line ends.
