@@ -74,10 +74,10 @@ def read_text_bytes(stream: IO, name: str, head: bytes = b"", limit: int | None 
     any is read, any other stream's as soon as they arrive."""
     whole = whole_file(stream, head, limit, name)
     if whole is not None:
-        _refuse_nul(whole, name, 0, b"")
+        _refuse_nul(whole, name, 0, 0)
         return whole
     parts, size = [head], len(head)
-    _refuse_nul(head, name, 0, head)
+    _refuse_nul(head, name, 0, 0)
     _refuse_size(size, limit, name)
     while True:
         part = stream.read(READ_BYTES)
@@ -123,13 +123,15 @@ def _rewound(stream: IO, head: bytes) -> int | None:
 
 
 class TextStream:
-    """A large regular text file (:data:`ARROW_FROM` bytes or more), read a piece at a time as
-    it is parsed rather than whole first: the work on the first poses starts after one piece
-    is read, and no page of a copy of the whole file is faulted in (75 ms for 150 MB before
-    the first pose). :meth:`pieces` gives the bytes; ``len()`` is the file's size."""
+    """A large regular text file (:data:`STREAM_FROM` bytes or more), read a piece at a time
+    as it is parsed rather than whole first: the work on the first poses starts after one
+    piece is read, and no page of a copy of the whole file is faulted in (75 ms for 150 MB
+    before the first pose). :meth:`pieces` gives the bytes, once, while the stream is open;
+    ``len()`` is the file's size when it was opened (a file written meanwhile is read as far
+    as it has grown when each piece is read)."""
 
     def __init__(self, stream: IO, size: int):
-        self.stream, self.size = stream, size
+        self.stream, self.size, self.read = stream, size, False
 
     @classmethod
     def of(cls, stream: IO, head: bytes) -> TextStream | None:
@@ -138,7 +140,7 @@ class TextStream:
         size = _rewound(stream, head)
         if size is None:
             return None
-        if size >= ARROW_FROM:
+        if size >= STREAM_FROM:
             return cls(stream, size)
         stream.seek(len(head), os.SEEK_CUR)  # as it was
         return None
@@ -148,7 +150,12 @@ class TextStream:
 
     def pieces(self, size: int, first: int) -> Iterator[bytes]:
         """The bytes in consecutive pieces: each ends at the first line end at or after
-        ``size`` bytes into it (the first piece: ``first``), the last at the end."""
+        ``size`` bytes into it (the first piece: ``first``), the last at the end; or, in a
+        line without end, after the part where a NUL byte is (no text has one: the piece's
+        check refuses it before more is read). The bytes can be taken only once."""
+        if self.read:
+            raise ValueError("the pieces of a TextStream are read once")
+        self.read = True
         read, step, buffer = self.stream.read, first, b""
         while True:
             buffer = _filled(read, buffer, step + _AFTER)
@@ -177,22 +184,26 @@ def _filled(read, buffer: bytes, want: int) -> bytes:
 
 
 def _to_line_end(read, buffer: bytes) -> tuple[bytes, int]:
-    """``buffer`` and what follows it up to the next line end (or all that is left), read in
-    parts twice as large each time, and where that line end is (−1: none)."""
+    """``buffer`` and what follows it up to the next line end (or all that is left, or up to
+    a part with a NUL byte), read in parts twice as large each time, and where that line end
+    is (−1: none)."""
     parts, have, chunk = [buffer], len(buffer), _AFTER
-    while True:
+    while b"\0" not in parts[-1]:
         more = read(chunk)
         if not more:
-            return b"".join(parts), -1
+            break
         parts.append(more)
         at = more.find(b"\n")
         if at >= 0:
             return b"".join(parts), have + at
         have, chunk = have + len(more), min(2 * chunk, 1 << 26)
+    return b"".join(parts), -1
 
 
 #: Bytes read past a piece's size, where its last line ends.
 _AFTER = 1 << 16
+#: Regular files from this many bytes are read as they are parsed (:class:`TextStream`).
+STREAM_FROM = 1 << 24
 
 
 def _refuse_size(size: int, limit: int | None, name: str) -> None:
@@ -203,16 +214,14 @@ def _refuse_size(size: int, limit: int | None, name: str) -> None:
         )
 
 
-def _refuse_nul(part: bytes, name: str, offset: int, before) -> None:
-    """A NUL byte in ``part``, ``offset`` bytes into the stream, after ``before`` (the parts
-    before, or the number of lines before) is an error."""
+def _refuse_nul(part: bytes, name: str, offset: int, before: int | list) -> None:
+    """A NUL byte in ``part``, ``offset`` bytes into the stream, is an error at its line:
+    ``before`` is the number of lines before ``part``, or the parts before it (their lines
+    counted only then)."""
     at = part.find(b"\0")
     if at < 0:
         return
-    if isinstance(before, int):
-        lines = before
-    else:
-        lines = (b"".join(before) if isinstance(before, list) else b"").count(b"\n")
+    lines = before if isinstance(before, int) else sum(p.count(b"\n") for p in before)
     line = lines + part.count(b"\n", 0, at) + 1
     raise InputFileError(
         f"{name}:{line}: a NUL byte at byte {offset + at}, so this is no text file"
@@ -243,26 +252,21 @@ class _Replayed(io.RawIOBase):
             part = read(len(buffer))  # left open is not waited for
             part = part.encode() if isinstance(part, str) else part
         if self.text:
-            at = part.find(b"\0")
-            if at >= 0:
-                line = self.lines + part.count(b"\n", 0, at) + 1
-                raise InputFileError(
-                    f"{self.name}:{line}: a NUL byte at byte {self.offset + at}, so this is no "
-                    "text file"
-                )
+            _refuse_nul(part, self.name, self.offset, self.lines)
             self.lines += part.count(b"\n")
         self.offset += len(part)
         buffer[: len(part)] = part
         return len(part)
 
 
-def check_text(data: bytes, name: str, line: int = 0, offset: int | None = None) -> bytes:
+def check_text(data: bytes, name: str, piece: tuple[int, int] | None = None) -> bytes:
     """The text of a trajectory file without its byte-order mark; bytes that are not UTF-8,
     and a carriage return that ends no line feed (old Mac line ends), are errors at their
-    line. A piece of the file (:class:`TextStream`) after ``line`` lines and ``offset``
-    bytes: a NUL byte is an error too (the whole file was checked for them as it was read),
-    and a byte-order mark is one only at the start."""
-    if offset is not None:
+    line. ``piece``: ``data`` is a piece of a file read as it is parsed (:class:`TextStream`),
+    after ``(lines, bytes)`` of it; then a NUL byte is an error too (a file read whole was
+    checked for them as it was read), and a byte-order mark is one only at the file's start."""
+    line, offset = piece or (0, 0)
+    if piece is not None:
         _refuse_nul(data, name, offset, line)
     if data.startswith(BOM) and not offset:
         data = data[len(BOM) :]

@@ -222,7 +222,7 @@ PIECE_BYTES = 1 << 22
 
 
 def trajectory_pieces(
-    data: bytes,
+    data: bytes | TextStream | str,
     name: str,
     fmt: str,
     *,
@@ -237,7 +237,8 @@ def trajectory_pieces(
 ) -> Iterator[Trajectory]:
     """The poses of a trajectory file's content (:func:`opened`), in consecutive pieces of
     about ``size`` bytes of text (MCAP, a bag: one piece), each checked as it is read; times
-    increase across pieces too.
+    increase across pieces too. A :class:`~a2b.io.textrows.TextStream` is read as the pieces
+    are taken, once, from its stream, which must stay open until then.
 
     A reader can start on the first poses while the rest is still text: ``a2b resample``
     computes the first segments while the file is parsed. The options are checked and the
@@ -335,7 +336,12 @@ def _text_pieces(data, name: str, fmt: str, rate, orthonormalize, size):
     if streamed:
         texts = data.pieces(size, first)
         raw = next(texts, b"")
-        text = check_text(raw, name, 0, 0)
+        while raw and not raw.strip():  # blank lines only: a header is looked for after them
+            more = next(texts, b"")
+            if not more:
+                break
+            raw += more
+        text = check_text(raw, name, (0, 0))
         layout = reader.layout(text, name, fmt)
     else:
         data = check_text(data, name)
@@ -356,7 +362,7 @@ def _text_pieces(data, name: str, fmt: str, rate, orthonormalize, size):
         offset, line, row = offset + len(raw), line + lines.count(), row + len(piece)
         raw = text = next(texts, b"")
         if streamed and raw:
-            text = check_text(raw, name, line, offset)
+            text = check_text(raw, name, (line, offset))
 
 
 def sniff_format(data: bytes, name: str) -> str:
