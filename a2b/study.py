@@ -139,8 +139,11 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         if size <= NARROW_FROM:
             return _terms(form, a, b, trailing, form.left, form.right)
         return _terms(form, a, b, trailing, *form.narrow)
-    a = np.broadcast_to(a, a.shape[:1] + shape).reshape(len(a), size)
-    b = np.broadcast_to(b, b.shape[:1] + shape).reshape(len(b), size)
+    if a.shape[1:] != shape:  # (numpy's broadcast_to costs 16 µs, a tenth of a call here)
+        a = np.broadcast_to(a, a.shape[:1] + shape)
+    if b.shape[1:] != shape:
+        b = np.broadcast_to(b, b.shape[:1] + shape)
+    a, b = a.reshape(len(a), size), b.reshape(len(b), size)
     out = np.empty((len(form.matrix), size))
     scratch = np.empty(min(size, IN_TURN_CHUNK))
     for lo in range(0, size, IN_TURN_CHUNK):  # work arrays that stay in cache
