@@ -130,12 +130,12 @@ def bilinear(form: Structure, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     if b.shape[1:] != shape:
         shape = _broadcast(shape, b.shape[1:])
     size = math.prod(shape)
+    trailing = len(shape)
+    if a.ndim <= trailing:  # fewer dimensions (one quaternion against many): as numpy aligns them
+        a = _aligned(a, trailing)
+    if b.ndim <= trailing:
+        b = _aligned(b, trailing)
     if size < IN_TURN_FROM:
-        trailing = len(shape)
-        if a.ndim <= trailing:
-            a = _aligned(a, trailing)
-        if b.ndim <= trailing:
-            b = _aligned(b, trailing)
         if size <= NARROW_FROM:
             return _terms(form, a, b, trailing, form.left, form.right)
         return _terms(form, a, b, trailing, *form.narrow)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import mpmath
 import numpy as np
+import pytest
 
 import a2b
 from a2b.motions._rational import CHUNK
@@ -42,6 +43,26 @@ def test_bilinear_broadcasts_the_trailing_shapes(rng):
     out = bilinear(matrix, a, b)
     assert out.shape == (4, 3, 5)
     np.testing.assert_allclose(out[:, 2, 4], quat_mul(a[:, 2, 0], b[:, 0, 4]), atol=1e-15)
+
+
+@pytest.mark.parametrize("count", [3, NARROW_FROM + 5, IN_TURN_FROM + 5])
+def test_bilinear_broadcasts_an_operand_of_fewer_dimensions_at_every_size(rng, count):
+    """One quaternion against many (the frames of a long trajectory in ``a2b view``), at the
+    sizes of each of bilinear's ways: numpy's broadcasting, and each element bit for bit the
+    element alone."""
+    matrix = structure_matrix(quat_mul, 4, 4)
+    many, one = rng.normal(size=(4, count)), rng.normal(size=4)
+    for a, b in ((many, one), (one, many), (many, one[:, None]), (one[:, None], many)):
+        out = bilinear(matrix, a, b)
+        assert out.shape == (4, count)
+        direct = quat_mul(np.broadcast_to(a.T, (count, 4)), np.broadcast_to(b.T, (count, 4)))
+        np.testing.assert_allclose(out.T, direct, rtol=0, atol=1e-14)
+        for j in (0, count - 1):  # the element j of each (of one with one column: that one)
+            alone = bilinear(matrix, *(x if x.ndim == 1 else x[:, min(j, x.shape[1] - 1)]
+                                       for x in (a, b)))  # fmt: skip
+            np.testing.assert_array_equal(out[:, j], alone)
+    grid = bilinear(matrix, rng.normal(size=(4, count, 1)), rng.normal(size=(4, 1, 3)))
+    assert grid.shape == (4, count, 3)
 
 
 def _exact_table(start, end):

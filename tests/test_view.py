@@ -211,6 +211,22 @@ def test_a_trajectory_slider_shows_seconds(tmp_path):
     assert [s["label"] for s in slider["steps"]] == ["0", "0.5", "1"]
 
 
+def test_a_long_trajectory_is_drawn(tmp_path):
+    """Thousands of poses (the frames' quaternions against one in bulk) make a page of at most
+    201 frames."""
+    rng = np.random.default_rng(4)
+    count = 3000
+    quat = rng.normal(size=(count, 4)) + [0, 0, 0, 4]  # xyzw, near the identity
+    rows = np.column_stack(
+        [np.arange(count) * 0.01, np.cumsum(rng.normal(size=(count, 3)), 0), quat]
+    )
+    path, out = tmp_path / "long.tum", tmp_path / "long.html"
+    path.write_text("".join(" ".join(repr(float(v)) for v in row) + "\n" for row in rows))
+    result = run("view", path, "-o", out)
+    assert result.exit_code == 0, result.output
+    assert len(figure_of(out.read_text())["frames"]) == MAX_FRAMES
+
+
 def test_times_are_checked():
     mats = _loop(5)
     with pytest.raises(A2bError, match="times must be 5 increasing finite numbers"):
