@@ -330,7 +330,8 @@ def read_rows(
     lines = Lines(data, first, offset)
     rows = _arrow_rows(data, layout, first) if bulk else None
     if rows is not None:
-        lines.plain, rows = rows
+        start, rows = rows
+        lines.plain = start, len(rows)
         return rows, lines
     body = io.BytesIO(data)
     try:
@@ -369,7 +370,7 @@ _NOT_PLAIN = (b"#", b"\r", b"\t", b"\x0b", b"\x0c", b'"')
 def _arrow_rows(data: bytes, layout: TextLayout, first: int) -> tuple | None:
     """The rows of a plain text as pyarrow's CSV reader parses them: the doubles of
     ``numpy.loadtxt`` (both round correctly), three to four times as fast, and without the GIL;
-    as ``((start, count), rows)``, where the rows' lines start at byte ``start``.
+    as ``(start, rows)``, where the rows' lines start at byte ``start``.
     ``None`` where pyarrow is not installed (it comes with the ``parquet`` extra) or the text
     is not plain: other than ASCII numbers separated by one blank (or a comma) in rows of one
     width, after the ``first`` lines and the comment lines below them, with no other comment,
@@ -429,7 +430,7 @@ def _arrow_rows(data: bytes, layout: TextLayout, first: int) -> tuple | None:
             values = np.frombuffer(chunk.buffers()[1], dtype=np.float64)
             rows[lo : lo + len(chunk), k] = values[chunk.offset : chunk.offset + len(chunk)]
             lo += len(chunk)
-    return ((start, len(rows)), rows) if len(rows) and np.isfinite(rows).all() else None
+    return (start, rows) if len(rows) and np.isfinite(rows).all() else None
 
 
 def _loadtxt(body, layout: TextLayout, first: int, usecols=None) -> np.ndarray:
