@@ -91,6 +91,9 @@ class Format:
         The format that reads it back, if not its own reader (``ros2``: ``mcap``).
     header
         The column names of a text table (tum: after ``# ``).
+    separator
+        The field separator of a text table that the writer formats row by row
+        (:func:`a2b.io.writers.chunk_text`), else ``None``.
     trajectory
         What reads the format as a trajectory (``a2b resample``, ``view``, the pose lists of
         ``spline``): for a text format a module with ``layout(data, name, fmt)`` and
@@ -120,6 +123,7 @@ class Format:
     extra: str | None = None
     read_as: str | None = None
     header: str | None = None
+    separator: str | None = None
     trajectory: str | None = None
     input_options: frozenset = frozenset()
     times: str = ""
@@ -151,7 +155,7 @@ TABLE = (
         name="csv", suffixes=(".csv",), layout="t,tx,ty,tz,qw,qx,qy,qz", holds=_TABLE_ROWS,
         binary=False, representation="quat_trans", batch="rows",
         writer=f"{_TEXT}:write_csv", batch_writer=f"{_TEXT}:write_batch_csv",
-        reader=f"{_READ}:read_csv", header="t,tx,ty,tz,qw,qx,qy,qz",
+        reader=f"{_READ}:read_csv", header="t,tx,ty,tz,qw,qx,qy,qz", separator=",",
         trajectory="a2b.io.csvtable",
     ),
     Format(
@@ -159,13 +163,13 @@ TABLE = (
         holds=_TABLE_ROWS, binary=False, representation="matrices", batch="rows",
         writer=f"{_TEXT}:write_matrix_csv", batch_writer=f"{_TEXT}:write_batch_csv",
         reader=f"{_READ}:read_matrix_csv", header="t,r11,r12,r13,tx,r21,r22,r23,ty,r31,r32,r33,tz",
-        trajectory="a2b.io.csvtable",
+        separator=",", trajectory="a2b.io.csvtable",
     ),
     Format(
         name="study", suffixes=(), layout="t,p0,p1,p2,p3,q0,q1,q2,q3 (unit Study parameters)",
         holds=_TABLE_ROWS, binary=False, representation="study", batch="rows",
         writer=f"{_TEXT}:write_study_csv", batch_writer=f"{_TEXT}:write_batch_csv",
-        reader=f"{_READ}:read_study_csv", header="t,p0,p1,p2,p3,q0,q1,q2,q3",
+        reader=f"{_READ}:read_study_csv", header="t,p0,p1,p2,p3,q0,q1,q2,q3", separator=",",
         trajectory="a2b.io.csvtable",
     ),
     Format(
@@ -174,13 +178,13 @@ TABLE = (
         holds=frozenset({"poses", "times"}), binary=False, representation="quat_trans",
         batch="files", writer=f"{_TEXT}:write_tum", batch_writer=f"{_TEXT}:write_batch_files",
         reader=f"{_READ}:read_tum", options=_STAMPED, limits=Limits(distinct_times=True),
-        header="time tx ty tz qx qy qz qw", trajectory="a2b.io.tum",
+        header="time tx ty tz qx qy qz qw", separator=" ", trajectory="a2b.io.tum",
     ),
     Format(
         name="kitti", suffixes=(".kitti",), layout="12 numbers of [R | t] per line",
         holds=frozenset({"poses"}), binary=False, representation="matrices", batch="files",
         writer=f"{_TEXT}:write_kitti", batch_writer=f"{_TEXT}:write_batch_files",
-        reader=f"{_READ}:read_kitti", trajectory="a2b.io.kitti",
+        reader=f"{_READ}:read_kitti", separator=" ", trajectory="a2b.io.kitti",
         input_options=frozenset({"rate"}),
     ),
     Format(

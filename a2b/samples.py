@@ -88,7 +88,9 @@ class Samples:
     each row (batch: a list, or :class:`JobRuns`). ``original (n,)``: 1 where the row is a
     pose of a resampled trajectory, 0 where interpolated (a last column ``original``).
     ``stamps_ns (n,)``: the times as exact int64 nanoseconds, where the caller has them (the
-    stamps of binary formats then come from here, not from the doubles).
+    stamps of binary formats then come from here, not from the doubles). ``text``: the lines
+    of a text format, ``(format, pieces)``, where the caller made them ahead
+    (:func:`a2b.io.writers.chunk_text`); that format's writer writes them as they are.
     """
 
     t: np.ndarray
@@ -102,6 +104,7 @@ class Samples:
     time: np.ndarray | None = None
     origin_ns: int = 0
     stamps_ns: np.ndarray | None = None
+    text: tuple[str, list] | None = None
 
     def seconds(self) -> np.ndarray:
         """The times in seconds (``t`` where no ``time`` is given), ``origin_ns`` added."""

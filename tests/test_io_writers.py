@@ -187,6 +187,26 @@ def test_writer_reader_pairs(rng, fmt):
         assert np.array_equal(got_q, quat) and np.array_equal(got_tr, trans)
 
 
+@pytest.mark.parametrize("fmt", ["csv", "matrix", "study", "tum", "kitti"])
+def test_text_made_ahead_is_written_as_it_is(rng, fmt):
+    """Chunks whose lines were made ahead (:func:`writers.chunk_text`) write the bytes the
+    writer makes of them; a chunk without them, or with another format's, is formatted."""
+    chunks, _ = _chunks(rng, 25, 7)
+    chunks = list(stamped(chunks, 2.0, 3.0))
+    chunks[0].original = np.arange(7) % 2.0
+    for chunk in chunks[1:]:
+        chunk.original = np.zeros(len(chunk.t))
+    plain = io.BytesIO()
+    write(chunks, plain, fmt)
+    other = "kitti" if fmt != "kitti" else "csv"
+    for k, chunk in enumerate(chunks):
+        chunk.text = [writers.chunk_text(fmt, chunk), None, writers.chunk_text(other, chunk)][k % 3]
+    ahead = io.BytesIO()
+    write(chunks, ahead, fmt)
+    assert ahead.getvalue() == plain.getvalue()
+    assert chunks[0].text[0] == fmt and chunks[0].text[1][0].dtype == np.uint8
+
+
 def test_batch_csv_quotes_job_names(rng):
     chunks, (t, quat, _, _, _) = _chunks(rng, 4, 4)
     chunks[0].job = ["plain", 'with "quotes"', "with, comma", "plain"]

@@ -626,6 +626,36 @@ def test_blocks_made_on_the_pool_give_what_one_thread_gives(tmp_path, monkeypatc
     assert "built 59 segment motions" in got[0][1]
 
 
+@pytest.mark.parametrize("fmt", ["csv", "matrix", "study", "tum", "kitti"])
+def test_the_lines_made_with_the_samples_are_the_writers(tmp_path, monkeypatch, fmt):
+    """A text table's lines, made on the sampling threads with each block's samples, marks
+    included, are the bytes the writer makes of the samples itself, over many blocks."""
+    from a2b import resample as resample_module
+    from a2b.cli import resample as command
+    from a2b.io import writers
+
+    monkeypatch.setattr(resample_module, "BLOCK", 16)
+    made = []
+    chunk_text = writers.chunk_text
+    monkeypatch.setattr(writers, "chunk_text", lambda f, c: made.append(f) or chunk_text(f, c))
+    mark = ("--mark",) if fmt in ("csv", "matrix", "study") else ()
+    args = (SAMPLES / "reference.tum", "--rate", 33, "--format", fmt, *mark)
+    ahead = run("resample", *args, "-o", tmp_path / "ahead")
+    assert ahead.exit_code == 0, ahead.output
+    assert made == [fmt] * -(-195 // 16)  # every block, on the sampling threads
+
+    class Plain(command._Run):
+        def __init__(self, *arguments, **keywords):
+            super().__init__(*arguments, **{**keywords, "text": None})
+
+    monkeypatch.setattr(command, "_Run", Plain)
+    made.clear()
+    plain = run("resample", *args, "-o", tmp_path / "plain")
+    assert plain.exit_code == 0, plain.output
+    assert made == []
+    assert (tmp_path / "ahead").read_bytes() == (tmp_path / "plain").read_bytes()
+
+
 SIX_DIGITS = (
     "start: {matrix: [[1, 0, 0, 0], [0, 0.707107, -0.707107, 0], [0, 0.707107, 0.707107, 0], "
     "[0, 0, 0, 1]]}\nend: {quaternion_wxyz: [1, 0, 0, 0], translation: [1, 0, 0]}\n"

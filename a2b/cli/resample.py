@@ -135,7 +135,8 @@ def command(trajectory, input_format, topic, input_child_frame, input_frame, inp
     if input_frame is not None:  # one piece: its TF chain stated with the other choices
         pieces = list(pieces)
         choices.extend(pieces[0].notes)
-    run = _Run(name, mode, max_gap, clip, mark, parameters, stamps=fmt.binary)
+    text = fmt.name if fmt.separator is not None else None
+    run = _Run(name, mode, max_gap, clip, mark, parameters, stamps=fmt.binary, text=text)
     options.state_choices(choices, verbose)
     frames.update({"storage": storage} if storage is not None else {})
     stated = {"mode": mode, **parameters}
@@ -147,11 +148,12 @@ def command(trajectory, input_format, topic, input_child_frame, input_frame, inp
 class _Run:
     """The samples of a resampling, as the trajectory is parsed, and what was counted;
     ``stamps``: with their exact integer nanoseconds (for binary formats; text formats write
-    the times)."""
+    the times); ``text``: a text table written (a format with a ``separator``), whose lines
+    are made with the samples, in the same task (:func:`a2b.io.writers.chunk_text`)."""
 
-    def __init__(self, name, mode, max_gap, clip, mark, parameters, stamps=True):
+    def __init__(self, name, mode, max_gap, clip, mark, parameters, stamps=True, text=None):
         self.name, self.mode, self.max_gap, self.clip, self.mark = name, mode, max_gap, clip, mark
-        self.parameters, self.stamps = parameters, stamps
+        self.parameters, self.stamps, self.text = parameters, stamps, text
         self.counts = {"outside": 0, "gap": 0, "written": 0, "poses": 0, "built": 0, "warned": 0}
         self.made, self.repaired = Counter(), []
 
@@ -221,6 +223,10 @@ class _Run:
             setattr(samples, key, value)
         if self.mark:
             samples.original = (located.pose >= 0).astype(float)
+        if self.text is not None:
+            from ..io.writers import chunk_text
+
+            samples.text = chunk_text(self.text, samples)
         return samples, located, built, resampler
 
 
