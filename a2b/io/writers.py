@@ -102,8 +102,8 @@ def chunk_text(fmt: str, chunk: Samples) -> tuple[str, list]:
 
     For a producer that makes its chunks on the writers' threads (``a2b resample``): the text
     is then made in the same task, while the samples are in that processor's cache, and the
-    writing thread only writes it. Resampling 10^6 poses to 10^7 CSV rows took 0.93 to 0.98
-    times as long as with the chunks formatted by the writer (docs/benchmarks.md).
+    writing thread only writes it. Resampling 10^6 poses to 10^7 CSV rows took 0.94 times as
+    long (medians of 7) as with the chunks formatted by the writer (docs/benchmarks.md).
     """
     sep = BY_NAME[fmt].separator
     return fmt, [format_rows(piece, sep, array=True) for piece in _pieces(_layout_rows(fmt, chunk))]
