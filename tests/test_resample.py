@@ -656,6 +656,56 @@ def test_the_lines_made_with_the_samples_are_the_writers(tmp_path, monkeypatch, 
     assert (tmp_path / "ahead").read_bytes() == (tmp_path / "plain").read_bytes()
 
 
+@pytest.mark.parametrize("workers", [1, 2])
+def test_a_sample_that_overflows_after_lines_made_ahead_leaves_the_old_output(
+    tmp_path, monkeypatch, workers
+):
+    """A block that is not finite after many whose lines were made with their samples: the
+    finite check's one message, naming the block's first time, and the older file untouched,
+    as with the lines made by the writer; on standard output whole lines before it."""
+    from a2b import resample as resample_module
+    from a2b.cli import resample as command
+    from a2b.io import parallel
+
+    monkeypatch.setattr(resample_module, "BLOCK", 16)
+    monkeypatch.setattr(parallel, "WORKERS", workers)
+    args = ("resample", SAMPLES / "reference.tum", "--rate", 33, "--format", "tum")
+    whole = run(*args, "-o", "-")
+    assert whole.exit_code == 0, whole.output
+    starts = [line.split()[0] for line in whole.stdout.splitlines()[1::16]]  # the blocks' first
+    assert len(starts) == 13
+    sample_apart = resample_module.Resampler.sample_apart
+
+    def overflowing(self, located, representation):
+        values, built = sample_apart(self, located, representation)
+        if len(located.times) and located.times[0] >= float(starts[9]):  # the tenth block on
+            (values[0] if isinstance(values, tuple) else values)[0] = np.nan
+        return values, built
+
+    monkeypatch.setattr(resample_module.Resampler, "sample_apart", overflowing)
+    message = f"Error: the sample at time = {float(starts[9]):.17g} is not finite: the motion"
+    failed = {}
+    for fmt in ("csv", "matrix", "study", "tum", "kitti"):
+        out = tmp_path / f"out.{fmt}"
+        out.write_bytes(b"precious\n")
+        failed[fmt] = run(*args[:-1], fmt, "-o", out)
+        assert failed[fmt].exit_code == 1, failed[fmt].output
+        assert failed[fmt].output.startswith(message), failed[fmt].output
+        assert out.read_bytes() == b"precious\n"
+    assert len(list(tmp_path.iterdir())) == 5  # no temporary file left
+    piped = run(*args, "-o", "-")
+    assert piped.exit_code == 1 and piped.stderr == failed["tum"].output
+    assert whole.stdout.startswith(piped.stdout) and piped.stdout.endswith("\n")
+
+    class Plain(command._Run):
+        def __init__(self, *arguments, **keywords):
+            super().__init__(*arguments, **{**keywords, "text": None})
+
+    monkeypatch.setattr(command, "_Run", Plain)
+    plain = run(*args, "-o", tmp_path / "out.tum")
+    assert plain.exit_code == 1 and plain.output == failed["tum"].output
+
+
 SIX_DIGITS = (
     "start: {matrix: [[1, 0, 0, 0], [0, 0.707107, -0.707107, 0], [0, 0.707107, 0.707107, 0], "
     "[0, 0, 0, 1]]}\nend: {quaternion_wxyz: [1, 0, 0, 0], translation: [1, 0, 0]}\n"
