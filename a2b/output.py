@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 import os
 import sys
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 
 import numpy as np
 
@@ -224,6 +224,22 @@ def _write_bag(samples, target, fmt: Format, storage: str, batch: bool, keywords
         resolve(many if batch else single)(target, stream, **keywords)
     finally:
         stream.close()
+
+
+def text_ahead(fmt: Format) -> Callable[[Samples], None] | None:
+    """For a text table (a format with a ``separator``), what makes a block's lines where its
+    samples are made, into :attr:`a2b.samples.Samples.text`: for a producer whose blocks are
+    made on the writers' threads (``a2b resample``), so that formatting follows sampling in one
+    task (:func:`a2b.io.writers.chunk_text`). Call it on the finished block: nothing may change
+    its samples after. ``None`` for the other formats, which the writer formats itself."""
+    if fmt.separator is None:
+        return None
+    from .io.writers import chunk_text
+
+    def make(samples: Samples) -> None:
+        samples.text = chunk_text(fmt.name, samples)
+
+    return make
 
 
 def _checked(samples: Iterable[Samples], fmt: Format, batch: bool) -> Iterator[Samples]:

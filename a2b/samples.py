@@ -90,7 +90,8 @@ class Samples:
     ``stamps_ns (n,)``: the times as exact int64 nanoseconds, where the caller has them (the
     stamps of binary formats then come from here, not from the doubles). ``text``: the lines
     of a text format, ``(format, pieces)``, where the caller made them ahead
-    (:func:`a2b.io.writers.chunk_text`); that format's writer writes them as they are.
+    (:func:`a2b.io.writers.chunk_text`) from the finished block; that format's writer writes
+    them as they are, so no field may change after them.
     """
 
     t: np.ndarray

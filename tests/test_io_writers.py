@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 from a2b.errors import ParameterError
+from a2b.formats import BY_NAME
 from a2b.io import csvtable, mcapposes, parallel, trajectories, writers
 from a2b.io.floatrepr import format_rows, integer_words, number_words, text_words
-from a2b.output import stamped, write
+from a2b.output import stamped, text_ahead, write
 from a2b.poses import matrices_from_quat_trans, rotations_from_quaternions, study_from_matrices
 from a2b.samples import JobRuns, Samples
 
@@ -200,7 +201,10 @@ def test_text_made_ahead_is_written_as_it_is(rng, fmt):
     write(chunks, plain, fmt)
     other = "kitti" if fmt != "kitti" else "csv"
     for k, chunk in enumerate(chunks):
-        chunk.text = [writers.chunk_text(fmt, chunk), None, writers.chunk_text(other, chunk)][k % 3]
+        chunk.text = [None, None, writers.chunk_text(other, chunk)][k % 3]
+        if k % 3 == 0:
+            text_ahead(BY_NAME[fmt])(chunk)
+    assert text_ahead(BY_NAME["mcap"]) is None and text_ahead(BY_NAME["ros2"]) is None
     ahead = io.BytesIO()
     write(chunks, ahead, fmt)
     assert ahead.getvalue() == plain.getvalue()

@@ -114,7 +114,7 @@ def command(trajectory, input_format, topic, input_child_frame, input_frame, inp
     options.refuse_foreign_parameters(mode, given)
     parameters = options.merge_parameters({}, given) if given else {}
     from ..formats import BY_NAME
-    from ..output import check_plan, write_samples
+    from ..output import check_plan, text_ahead, write_samples
 
     fmt = BY_NAME[writing.format_from(fmt, output, choices, profile)]
     if mark and "mark" not in fmt.holds:
@@ -135,8 +135,7 @@ def command(trajectory, input_format, topic, input_child_frame, input_frame, inp
     if input_frame is not None:  # one piece: its TF chain stated with the other choices
         pieces = list(pieces)
         choices.extend(pieces[0].notes)
-    text = fmt.name if fmt.separator is not None else None
-    run = _Run(name, mode, max_gap, clip, mark, parameters, stamps=fmt.binary, text=text)
+    run = _Run(name, mode, max_gap, clip, mark, parameters, stamps=fmt.binary, text=text_ahead(fmt))
     options.state_choices(choices, verbose)
     frames.update({"storage": storage} if storage is not None else {})
     stated = {"mode": mode, **parameters}
@@ -148,8 +147,8 @@ def command(trajectory, input_format, topic, input_child_frame, input_frame, inp
 class _Run:
     """The samples of a resampling, as the trajectory is parsed, and what was counted;
     ``stamps``: with their exact integer nanoseconds (for binary formats; text formats write
-    the times); ``text``: a text table written (a format with a ``separator``), whose lines
-    are made with the samples, in the same task (:func:`a2b.io.writers.chunk_text`)."""
+    the times); ``text``: what makes the lines of a text output with each block's samples, in
+    the same task (:func:`a2b.output.text_ahead`), or ``None``."""
 
     def __init__(self, name, mode, max_gap, clip, mark, parameters, stamps=True, text=None):
         self.name, self.mode, self.max_gap, self.clip, self.mark = name, mode, max_gap, clip, mark
@@ -224,9 +223,7 @@ class _Run:
         if self.mark:
             samples.original = (located.pose >= 0).astype(float)
         if self.text is not None:
-            from ..io.writers import chunk_text
-
-            samples.text = chunk_text(self.text, samples)
+            self.text(samples)
         return samples, located, built, resampler
 
 

@@ -329,7 +329,7 @@ def write_batch_files(
         for chunk in chunks:
             if not len(chunk.t):
                 continue
-            lines = format_rows(_layout_rows(fmt, chunk), sep=" ").split(b"\n")
+            lines = format_rows(_layout_rows(fmt, chunk), sep=BY_NAME[fmt].separator).split(b"\n")
             lo = 0
             for name, count in zip(*_runs(chunk)):
                 if name != current:
