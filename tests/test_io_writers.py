@@ -469,3 +469,25 @@ def test_in_order_does_a_single_item_in_the_calling_thread(monkeypatch):
     threads = list(parallel.in_order(lambda x: threading.current_thread(), range(4)))
     assert here not in threads
     assert list(parallel.in_order(lambda x: x * 2, range(50))) == [2 * x for x in range(50)]
+
+
+def test_an_eager_stream_starts_its_first_item_before_the_second_is_made(monkeypatch):
+    """``eager``: the first item is at work on the pool while the second is still being made
+    (a trajectory's next piece parsed); without it, the stream waits for two items first."""
+    import threading
+
+    monkeypatch.setattr(parallel, "WORKERS", 2)
+    started = threading.Event()
+
+    def items():
+        yield 0
+        yield started.wait(timeout=0.5)  # True once item 0 is being worked on
+
+    def work(item):
+        started.set()
+        return item
+
+    assert list(parallel.in_order(work, items(), eager=True)) == [0, True]
+    started.clear()
+    assert list(parallel.in_order(work, items())) == [0, False]  # waited for nothing
+    assert list(parallel.in_order(work, [], eager=True)) == []

@@ -163,7 +163,8 @@ class _Run:
 
         counts, last = self.counts, None
         sample = partial(self._sampled, representation, new_times)
-        for samples, located, built, resampler in in_order(sample, self._blocks(pieces, new_times)):
+        blocks = self._blocks(pieces, new_times)
+        for samples, located, built, resampler in in_order(sample, blocks, eager=True):
             if resampler is not last:  # the first block of a window
                 self._ended(last)
                 resampler.warned, last = counts["warned"], resampler  # ten shown in the run

@@ -40,19 +40,20 @@ def workers() -> int:
     return max(1, min(available, 2))
 
 
-def in_order(function: Callable, items: Iterable) -> Iterator:
+def in_order(function: Callable, items: Iterable, eager: bool = False) -> Iterator:
     """``function(item)`` for every item, on :func:`workers` threads, yielded in order.
 
     At most two items per thread are in flight, so memory stays bounded. An exception in
     ``function`` is raised here, at its item. A single item (a command of 101 samples) is
     done in the calling thread, with no thread started, and so is every item where the
     caller is a thread of the pool itself (a task that calls :func:`in_order` must not wait
-    for the pool it occupies).
+    for the pool it occupies). ``eager``: the first item goes to the pool as it comes, not
+    after the second (for items that are slow to make, such as a trajectory's pieces).
     """
     count = workers()
     items = iter(items)
-    first = list(islice(items, 2))
-    if count == 1 or len(first) < 2 or getattr(_IN_POOL, "busy", False):
+    first = [] if eager else list(islice(items, 2))
+    if count == 1 or (len(first) < 2 and not eager) or getattr(_IN_POOL, "busy", False):
         yield from map(function, chain(first, items))
         return
     pool = _pool(count)
