@@ -30,6 +30,7 @@ __all__ = [
     "check_times",
     "format_of",
     "motion_statement",
+    "text_ahead",
     "write",
     "write_samples",
 ]

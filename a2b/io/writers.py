@@ -44,6 +44,7 @@ from .parallel import in_order
 
 __all__ = [
     "JobRuns",
+    "chunk_text",
     "job_file_name",
     "write_batch_csv",
     "write_batch_files",
